@@ -1,0 +1,1 @@
+"""`melfa check` and `melfa fmt` (being built)."""

@@ -1,0 +1,1 @@
+"""melfa.kin (being built)."""

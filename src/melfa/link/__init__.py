@@ -1,0 +1,1 @@
+"""melfa.link (being built)."""

@@ -1,0 +1,1 @@
+"""melfa.protocol (being built)."""

@@ -1,0 +1,1 @@
+"""melfa.robot (being built)."""
