@@ -12,7 +12,9 @@ becomes one clear message and an exit code, never a traceback:
 from melfa.cli.app import app
 
 # Each module registers its commands on `app` when imported.
-from melfa.cli import lang_commands as _lang_commands  # noqa: F401, E402
+from melfa.cli import lang_commands as _lang_commands  # noqa: F401, E402  # isort: skip
+from melfa.cli import robot_commands as _robot_commands  # noqa: F401, E402  # isort: skip
+from melfa.cli import sim_commands as _sim_commands  # noqa: F401, E402  # isort: skip
 
 
 def main() -> None:

@@ -1,0 +1,1 @@
+"""`melfa upload|run|stop|delete|exec|pose|hand|servo|jog` (being built)."""

@@ -1,0 +1,1 @@
+"""`melfa sim` (being built)."""
