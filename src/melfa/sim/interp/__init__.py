@@ -1,0 +1,1 @@
+"""MELFA BASIC IV interpreter for the virtual controller (being built)."""
