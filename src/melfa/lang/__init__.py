@@ -5,5 +5,7 @@ Pure logic: no files, no robot, no clock. Positions are 1-based lines and column
 """
 
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.lexer import tokenize, untokenize
+from melfa.lang.tokens import Token, TokenKind
 
-__all__ = ["Diagnostic", "Severity"]
+__all__ = ["Diagnostic", "Severity", "Token", "TokenKind", "tokenize", "untokenize"]

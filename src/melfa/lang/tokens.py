@@ -1,0 +1,94 @@
+"""Token kinds and the word lists of MELFA BASIC IV.
+
+A `Token` keeps the whitespace before it (`prefix`), so the text is rebuilt exactly with
+``"".join(t.prefix + t.text for t in tokens)``; `melfa fmt` and renumbering rely on it.
+Lines and columns are 1-based and the end is exclusive (the convention of
+`melfa.lang.diagnostics`). Words are case-insensitive: compare ``text.upper()``.
+"""
+
+from __future__ import annotations
+
+import enum
+from typing import NamedTuple
+
+
+class TokenKind(enum.Enum):
+    """What a token is. Keywords and identifiers are told apart by the word lists below."""
+
+    LINE_NUMBER = "line_number"  # a step number leading a line: `10 MOV P1`
+    KEYWORD = "keyword"  # statement words, operator words, built-in function names
+    IDENT = "ident"  # variable names, including system variables (`P_CURR`, `M_IN`)
+    LABEL = "label"  # `*NAME` (a jump target or a label definition)
+    INTEGER = "integer"
+    REAL = "real"
+    HEX = "hex"  # `&H0F`
+    BIN = "bin"  # `&B1011`
+    STRING = "string"  # `"text"` including the quotes
+    OP = "op"  # + - * / \ ^ = <> >< < <= =< > >= => << >> # ;
+    COMMA = "comma"
+    LPAREN = "lparen"
+    RPAREN = "rparen"
+    DOT_ELEMENT = "dot_element"  # `.X`, `.FL1`, `.J3`
+    COMMENT = "comment"  # `' text` or `REM text` (to the end of the line)
+    NEWLINE = "newline"  # CRLF, CR or LF, kept as written
+    EOF = "eof"
+    ERROR = "error"  # a character the language does not have, or an unterminated string
+
+
+class Token(NamedTuple):
+    """One token with its position (1-based, end exclusive) and the whitespace before it."""
+
+    kind: TokenKind
+    text: str
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+    prefix: str
+
+
+def _words(text: str) -> frozenset[str]:
+    return frozenset(text.split())
+
+
+#: Words that can start a statement; the typo checker suggests only these.
+STATEMENT_KEYWORDS: frozenset[str] = _words(
+    """
+    MOV MVS MVR MVR2 MVR3 MVC MVA
+    OVRD JOVRD SPD ACCEL CNT FINE PREC OADL LOADSET TORQ JRC
+    HOPEN HCLOSE SERVO TOOL BASE
+    GOTO GOSUB ON RETURN IF ELSE ENDIF FOR NEXT WHILE WEND
+    SELECT CASE BREAK DEFAULT END HLT DLY WAIT ERROR SKIP CALLP FPRM
+    DEF DIM ACT OPEN PRINT INPUT CLOSE COM
+    XLOAD XRUN XSTP XRST XCLR PRIORITY GETM RELM
+    CMP CMPG CLR RESET CHRSRCH REM
+    """
+)
+
+#: Words that only appear inside statements.
+SECONDARY_KEYWORDS: frozenset[str] = _words(
+    """
+    THEN TO STEP IS TYPE WTH WTHIF AND OR NOT XOR MOD
+    INTE FLOAT DOUBLE CHAR POS JNT IO PLT ARCH AS OFF ERR OUTPUT APPEND
+    """
+)
+
+#: Built-in functions (COSIMIR list plus SETJNT/SETPOS); lexed as keywords.
+FUNCTIONS: frozenset[str] = _words(
+    """
+    ABS ASC CINT CKSUM CVD CVI CVS DEG EXP FIX INT LEN LN LOG MAX MIN RAD RND SGN SQR
+    STRPOS VAL SIN COS TAN ATN ATN2
+    BIN$ CHR$ HEX$ LEFT$ MID$ MIRROR$ MKI$ MKS$ MKD$ RIGHT$ STR$
+    DIST FRAM INV JTOP PTOJ POSCQ POSMID ALIGN ZONE ZONE2 CALARC
+    RDFL1 SETFL1 RDFL2 SETFL2 SETJNT SETPOS
+    """
+)
+
+#: Every reserved word (a KEYWORD token).
+KEYWORDS: frozenset[str] = STATEMENT_KEYWORDS | SECONDARY_KEYWORDS | FUNCTIONS
+
+#: Components after a dot, in upper case.
+ELEMENTS: frozenset[str] = _words("X Y Z A B C L1 L2 FL1 FL2 J1 J2 J3 J4 J5 J6 J7 J8")
+
+#: Comparison operators (all spellings of the reference, §2.4).
+COMPARISONS: frozenset[str] = frozenset({"=", "<>", "><", "<", "<=", "=<", ">", ">=", "=>"})
