@@ -1,0 +1,652 @@
+"""Points files: the positions a program moves to, kept beside the `.MB4` program.
+
+A points file is a project convention, not a Mitsubishi format (melfa-basic-iv.md §12):
+one point per line, as the thesis's `.POS` files write them,
+
+    DEF POS Pa=(584.73,141.04,385.25,-163.74,1.11,-78.61)(7,0)
+    DEF JNT Jsafe=(0,0,90,0,90,0)
+
+and, when uploading, the controller's own form with the `DEF POS ` prefix stripped,
+`Pa=(…)(7,0)` (protocol.md §4.2 item 4). Both forms are read here; lines may mix them.
+Comments (`'…`, `REM …`) and blank lines are skipped.
+
+Values are X, Y, Z in mm and A, B, C in **degrees** (optionally L1, L2), or J1…J6 (J7, J8)
+in degrees. An element may be omitted (`(400,0,,180,0,180)`): it is kept as `None`.
+Omitted structure flags default to the vertical arm's (7,0) [S2 p.146]. FL2 is a 32-bit
+multi-rotation word, read from decimal, `&H…` or `&B…` and kept unsigned (−1 = &HFFFFFFFF).
+
+Pure: text in, `PointsFile` out; `format_points` and `upload_lines` write text back.
+"""
+
+from __future__ import annotations
+
+import enum
+import re
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass, field
+
+from melfa.lang.diagnostics import Diagnostic, Severity
+
+__all__ = [
+    "DEFAULT_FL1",
+    "DEFAULT_FL2",
+    "MAX_NAME_LENGTH",
+    "PointDef",
+    "PointKind",
+    "PointsFile",
+    "format_points",
+    "format_value",
+    "parse_points",
+    "upload_lines",
+]
+
+DEFAULT_FL1 = 7
+"""Structure flag of a vertical arm when none is given: RIGHT/ABOVE/NONFLIP [S2 p.146]."""
+DEFAULT_FL2 = 0
+"""Multi-rotation word when none is given: every axis within ±180° [S2 p.146]."""
+MAX_NAME_LENGTH = 8
+"""IV names are at most 8 characters (L4300) [S3]; T/B position names too [S4 p.55]."""
+MIN_ELEMENTS = 6
+MAX_ELEMENTS = 8
+"""X,Y,Z,A,B,C (+ L1, L2) or J1…J6 (+ J7, J8) [S2 p.145-146]."""
+FL2_MASK = 0xFFFFFFFF
+
+
+class PointKind(enum.Enum):
+    """An XYZ position (`P…`, with flags) or a joint position (`J…`, no flags)."""
+
+    POS = "POS"
+    JNT = "JNT"
+
+
+@dataclass(frozen=True, slots=True)
+class PointDef:
+    """One named point.
+
+    `values` holds 6 to 8 numbers in mm/degrees; `None` marks an omitted element.
+    `fl1`/`fl2` are the structure flags of a POS point and `None` for a JNT point.
+    `line` is where it was read from (1-based, 0 when built in code); it takes no part
+    in equality, so a point read back from its own text compares equal.
+    """
+
+    name: str
+    kind: PointKind
+    values: tuple[float | None, ...]
+    fl1: int | None = None
+    fl2: int | None = None
+    line: int = field(default=0, compare=False)
+
+    def __post_init__(self) -> None:
+        if not MIN_ELEMENTS <= len(self.values) <= MAX_ELEMENTS:
+            raise ValueError(f"{self.name}: {len(self.values)} elements, expected 6 to 8")
+        if self.kind is PointKind.JNT and (self.fl1 is not None or self.fl2 is not None):
+            raise ValueError(f"{self.name}: joint positions have no structure flags")
+        if self.kind is PointKind.POS and (self.fl1 is None or self.fl2 is None):
+            raise ValueError(f"{self.name}: an XYZ position needs both structure flags")
+        if self.fl2 is not None and not 0 <= self.fl2 <= FL2_MASK:
+            raise ValueError(f"{self.name}: FL2 must be an unsigned 32-bit value")
+
+    @classmethod
+    def pos(
+        cls,
+        name: str,
+        values: Iterable[float | None],
+        fl1: int = DEFAULT_FL1,
+        fl2: int = DEFAULT_FL2,
+    ) -> PointDef:
+        """An XYZ position: `PointDef.pos("Pa", (400, 0, 300, 180, 0, 180))`."""
+        return cls(name, PointKind.POS, tuple(values), fl1, fl2 & FL2_MASK)
+
+    @classmethod
+    def jnt(cls, name: str, values: Iterable[float | None]) -> PointDef:
+        """A joint position: `PointDef.jnt("Jsafe", (0, 0, 90, 0, 90, 0))`."""
+        return cls(name, PointKind.JNT, tuple(values))
+
+    @property
+    def key(self) -> str:
+        """The name as the controller sees it: names are case-insensitive [S2 §4.3.7(1)]."""
+        return self.name.upper()
+
+
+@dataclass(frozen=True, slots=True)
+class PointsFile:
+    """What a points file holds: its points, and what is wrong with it.
+
+    `names` lists every name a line tried to define, even when its value is broken, so
+    that a program using the point is not flagged a second time for the same mistake.
+    """
+
+    points: tuple[PointDef, ...]
+    diagnostics: tuple[Diagnostic, ...] = ()
+    names: tuple[str, ...] = ()
+
+    @property
+    def has_errors(self) -> bool:
+        return any(d.is_error for d in self.diagnostics)
+
+    def get(self, name: str) -> PointDef | None:
+        """The point called `name`, ignoring case as the controller does."""
+        key = name.upper()
+        return next((p for p in self.points if p.key == key), None)
+
+    def __iter__(self) -> Iterator[PointDef]:
+        return iter(self.points)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+
+# --- reading ---------------------------------------------------------------------------
+
+_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?\Z")
+_INTEGER = re.compile(r"[+-]?\d+\Z")
+_HEX = re.compile(r"&[Hh]([0-9A-Fa-f]{1,8})\Z")
+_BIN = re.compile(r"&[Bb]([01]{1,32})\Z")
+_NAME = re.compile(r"[A-Za-z0-9_]+\Z")
+_DEF = re.compile(r"(\s*)DEF(\s+)(\S+)(\s+)", re.IGNORECASE)
+_REM = re.compile(r"\s*REM(\s|\Z)", re.IGNORECASE)
+
+_SUGGEST_POS = "write it as DEF POS Pname=(x,y,z,a,b,c)(7,0)"
+_SUGGEST_JNT = "write it as DEF JNT Jname=(j1,j2,j3,j4,j5,j6)"
+
+
+class _LineError(Exception):
+    """A line cannot be read; carries the diagnostic (internal)."""
+
+    def __init__(self, diagnostic: Diagnostic) -> None:
+        super().__init__(diagnostic.message)
+        self.diagnostic = diagnostic
+
+
+@dataclass(slots=True)
+class _Group:
+    """A parenthesised list `(a,b,…)`: each item with its 0-based start column."""
+
+    items: list[tuple[str, int]]
+    start: int
+    end: int  # index just after ')'
+
+
+def _diag(
+    line: int,
+    start: int,
+    end: int,
+    message: str,
+    rule: str,
+    *,
+    severity: Severity = Severity.ERROR,
+    code: str | None = None,
+    suggestion: str | None = None,
+) -> Diagnostic:
+    """A diagnostic on one line; `start`/`end` are 0-based string indices."""
+    return Diagnostic(
+        line=line,
+        column=start + 1,
+        end_line=line,
+        end_column=max(end, start + 1) + 1,
+        severity=severity,
+        message=message,
+        rule=rule,
+        code=code,
+        suggestion=suggestion,
+    )
+
+
+def _strip_comment(text: str) -> str:
+    """The line without its `'` comment; a `REM` line becomes empty (no strings here)."""
+    if _REM.match(text):
+        return ""
+    quote = text.find("'")
+    return text if quote < 0 else text[:quote]
+
+
+def _read_group(text: str, pos: int, lineno: int, what: str) -> _Group:
+    """Read `( item, item, … )` starting at or after `pos` (whitespace skipped)."""
+    while pos < len(text) and text[pos].isspace():
+        pos += 1
+    if pos >= len(text) or text[pos] != "(":
+        raise _LineError(
+            _diag(
+                lineno,
+                pos,
+                pos + 1,
+                f"expected '(' to start the {what}",
+                "points-syntax",
+                code="L4220",
+            )
+        )
+    close = text.find(")", pos)
+    if close < 0:
+        raise _LineError(
+            _diag(
+                lineno,
+                pos,
+                len(text),
+                f"the {what} has no closing ')'",
+                "points-syntax",
+                code="L4220",
+            )
+        )
+    items: list[tuple[str, int]] = []
+    start = pos + 1
+    for part in text[pos + 1 : close].split(","):
+        lead = len(part) - len(part.lstrip())
+        items.append((part.strip(), start + lead))
+        start += len(part) + 1
+    return _Group(items, pos, close + 1)
+
+
+def _read_number(item: str, col: int, lineno: int, index: int, kind: PointKind) -> float | None:
+    if item == "":
+        return None
+    if not _NUMBER.match(item):
+        label = _element_label(kind, index)
+        raise _LineError(
+            _diag(
+                lineno,
+                col,
+                col + len(item),
+                f"{label} is not a number: {item!r}",
+                "points-number",
+                code="L3860",
+                suggestion="write numbers like 417.61 or -93.07 (mm and degrees)",
+            )
+        )
+    return float(item)
+
+
+def _element_label(kind: PointKind, index: int) -> str:
+    if kind is PointKind.JNT:
+        return f"J{index + 1}"
+    return ("X", "Y", "Z", "A", "B", "C", "L1", "L2")[index]
+
+
+def _read_flag(item: str, col: int, lineno: int, which: str) -> int | None:
+    if item == "":
+        return None
+    if m := _HEX.match(item):
+        return int(m.group(1), 16)
+    if m := _BIN.match(item):
+        return int(m.group(1), 2)
+    if _INTEGER.match(item):
+        return int(item)
+    raise _LineError(
+        _diag(
+            lineno,
+            col,
+            col + len(item),
+            f"structure flag {which} must be a whole number (or &H…), got {item!r}",
+            "points-flags",
+            code="L3860",
+            suggestion="FL1 is 0..7 (7 = RIGHT/ABOVE/NONFLIP); FL2 is 0 or &H… turns",
+        )
+    )
+
+
+def _kind_from_name(name: str) -> PointKind | None:
+    first = name[:1].upper()
+    return {"P": PointKind.POS, "J": PointKind.JNT}.get(first)
+
+
+def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Diagnostic]) -> None:
+    end = col + len(name)
+    if not _NAME.match(name) or not name[0].isalpha():
+        raise _LineError(
+            _diag(
+                lineno,
+                col,
+                end,
+                f"{name!r} is not a valid name: use letters and digits, starting with a letter",
+                "points-name",
+                code="L4310",
+            )
+        )
+    want = "P" if kind is PointKind.POS else "J"
+    if name[0].upper() != want:
+        what = (
+            "an XYZ position (DEF POS)" if kind is PointKind.POS else "a joint position (DEF JNT)"
+        )
+        raise _LineError(
+            _diag(
+                lineno,
+                col,
+                end,
+                f"{name} is {what}, so its name must start with {want}",
+                "points-name",
+                code="L4390",
+                suggestion=f"rename it {want}{name[1:]}"
+                if len(name) < MAX_NAME_LENGTH
+                else f"rename it to start with {want}",
+            )
+        )
+    if len(name) > MAX_NAME_LENGTH:
+        out.append(
+            _diag(
+                lineno,
+                col,
+                end,
+                f"{name} is {len(name)} characters long; MELFA BASIC IV names are at most "
+                f"{MAX_NAME_LENGTH}",
+                "points-name",
+                code="L4300",
+                suggestion=f"shorten it, e.g. {name[:MAX_NAME_LENGTH]}",
+            )
+        )
+    if "_" in name:
+        if name[1:2] == "_":
+            out.append(
+                _diag(
+                    lineno,
+                    col,
+                    end,
+                    f"{name} has '_' as its second character, which makes it an external "
+                    "variable shared by every program",
+                    "points-name",
+                    severity=Severity.WARNING,
+                    suggestion="drop the '_' unless the point really is global",
+                )
+            )
+        else:
+            out.append(
+                _diag(
+                    lineno,
+                    col,
+                    end,
+                    f"{name}: MELFA BASIC IV names use only letters and digits",
+                    "points-name",
+                    code="L4310",
+                    suggestion=f"rename it {name.replace('_', '')}",
+                )
+            )
+
+
+def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, PointDef | None]:
+    """Read one non-blank line. Returns (name or "", point or None); errors via _LineError."""
+    text = _strip_comment(raw).rstrip()
+    pos = 0
+    kind: PointKind | None = None
+    if m := _DEF.match(text):
+        word = m.group(3).upper()
+        if word not in ("POS", "JNT"):
+            raise _LineError(
+                _diag(
+                    lineno,
+                    m.start(3),
+                    m.end(3),
+                    f"DEF {m.group(3)} does not belong in a points file; only DEF POS and "
+                    "DEF JNT lines do",
+                    "points-syntax",
+                    code="L4220",
+                    suggestion="move variable declarations into the program",
+                )
+            )
+        kind = PointKind(word)
+        pos = m.end()
+    eq = text.find("=", pos)
+    if eq < 0:
+        start = len(text) - len(text.lstrip())
+        raise _LineError(
+            _diag(
+                lineno,
+                start,
+                len(text),
+                "expected a point: Name=(…)",
+                "points-syntax",
+                code="L4220",
+                suggestion=_SUGGEST_POS,
+            )
+        )
+    name_part = text[pos:eq]
+    name = name_part.strip()
+    name_col = pos + len(name_part) - len(name_part.lstrip())
+    if not name:
+        raise _LineError(
+            _diag(
+                lineno,
+                eq,
+                eq + 1,
+                "the point has no name before '='",
+                "points-syntax",
+                code="L4220",
+                suggestion=_SUGGEST_POS,
+            )
+        )
+    if kind is None:
+        kind = _kind_from_name(name)
+        if kind is None:
+            raise _LineError(
+                _diag(
+                    lineno,
+                    name_col,
+                    name_col + len(name),
+                    f"cannot tell whether {name} is an XYZ position (P…) or a joint position (J…)",
+                    "points-name",
+                    code="L4390",
+                    suggestion="start the name with P or J, or write DEF POS / DEF JNT",
+                )
+            )
+    _check_name(name, name_col, lineno, kind, out)
+
+    values_group = _read_group(text, eq + 1, lineno, "list of values")
+    what = "X,Y,Z,A,B,C" if kind is PointKind.POS else "J1..J6"
+    count = len(values_group.items)
+    if not MIN_ELEMENTS <= count <= MAX_ELEMENTS:
+        raise _LineError(
+            _diag(
+                lineno,
+                values_group.start,
+                values_group.end,
+                f"{name} has {count} element{'s' if count != 1 else ''}; a "
+                f"{'position' if kind is PointKind.POS else 'joint position'} has 6 ({what}), "
+                f"or 8 with additional axes",
+                "points-count",
+                code="L3860",
+                suggestion="leave an element empty (e.g. 400,,300) rather than dropping it",
+            )
+        )
+    values = tuple(
+        _read_number(item, col, lineno, i, kind) for i, (item, col) in enumerate(values_group.items)
+    )
+
+    rest = text[values_group.end :]
+    fl1: int | None = None
+    fl2: int | None = None
+    if rest.strip():
+        if kind is PointKind.JNT:
+            start = values_group.end + len(rest) - len(rest.lstrip())
+            raise _LineError(
+                _diag(
+                    lineno,
+                    start,
+                    len(text),
+                    f"{name} is a joint position; joint positions have no structure flags",
+                    "points-flags",
+                    code="L3860",
+                    suggestion="remove the flags, or make it an XYZ position (DEF POS P…)",
+                )
+            )
+        flags = _read_group(text, values_group.end, lineno, "structure flags (FL1,FL2)")
+        if len(flags.items) != 2:
+            raise _LineError(
+                _diag(
+                    lineno,
+                    flags.start,
+                    flags.end,
+                    f"structure flags are two numbers (FL1,FL2), found {len(flags.items)}",
+                    "points-flags",
+                    code="L3860",
+                    suggestion="write (7,0) for a hand-down pose of a vertical arm",
+                )
+            )
+        (i1, c1), (i2, c2) = flags.items
+        fl1 = _read_flag(i1, c1, lineno, "FL1")
+        fl2 = _read_flag(i2, c2, lineno, "FL2")
+        trailing = text[flags.end :]
+        if trailing.strip():
+            start = flags.end + len(trailing) - len(trailing.lstrip())
+            raise _LineError(
+                _diag(
+                    lineno,
+                    start,
+                    len(text),
+                    f"unexpected text after the flags: {trailing.strip()!r}",
+                    "points-syntax",
+                    code="L4220",
+                )
+            )
+        if fl1 is not None and not 0 <= fl1 <= 7:
+            out.append(
+                _diag(
+                    lineno,
+                    c1,
+                    c1 + len(i1),
+                    f"FL1 {fl1} is outside 0..7 (RIGHT=4 + ABOVE=2 + NONFLIP=1)",
+                    "points-flags",
+                    code="L3860",
+                )
+            )
+            fl1 = None
+        if fl2 is not None and not -(2**31) <= fl2 <= FL2_MASK:
+            out.append(
+                _diag(
+                    lineno,
+                    c2,
+                    c2 + len(i2),
+                    f"FL2 {fl2} does not fit in 32 bits",
+                    "points-flags",
+                    code="L3860",
+                )
+            )
+            fl2 = None
+        if (fl1 is None or fl2 is None) and not any(d.is_error and d.line == lineno for d in out):
+            out.append(
+                _diag(
+                    lineno,
+                    flags.start,
+                    flags.end,
+                    f"{name}: omitted structure flags default to ({DEFAULT_FL1},{DEFAULT_FL2})",
+                    "points-flags-default",
+                    severity=Severity.INFO,
+                )
+            )
+    elif kind is PointKind.POS:
+        out.append(
+            _diag(
+                lineno,
+                values_group.start,
+                values_group.end,
+                f"{name} has no structure flags; the controller uses ({DEFAULT_FL1},{DEFAULT_FL2})",
+                "points-flags-default",
+                severity=Severity.INFO,
+                suggestion=f"append ({DEFAULT_FL1},{DEFAULT_FL2}) to say so",
+            )
+        )
+    if any(d.is_error and d.line == lineno for d in out):
+        return name, None
+    if kind is PointKind.POS:
+        return name, PointDef(
+            name,
+            kind,
+            values,
+            DEFAULT_FL1 if fl1 is None else fl1,
+            DEFAULT_FL2 if fl2 is None else fl2 & FL2_MASK,
+            line=lineno,
+        )
+    return name, PointDef(name, kind, values, line=lineno)
+
+
+def parse_points(text: str) -> PointsFile:
+    """Read a points file. Never raises: what is wrong becomes a diagnostic.
+
+    >>> f = parse_points("DEF POS Pa=(584.73,141.04,385.25,-163.74,1.11,-78.61)(7,0)")
+    >>> f.points[0].name, f.points[0].values[0], f.points[0].fl1, f.diagnostics
+    ('Pa', 584.73, 7, ())
+    """
+    points: list[PointDef] = []
+    names: list[str] = []
+    diagnostics: list[Diagnostic] = []
+    first_line: dict[str, int] = {}
+    for lineno, raw in enumerate(text.split("\n"), start=1):
+        raw = raw.removesuffix("\r")
+        if not _strip_comment(raw).strip():
+            continue
+        line_diags: list[Diagnostic] = []
+        try:
+            name, point = _parse_line(raw, lineno, line_diags)
+        except _LineError as err:
+            line_diags.append(err.diagnostic)
+            name, point = _name_of_broken_line(raw), None
+        diagnostics.extend(line_diags)
+        if not name:
+            continue
+        key = name.upper()
+        if key in first_line:
+            col = raw.find(name)
+            diagnostics.append(
+                _diag(
+                    lineno,
+                    max(col, 0),
+                    max(col, 0) + len(name),
+                    f"{name} is already defined on line {first_line[key]}",
+                    "points-duplicate",
+                    code="L4350",
+                    suggestion="rename one of them; names ignore case",
+                )
+            )
+            continue
+        first_line[key] = lineno
+        names.append(name)
+        if point is not None:
+            points.append(point)
+    return PointsFile(tuple(points), tuple(diagnostics), tuple(names))
+
+
+def _name_of_broken_line(raw: str) -> str:
+    """The name a broken line meant to define, if it is plain enough to tell."""
+    m = re.match(r"\s*(?:DEF\s+(?:POS|JNT)\s+)?([A-Za-z][A-Za-z0-9_]*)\s*=", raw, re.IGNORECASE)
+    return m.group(1) if m else ""
+
+
+# --- writing ---------------------------------------------------------------------------
+
+
+def format_value(value: float | None) -> str:
+    """One element as exports write it: 2 decimals, empty when omitted, never `-0.00`.
+
+    >>> format_value(417.605), format_value(-0.001), format_value(None)
+    ('417.61', '0.00', '')
+    """
+    if value is None:
+        return ""
+    text = f"{value:.2f}"
+    return "0.00" if text == "-0.00" else text
+
+
+def _format_fl2(fl2: int) -> str:
+    return "0" if fl2 == 0 else f"&H{fl2:08X}"
+
+
+def _body(point: PointDef) -> str:
+    values = ",".join(format_value(v) for v in point.values)
+    if point.kind is PointKind.JNT:
+        return f"{point.name}=({values})"
+    assert point.fl1 is not None and point.fl2 is not None  # checked in PointDef
+    return f"{point.name}=({values})({point.fl1},{_format_fl2(point.fl2)})"
+
+
+def upload_lines(points: Iterable[PointDef]) -> list[str]:
+    """The controller's form, one line per point: `Pa=(…)(7,0)` (protocol.md §4.2 item 4).
+
+    >>> upload_lines([PointDef.pos("Pa", (400, 0, 300, 180, 0, 180))])
+    ['Pa=(400.00,0.00,300.00,180.00,0.00,180.00)(7,0)']
+    """
+    return [_body(p) for p in points]
+
+
+def format_points(points: Iterable[PointDef]) -> str:
+    """A points file in the project's form: one `DEF POS`/`DEF JNT` line per point.
+
+    >>> print(format_points([PointDef.jnt("Jsafe", (0, 0, 90, 0, 90, 0))]), end="")
+    DEF JNT Jsafe=(0.00,0.00,90.00,0.00,90.00,0.00)
+    """
+    return "".join(f"DEF {p.kind.value} {_body(p)}\n" for p in points)
