@@ -334,9 +334,10 @@ class State:
                 return _int(fields[index], what)
             return None
 
-        def text(index: int) -> str:
-            return fields[index] if index < len(fields) else ""
-
+        # The tail is read from the end: the manual's layout has one more empty field than
+        # its own example (``…;1;1;;;;;;;;;REP;START;1;0``, 19 fields) [DOC S1].
+        tail = fields[7:]
+        has_tail = len(tail) >= 5
         return cls(
             program=fields[0],
             line=number(1, "STATE line"),
@@ -345,11 +346,13 @@ class State:
             status=Status.parse(fields[4]),
             step=number(5, "STATE step"),
             mechanism=number(6, "STATE mechanism"),
-            task_program=text(15),
-            mode=text(16),
-            start_condition=text(17),
-            priority=number(18, "STATE priority"),
-            mechanism_number=number(19, "STATE mechanism number"),
+            task_program=tail[-5] if has_tail else "",
+            mode=tail[-4] if has_tail else "",
+            start_condition=tail[-3] if has_tail else "",
+            priority=number(len(fields) - 2, "STATE priority") if has_tail else None,
+            mechanism_number=number(len(fields) - 1, "STATE mechanism number")
+            if has_tail
+            else None,
         )
 
     def to_answer(self) -> str:
@@ -367,7 +370,7 @@ class State:
                 self.status.to_field(),
                 opt(self.step),
                 opt(self.mechanism),
-                *[""] * 8,
+                *[""] * 7,
                 self.task_program,
                 self.mode,
                 self.start_condition,
