@@ -1,0 +1,1202 @@
+"""Error-recovering recursive-descent parser: text to `melfa.lang.ast.Program`.
+
+`parse` never raises. Each text line is parsed on its own (MELFA BASIC IV has one statement
+per step), so a broken line can never hide the lines after it. Inside a line the parser
+resumes at the structural keywords THEN and ELSE: ``IF end < start THEN HOPEN`` reports the
+bad condition *and* the HOPEN without a hand number. Otherwise the rest of the line becomes an
+`InvalidStatement` and only the first mistake on it is reported (no cascades).
+
+Expressions use precedence climbing over the reference's priority table (§2.4), highest
+first: ``^``, unary ``+ -``, ``* /``, ``\\``, ``MOD``, binary ``+ -``, ``<< >>``, comparisons,
+``NOT``, ``AND``, ``OR``, ``XOR``.
+"""
+
+from __future__ import annotations
+
+from melfa.lang import ast as A  # noqa: N812  (short alias: the parser builds many nodes)
+from melfa.lang.lexer import tokenize
+from melfa.lang.tokens import FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
+from melfa.lang.typos import suggest
+
+K = TokenKind
+_END_KINDS = frozenset({K.NEWLINE, K.EOF})
+_WORD_KINDS = frozenset({K.KEYWORD, K.IDENT})
+
+# Binary operator -> (precedence, BinaryOp); higher binds tighter. §2.4.
+_BINARY: dict[str, tuple[int, A.BinaryOp]] = {
+    "XOR": (1, A.BinaryOp.XOR),
+    "OR": (2, A.BinaryOp.OR),
+    "AND": (3, A.BinaryOp.AND),
+    # 4: NOT (prefix)
+    "=": (5, A.BinaryOp.EQ),
+    "<>": (5, A.BinaryOp.NE),
+    "><": (5, A.BinaryOp.NE),
+    "<": (5, A.BinaryOp.LT),
+    "<=": (5, A.BinaryOp.LE),
+    "=<": (5, A.BinaryOp.LE),
+    ">": (5, A.BinaryOp.GT),
+    ">=": (5, A.BinaryOp.GE),
+    "=>": (5, A.BinaryOp.GE),
+    "<<": (6, A.BinaryOp.SHL),
+    ">>": (6, A.BinaryOp.SHR),
+    "+": (7, A.BinaryOp.ADD),
+    "-": (7, A.BinaryOp.SUB),
+    "MOD": (8, A.BinaryOp.MOD),
+    "\\": (9, A.BinaryOp.IDIV),
+    "*": (10, A.BinaryOp.MUL),
+    "/": (10, A.BinaryOp.DIV),
+    # 11: unary + -
+    "^": (12, A.BinaryOp.POW),
+}
+_PREC_NOT_OPERAND = 5
+_PREC_UNARY_OPERAND = 12
+
+_DEF_TYPES = {t.value: t for t in A.VarType}
+_DEF_WORDS = (*_DEF_TYPES, "IO", "PLT", "ACT", "ARCH", "FN")
+_IO_TYPES = {t.value: t for t in A.IOType}
+
+# Statements that are a keyword and a plain argument list: (min args, max args, empties ok).
+_COMMANDS: dict[str, tuple[A.CommandKind, int, int, bool]] = {
+    "OVRD": (A.CommandKind.OVRD, 1, 3, False),
+    "JOVRD": (A.CommandKind.JOVRD, 1, 1, False),
+    "SPD": (A.CommandKind.SPD, 1, 1, False),
+    "ACCEL": (A.CommandKind.ACCEL, 0, 6, True),
+    "CNT": (A.CommandKind.CNT, 1, 3, True),
+    "FINE": (A.CommandKind.FINE, 1, 2, False),
+    "LOADSET": (A.CommandKind.LOADSET, 2, 2, False),
+    "TORQ": (A.CommandKind.TORQ, 2, 2, False),
+    "JRC": (A.CommandKind.JRC, 1, 2, False),
+    "HOPEN": (A.CommandKind.HOPEN, 1, 4, False),
+    "HCLOSE": (A.CommandKind.HCLOSE, 1, 4, False),
+    "TOOL": (A.CommandKind.TOOL, 1, 1, False),
+    "BASE": (A.CommandKind.BASE, 1, 1, False),
+    "HLT": (A.CommandKind.HLT, 0, 0, False),
+    "DLY": (A.CommandKind.DLY, 1, 1, False),
+    "ERROR": (A.CommandKind.ERROR, 1, 1, False),
+    "SKIP": (A.CommandKind.SKIP, 0, 0, False),
+    "CALLP": (A.CommandKind.CALLP, 1, 17, False),
+    "XLOAD": (A.CommandKind.XLOAD, 2, 2, False),
+    "XRUN": (A.CommandKind.XRUN, 1, 3, False),
+    "XSTP": (A.CommandKind.XSTP, 1, 1, False),
+    "XRST": (A.CommandKind.XRST, 1, 1, False),
+    "XCLR": (A.CommandKind.XCLR, 1, 1, False),
+    "PRIORITY": (A.CommandKind.PRIORITY, 1, 2, False),
+    "GETM": (A.CommandKind.GETM, 1, 1, False),
+    "RELM": (A.CommandKind.RELM, 1, 1, False),
+    "CMPG": (A.CommandKind.CMPG, 1, 8, True),
+    "CLR": (A.CommandKind.CLR, 1, 1, False),
+    "CHRSRCH": (A.CommandKind.CHRSRCH, 2, 4, False),
+}
+
+_ARC_KINDS = {k.value: k for k in A.ArcKind}
+
+
+class _Fail(Exception):
+    """Unwinds to the nearest recovery point; carries the issue already recorded."""
+
+    def __init__(self, issue: A.ParseIssue) -> None:
+        super().__init__(issue.message)
+        self.issue = issue
+
+
+def _to_int(text: str, base: int = 10) -> int:
+    # Absurdly long literals would hit Python's int-from-str digit limit; they are
+    # out of every controller range anyway.
+    return int(text, base) if len(text) <= 40 else 10**40
+
+
+def _describe(tok: Token) -> str:
+    if tok.kind in _END_KINDS:
+        return "the end of the line"
+    if tok.kind is K.ERROR:
+        return f"the character {tok.text[:1]!r}"
+    return tok.text if len(tok.text) <= 20 else tok.text[:20] + "…"
+
+
+class _LineParser:
+    """Parses the tokens of one line (NEWLINE/EOF last, comments removed)."""
+
+    def __init__(self, toks: list[Token], labels: frozenset[str]) -> None:
+        self.toks = toks
+        self.i = 0
+        self.issues: list[A.ParseIssue] = []
+        self.labels = labels  # labels jumped to anywhere in the file (for bare-word hints)
+
+    # ------------------------------------------------------------------ token helpers
+
+    def peek(self, k: int = 0) -> Token:
+        j = self.i + k
+        toks = self.toks
+        return toks[j] if j < len(toks) else toks[-1]
+
+    def advance(self) -> Token:
+        tok = self.toks[self.i]
+        if tok.kind not in _END_KINDS:
+            self.i += 1
+        return tok
+
+    def at_end(self) -> bool:
+        return self.toks[self.i].kind in _END_KINDS
+
+    def at_word(self, word: str) -> bool:
+        tok = self.toks[self.i]
+        return tok.kind in _WORD_KINDS and tok.text.upper() == word
+
+    def at_op(self, op: str) -> bool:
+        tok = self.toks[self.i]
+        return tok.kind is K.OP and tok.text == op
+
+    def at_kind(self, kind: TokenKind) -> bool:
+        return self.toks[self.i].kind is kind
+
+    def last_span(self, start: Token) -> A.Span:
+        """From `start` to the last consumed token."""
+        last = self.toks[self.i - 1] if self.i > 0 else start
+        if last.column < start.column:
+            last = start
+        return A.Span(start.line, start.column, last.line, last.end_column)
+
+    @staticmethod
+    def tok_span(tok: Token) -> A.Span:
+        if tok.kind in _END_KINDS:
+            return A.Span(tok.line, tok.column, tok.line, tok.column)
+        return A.Span(tok.line, tok.column, tok.line, tok.end_column)
+
+    def issue(
+        self,
+        tok: Token,
+        message: str,
+        rule: str = "syntax-error",
+        suggestion: str | None = None,
+        code: str | None = "L4220",
+    ) -> A.ParseIssue:
+        span = self.tok_span(tok)
+        if tok.kind in _END_KINDS and self.i > 0:
+            # "missing …" at the end of a line: point at the last token written.
+            prev = self.toks[self.i - 1]
+            span = A.Span(prev.line, prev.column, prev.line, prev.end_column)
+        found = A.ParseIssue(span, message, rule, code, suggestion)
+        self.issues.append(found)
+        return found
+
+    def fail(
+        self,
+        tok: Token,
+        message: str,
+        rule: str = "syntax-error",
+        suggestion: str | None = None,
+        code: str | None = "L4220",
+    ) -> _Fail:
+        if tok.kind is K.ERROR and rule == "syntax-error":
+            if tok.text.startswith('"'):
+                message, rule = (
+                    'String is not closed: add the closing " on this line',
+                    ("unclosed-string"),
+                )
+            else:
+                message = f"Character {tok.text!r} is not part of MELFA BASIC IV"
+                rule, code = "illegal-character", "L4310"
+        return _Fail(self.issue(tok, message, rule, suggestion, code))
+
+    def expect_word(self, word: str, context: str) -> Token:
+        if self.at_word(word):
+            return self.advance()
+        tok = self.peek()
+        raise self.fail(tok, f"Expected {word} {context}, found {_describe(tok)}")
+
+    def expect_kind(self, kind: TokenKind, what: str, context: str) -> Token:
+        if self.toks[self.i].kind is kind:
+            return self.advance()
+        tok = self.peek()
+        raise self.fail(tok, f"Expected {what} {context}, found {_describe(tok)}")
+
+    def expect_op(self, op: str, context: str) -> Token:
+        if self.at_op(op):
+            return self.advance()
+        tok = self.peek()
+        raise self.fail(tok, f"Expected '{op}' {context}, found {_describe(tok)}")
+
+    # --------------------------------------------------------------------- expressions
+
+    def expr(self, min_prec: int = 0) -> A.Expr:
+        tok = self.toks[self.i]
+        kind = tok.kind
+        left: A.Expr
+        if kind is K.OP and (tok.text == "-" or tok.text == "+"):
+            self.i += 1
+            operand = self.expr(_PREC_UNARY_OPERAND)
+            op = A.UnaryOp.MINUS if tok.text == "-" else A.UnaryOp.PLUS
+            left = A.Unary(op, operand, self.last_span(tok))
+        elif kind is K.KEYWORD and tok.text.upper() == "NOT":
+            self.i += 1
+            operand = self.expr(_PREC_NOT_OPERAND)
+            left = A.Unary(A.UnaryOp.NOT, operand, self.last_span(tok))
+        else:
+            left = self.postfix(self.primary())
+        binary = _BINARY
+        while True:
+            tok = self.toks[self.i]
+            if tok.kind is K.OP:
+                entry = binary.get(tok.text)
+            elif tok.kind is K.KEYWORD:
+                entry = binary.get(tok.text.upper())
+            else:
+                break
+            if entry is None or entry[0] < min_prec:
+                break
+            prec, op2 = entry
+            self.i += 1
+            right = self.expr(prec + 1)
+            start = left.span
+            end = right.span
+            left = A.Binary(
+                op2,
+                left,
+                right,
+                A.Span(start.line, start.column, end.end_line, end.end_column),
+                tok.text.upper(),
+            )
+        return left
+
+    def postfix(self, base: A.Expr) -> A.Expr:
+        while self.toks[self.i].kind is K.DOT_ELEMENT:
+            tok = self.advance()
+            name = tok.text[1:].upper()
+            try:
+                element = A.ElementKind(name)
+            except ValueError:
+                raise self.fail(
+                    tok,
+                    f"Unknown element {tok.text}: use .X .Y .Z .A .B .C .L1 .L2 .FL1 .FL2 "
+                    "or .J1 to .J8",
+                    "unknown-element",
+                ) from None
+            s = base.span
+            base = A.Element(base, element, A.Span(s.line, s.column, tok.line, tok.end_column))
+        return base
+
+    def args(self, close_context: str) -> tuple[A.Expr, ...]:
+        """After '(' : expressions separated by commas, then ')'."""
+        items: list[A.Expr] = []
+        if self.at_kind(K.RPAREN):
+            self.advance()
+            return ()
+        while True:
+            items.append(self.expr())
+            if self.at_kind(K.COMMA):
+                self.advance()
+                continue
+            self.expect_kind(K.RPAREN, "')'", close_context)
+            return tuple(items)
+
+    def primary(self) -> A.Expr:
+        tok = self.toks[self.i]
+        kind = tok.kind
+        if kind is K.INTEGER or kind is K.LINE_NUMBER:
+            self.i += 1
+            return A.Number(_to_int(tok.text), A.NumberKind.INTEGER, tok.text, self.tok_span(tok))
+        if kind is K.REAL:
+            self.i += 1
+            return A.Number(float(tok.text), A.NumberKind.REAL, tok.text, self.tok_span(tok))
+        if kind is K.HEX or kind is K.BIN:
+            self.i += 1
+            nk = A.NumberKind.HEX if kind is K.HEX else A.NumberKind.BIN
+            value = _to_int(tok.text[2:], 16 if kind is K.HEX else 2)
+            return A.Number(value, nk, tok.text, self.tok_span(tok))
+        if kind is K.STRING:
+            self.i += 1
+            return A.String(tok.text[1:-1], self.tok_span(tok))
+        if kind is K.IDENT:
+            self.i += 1
+            name = A.Name(tok.text.upper(), self.tok_span(tok))
+            if self.toks[self.i].kind is K.LPAREN:
+                self.i += 1
+                args = self.args(f"to close {tok.text}(")
+                if name.name.startswith("FN"):
+                    return A.Call(name.name, args, True, self.last_span(tok))
+                return A.Index(name, args, self.last_span(tok))
+            return name
+        if kind is K.KEYWORD:
+            word = tok.text.upper()
+            if word in FUNCTIONS:
+                self.i += 1
+                self.expect_kind(K.LPAREN, "'('", f"after the function {word}")
+                args = self.args(f"to close {word}(")
+                return A.Call(word, args, False, self.last_span(tok))
+            raise self.fail(
+                tok,
+                f"{word} is a reserved word and cannot be used as a value here",
+                "reserved-word",
+            )
+        if kind is K.LPAREN:
+            return self.paren()
+        raise self.fail(tok, f"Expected a value, found {_describe(tok)}", "expected-expression")
+
+    def comma_list(self, close_context: str) -> tuple[list[A.Expr | None], int]:
+        """After '(' : a list whose elements may be omitted, then ')'. Returns (items, commas)."""
+        items: list[A.Expr | None] = []
+        commas = 0
+        while True:
+            tok = self.toks[self.i]
+            if tok.kind is K.COMMA or tok.kind is K.RPAREN:
+                items.append(None)
+            else:
+                items.append(self.expr())
+            if self.at_kind(K.COMMA):
+                self.advance()
+                commas += 1
+                continue
+            self.expect_kind(K.RPAREN, "')'", close_context)
+            return items, commas
+
+    def paren(self) -> A.Expr:
+        start = self.advance()  # (
+        if self.at_word("PLT"):
+            self.advance()
+            pallet = self.expr()
+            self.expect_kind(K.COMMA, "','", "between the pallet and the grid number")
+            index = self.expr()
+            self.expect_kind(K.RPAREN, "')'", "to close (PLT")
+            return A.Pallet(pallet, index, self.last_span(start))
+        items, commas = self.comma_list("to close '('")
+        if commas == 0:
+            inner = items[0]
+            if inner is None:
+                raise self.fail(start, "Empty parentheses: write a value or a position constant")
+            return inner
+        flags: tuple[A.Expr | None, ...] | None = None
+        if self.at_kind(K.LPAREN):
+            self.advance()
+            flag_items, _ = self.comma_list("to close the structure flags (FL1,FL2)")
+            flags = tuple(flag_items)
+        return A.PositionLiteral(tuple(items), flags, self.last_span(start))
+
+    # -------------------------------------------------------------------- jump targets
+
+    def target(self, context: str) -> A.JumpTarget:
+        tok = self.toks[self.i]
+        if tok.kind is K.LABEL:
+            self.i += 1
+            return A.LabelRef(tok.text[1:].upper(), self.tok_span(tok))
+        if tok.kind is K.INTEGER:
+            self.i += 1
+            return A.LineRef(_to_int(tok.text), self.tok_span(tok))
+        if tok.kind is K.IDENT:
+            raise self.fail(
+                tok,
+                f"Label needs to start with *: write *{tok.text}",
+                "label-without-star",
+                f"*{tok.text}",
+            )
+        raise self.fail(tok, f"Expected a line number or *label {context}, found {_describe(tok)}")
+
+    # ---------------------------------------------------------------------- statements
+
+    def statement(self, stop: frozenset[str] = frozenset()) -> A.Statement:
+        """Parse one statement; on error, skip to a `stop` word or the end of the line."""
+        start_i = self.i
+        start = self.toks[self.i]
+        try:
+            return self.statement_inner()
+        except _Fail as failure:
+            toks = self.toks
+            i = max(self.i, start_i)
+            while toks[i].kind not in _END_KINDS and not (
+                toks[i].kind is K.KEYWORD and toks[i].text.upper() in stop and i > start_i
+            ):
+                i += 1
+            self.i = i
+            last = toks[i - 1] if i > start_i else start
+            text = "".join(t.prefix + t.text for t in toks[start_i:i]).lstrip()
+            span = A.Span(start.line, start.column, last.line, max(last.end_column, start.column))
+            return A.InvalidStatement(text, failure.issue, span)
+
+    def statement_inner(self) -> A.Statement:
+        tok = self.toks[self.i]
+        if tok.kind is K.KEYWORD:
+            word = tok.text.upper()
+            method = _DISPATCH.get(word)
+            if method is not None:
+                self.i += 1
+                return method(self, tok)
+            command = _COMMANDS.get(word)
+            if command is not None:
+                self.i += 1
+                return self.command(tok, *command)
+            if word in FUNCTIONS and self.peek(1).kind is K.OP and self.peek(1).text == "=":
+                raise self.fail(
+                    tok,
+                    f"{word} is a built-in function and cannot be assigned; choose another name",
+                    "reserved-word",
+                )
+            raise self.fail(tok, f"{word} cannot start a statement", "invalid-statement")
+        if tok.kind is K.IDENT:
+            return self.assignment_or_typo(tok)
+        if tok.kind is K.LABEL:
+            raise self.fail(
+                tok, "A label must be the first thing on its line (after the step number)"
+            )
+        raise self.fail(tok, f"Expected a statement, found {_describe(tok)}", "invalid-statement")
+
+    def assignment_or_typo(self, tok: Token) -> A.Statement:
+        nxt = self.peek(1)
+        if not (nxt.kind is K.OP and nxt.text == "=") and nxt.kind not in (
+            K.LPAREN,
+            K.DOT_ELEMENT,
+        ):
+            word = tok.text.upper()
+            guess = suggest(word, STATEMENT_KEYWORDS)
+            if guess is not None:
+                raise self.fail(
+                    tok,
+                    f"Invalid statement. Did you mean {guess} instead of {tok.text}?",
+                    "unknown-statement",
+                    guess,
+                )
+            if nxt.kind in _END_KINDS and word in self.labels:
+                raise self.fail(
+                    tok,
+                    f"Label needs to start with *: write *{tok.text}",
+                    "label-without-star",
+                    f"*{tok.text}",
+                )
+            raise self.fail(
+                nxt if nxt.kind not in _END_KINDS else tok,
+                f"Invalid statement: expected '=' after {tok.text} (assignment), "
+                f"found {_describe(nxt)}",
+                "unknown-statement",
+            )
+        target = self.assign_target()
+        return self.assignment_rest(target, tok)
+
+    def assign_target(self) -> A.AssignTarget:
+        tok = self.toks[self.i]
+        if tok.kind is not K.IDENT:
+            if tok.kind is K.KEYWORD:
+                raise self.fail(
+                    tok,
+                    f"{tok.text.upper()} is a reserved word and cannot be a variable",
+                    "reserved-word",
+                )
+            raise self.fail(tok, f"Expected a variable, found {_describe(tok)}")
+        self.i += 1
+        name = A.Name(tok.text.upper(), self.tok_span(tok))
+        target: A.AssignTarget = name
+        if self.at_kind(K.LPAREN):
+            self.advance()
+            target = A.Index(name, self.args(f"to close {tok.text}("), self.last_span(tok))
+        if self.at_kind(K.DOT_ELEMENT):
+            element = self.postfix(target)
+            assert isinstance(element, A.Element)
+            target = element
+        return target
+
+    def assignment_rest(self, target: A.AssignTarget, start: Token) -> A.Assign:
+        self.expect_op("=", "in the assignment")
+        value = self.expr()
+        pulse = None
+        if self.at_word("DLY"):
+            self.advance()
+            pulse = self.expr()
+        return A.Assign(target, value, pulse, self.last_span(start))
+
+    def arg_list(self, allow_empty: bool) -> list[A.Expr | None]:
+        items: list[A.Expr | None] = []
+        if self.at_end() or self.at_word("ELSE"):
+            return items
+        while True:
+            tok = self.toks[self.i]
+            if allow_empty and (tok.kind is K.COMMA or tok.kind in _END_KINDS):
+                items.append(None)
+            else:
+                items.append(self.expr())
+            if self.at_kind(K.COMMA):
+                self.advance()
+                continue
+            return items
+
+    def command(
+        self, tok: Token, kind: A.CommandKind, lo: int, hi: int, empties: bool
+    ) -> A.Command:
+        args = self.arg_list(empties)
+        word = kind.value
+        if len(args) < lo:
+            what = "a value" if lo == 1 else f"{lo} values"
+            if word in ("HOPEN", "HCLOSE"):
+                what = "a hand number (1 to 8)"
+            raise self.fail(
+                self.peek(),
+                f"{word} needs {what}, found {_describe(self.peek())}",
+                "missing-argument",
+            )
+        if len(args) > hi:
+            raise self.fail(
+                tok,
+                f"{word} takes at most {hi} value{'s' if hi != 1 else ''}, found {len(args)}",
+                "too-many-arguments",
+            )
+        return A.Command(kind, tuple(args), self.last_span(tok))
+
+    # movement ---------------------------------------------------------------------
+
+    def move_tail(self) -> tuple[A.MoveType | None, A.Appended | None]:
+        mtype = None
+        if self.at_word("TYPE"):
+            t = self.advance()
+            c1 = self.expr()
+            c2 = None
+            if self.at_kind(K.COMMA):
+                self.advance()
+                c2 = self.expr()
+            mtype = A.MoveType(c1, c2, self.last_span(t))
+        appended = None
+        if self.at_word("WTH") or self.at_word("WTHIF"):
+            t = self.advance()
+            condition = None
+            if t.text.upper() == "WTHIF":
+                condition = self.expr()
+                self.expect_kind(K.COMMA, "','", "after the WTHIF condition")
+            action = self.appended_action()
+            appended = A.Appended(condition, action, self.last_span(t))
+        return mtype, appended
+
+    def appended_action(self) -> A.Statement:
+        tok = self.toks[self.i]
+        if tok.kind is K.KEYWORD and tok.text.upper() in ("HLT", "SKIP"):
+            self.i += 1
+            kind = A.CommandKind.HLT if tok.text.upper() == "HLT" else A.CommandKind.SKIP
+            return A.Command(kind, (), self.tok_span(tok))
+        if tok.kind is K.IDENT:
+            target = self.assign_target()
+            return self.assignment_rest(target, tok)
+        raise self.fail(
+            tok, f"Expected an assignment, HLT or SKIP after WTH/WTHIF, found {_describe(tok)}"
+        )
+
+    def target_expr(self, word: str) -> A.Expr:
+        if self.at_end():
+            raise self.fail(self.peek(), f"{word} needs a target position", "missing-argument")
+        return self.expr()
+
+    def st_move(self, tok: Token) -> A.Statement:
+        word = tok.text.upper()
+        kind = A.MoveKind(word)
+        target: A.Expr | None = None
+        close: A.Expr | None = None
+        if kind is A.MoveKind.MVS and self.at_kind(K.COMMA):
+            self.advance()
+            close = self.expr()
+        else:
+            target = self.target_expr(word)
+            if self.at_kind(K.COMMA):
+                self.advance()
+                close = self.expr()
+        mtype, appended = self.move_tail()
+        return A.Move(kind, target, close, mtype, appended, self.last_span(tok))
+
+    def st_arc(self, tok: Token) -> A.Statement:
+        word = tok.text.upper()
+        points = [self.target_expr(word)]
+        while self.at_kind(K.COMMA):
+            self.advance()
+            points.append(self.expr())
+        if len(points) != 3:
+            raise self.fail(
+                tok,
+                f"{word} needs 3 positions (start, {'via' if word != 'MVR3' else 'end'}, …), "
+                f"found {len(points)}",
+                "missing-argument" if len(points) < 3 else "too-many-arguments",
+            )
+        mtype, appended = self.move_tail()
+        return A.ArcMove(_ARC_KINDS[word], tuple(points), mtype, appended, self.last_span(tok))
+
+    def st_mva(self, tok: Token) -> A.Statement:
+        target = self.target_expr("MVA")
+        arch = None
+        if self.at_kind(K.COMMA):
+            self.advance()
+            arch = self.expr()
+        _, appended = self.move_tail()
+        return A.ArchMove(target, arch, appended, self.last_span(tok))
+
+    # switches -----------------------------------------------------------------------
+
+    def on_off(self, word: str) -> bool:
+        if self.at_word("ON"):
+            self.advance()
+            return True
+        if self.at_word("OFF"):
+            self.advance()
+            return False
+        raise self.fail(
+            self.peek(), f"Expected ON or OFF after {word}, found {_describe(self.peek())}"
+        )
+
+    def st_switch(self, tok: Token) -> A.Statement:
+        word = tok.text.upper()
+        on = self.on_off(word)
+        extra: list[A.Expr] = []
+        while self.at_kind(K.COMMA):
+            self.advance()
+            extra.append(self.expr())
+        return A.Switch(A.SwitchKind(word), on, tuple(extra), self.last_span(tok))
+
+    def st_cmp(self, tok: Token) -> A.Statement:
+        nxt = self.peek()
+        mode_word = nxt.text.upper() if nxt.kind in _WORD_KINDS else ""
+        if mode_word == "OFF":
+            self.advance()
+            return A.Cmp(A.CmpMode.OFF, None, self.last_span(tok))
+        if mode_word not in ("JNT", "POS", "TOOL"):
+            raise self.fail(
+                nxt, f"Expected JNT, POS, TOOL or OFF after CMP, found {_describe(nxt)}"
+            )
+        self.advance()
+        self.expect_kind(K.COMMA, "','", f"after CMP {mode_word}")
+        mask = self.expr()
+        return A.Cmp(A.CmpMode(mode_word), mask, self.last_span(tok))
+
+    # flow ----------------------------------------------------------------------------
+
+    def st_goto(self, tok: Token) -> A.Statement:
+        target = self.target(f"after {tok.text.upper()}")
+        if tok.text.upper() == "GOTO":
+            return A.Goto(target, self.last_span(tok))
+        return A.Gosub(target, self.last_span(tok))
+
+    def st_on(self, tok: Token) -> A.Statement:
+        if self.at_word("COM"):
+            self.advance()
+            port = None
+            if self.at_kind(K.LPAREN):
+                self.advance()
+                port = self.expr()
+                self.expect_kind(K.RPAREN, "')'", "after ON COM(n")
+            self.expect_word("GOSUB", "after ON COM")
+            target = self.target("after ON COM … GOSUB")
+            return A.OnCom(port, target, self.last_span(tok))
+        selector = self.expr()
+        if self.at_word("GOTO"):
+            kind = A.JumpKind.GOTO
+        elif self.at_word("GOSUB"):
+            kind = A.JumpKind.GOSUB
+        else:
+            nxt = self.peek()
+            raise self.fail(nxt, f"Expected GOTO or GOSUB after ON's value, found {_describe(nxt)}")
+        self.advance()
+        targets = [self.target(f"after ON … {kind.value}")]
+        while self.at_kind(K.COMMA):
+            self.advance()
+            targets.append(self.target("in the ON list"))
+        return A.OnJump(selector, kind, tuple(targets), self.last_span(tok))
+
+    def st_return(self, tok: Token) -> A.Statement:
+        mode = None if self.at_end() or self.at_word("ELSE") else self.expr()
+        return A.Return(mode, self.last_span(tok))
+
+    def branch(self, stop: frozenset[str]) -> A.JumpTarget | A.Statement:
+        tok = self.toks[self.i]
+        if tok.kind is K.INTEGER or tok.kind is K.LABEL:
+            return self.target("")
+        return self.statement(stop)
+
+    def st_if(self, tok: Token) -> A.Statement:
+        toks = self.toks
+        cond_start = self.toks[self.i]
+        condition: A.Expr
+        try:
+            if self.at_end():
+                raise self.fail(self.peek(), "IF needs a condition", "missing-argument")
+            condition = self.expr()
+        except _Fail as failure:
+            # Resume at THEN if the line has one; otherwise the whole IF is invalid.
+            j = self.i
+            while toks[j].kind not in _END_KINDS and not (
+                toks[j].kind is K.KEYWORD and toks[j].text.upper() == "THEN"
+            ):
+                j += 1
+            if toks[j].kind in _END_KINDS:
+                raise
+            self.i = j
+            last = toks[j - 1] if j > 0 else cond_start
+            condition = A.InvalidExpr(
+                failure.issue,
+                A.Span(cond_start.line, cond_start.column, last.line, last.end_column),
+            )
+        then: A.JumpTarget | A.Statement | None
+        if self.at_word("THEN"):
+            self.advance()
+            if self.at_end():
+                return A.If(condition, None, None, self.last_span(tok))
+        else:
+            nxt = self.peek()
+            found = _describe(nxt)
+            message = f"Expected THEN after IF condition and instead found {found}"
+            if not (
+                nxt.kind is K.KEYWORD and nxt.text.upper() in STATEMENT_KEYWORDS
+            ) and nxt.kind not in (K.INTEGER, K.LABEL):
+                raise self.fail(nxt, message, "expected-then", "THEN")
+            # The branch is readable: report the missing THEN and parse on.
+            self.issue(nxt, message, "expected-then", "THEN")
+        then = self.branch(frozenset({"ELSE"}))
+        else_: A.JumpTarget | A.Statement | None = None
+        if self.at_word("ELSE"):
+            self.advance()
+            if self.at_end():
+                raise self.fail(self.peek(), "ELSE needs a line number, *label or statement")
+            else_ = self.branch(frozenset())
+        return A.If(condition, then, else_, self.last_span(tok))
+
+    def st_else(self, tok: Token) -> A.Statement:
+        return A.Else(self.last_span(tok))
+
+    def st_endif(self, tok: Token) -> A.Statement:
+        return A.EndIf(self.last_span(tok))
+
+    def name(self, context: str) -> A.Name:
+        tok = self.toks[self.i]
+        if tok.kind is K.IDENT:
+            self.i += 1
+            return A.Name(tok.text.upper(), self.tok_span(tok))
+        if tok.kind is K.KEYWORD:
+            raise self.fail(
+                tok,
+                f"{tok.text.upper()} is a reserved word and cannot be a variable name",
+                "reserved-word",
+            )
+        raise self.fail(tok, f"Expected a variable name {context}, found {_describe(tok)}")
+
+    def st_for(self, tok: Token) -> A.Statement:
+        counter = self.name("after FOR")
+        self.expect_op("=", "after the FOR counter")
+        start = self.expr()
+        self.expect_word("TO", "after the FOR start value")
+        end = self.expr()
+        step = None
+        if self.at_word("STEP"):
+            self.advance()
+            step = self.expr()
+        return A.For(counter, start, end, step, self.last_span(tok))
+
+    def st_next(self, tok: Token) -> A.Statement:
+        counters: list[A.Name] = []
+        if not self.at_end():
+            counters.append(self.name("after NEXT"))
+            while self.at_kind(K.COMMA):
+                self.advance()
+                counters.append(self.name("in the NEXT list"))
+        return A.Next(tuple(counters), self.last_span(tok))
+
+    def st_while(self, tok: Token) -> A.Statement:
+        if self.at_end():
+            raise self.fail(self.peek(), "WHILE needs a condition", "missing-argument")
+        return A.While(self.expr(), self.last_span(tok))
+
+    def st_wend(self, tok: Token) -> A.Statement:
+        return A.Wend(self.last_span(tok))
+
+    def st_select(self, tok: Token) -> A.Statement:
+        if self.at_end():
+            raise self.fail(self.peek(), "SELECT needs a value to compare", "missing-argument")
+        return A.Select(self.expr(), self.last_span(tok))
+
+    def st_case(self, tok: Token) -> A.Statement:
+        if self.at_word("IS"):
+            self.advance()
+            op_tok = self.peek()
+            entry = _BINARY.get(op_tok.text) if op_tok.kind is K.OP else None
+            if entry is None or not entry[1].is_comparison:
+                raise self.fail(
+                    op_tok, f"Expected a comparison after CASE IS, found {_describe(op_tok)}"
+                )
+            self.advance()
+            value = self.expr()
+            return A.Case(A.CaseKind.IS, value, None, entry[1], self.last_span(tok))
+        if self.at_end():
+            raise self.fail(self.peek(), "CASE needs a value", "missing-argument")
+        value = self.expr()
+        if self.at_word("TO"):
+            self.advance()
+            high = self.expr()
+            return A.Case(A.CaseKind.RANGE, value, high, None, self.last_span(tok))
+        return A.Case(A.CaseKind.VALUE, value, None, None, self.last_span(tok))
+
+    def st_break(self, tok: Token) -> A.Statement:
+        return A.Break(self.last_span(tok))
+
+    def st_default(self, tok: Token) -> A.Statement:
+        return A.Default(self.last_span(tok))
+
+    def st_end(self, tok: Token) -> A.Statement:
+        if self.at_word("SELECT"):
+            self.advance()
+            return A.EndSelect(self.last_span(tok))
+        if self.at_word("IF"):
+            raise self.fail(
+                tok,
+                "Invalid statement. Did you mean ENDIF instead of END IF?",
+                "unknown-statement",
+                "ENDIF",
+            )
+        return A.Command(A.CommandKind.END, (), self.last_span(tok))
+
+    def st_wait(self, tok: Token) -> A.Statement:
+        if self.at_end():
+            raise self.fail(self.peek(), "WAIT needs a condition", "missing-argument")
+        return A.Wait(self.expr(), self.last_span(tok))
+
+    def st_fprm(self, tok: Token) -> A.Statement:
+        params = [self.name("after FPRM")]
+        while self.at_kind(K.COMMA):
+            self.advance()
+            params.append(self.name("in the FPRM list"))
+        return A.Fprm(tuple(params), self.last_span(tok))
+
+    def st_reset(self, tok: Token) -> A.Statement:
+        self.expect_word("ERR", "after RESET")
+        return A.Command(A.CommandKind.RESET_ERR, (), self.last_span(tok))
+
+    # definitions -------------------------------------------------------------------------
+
+    def st_def(self, tok: Token) -> A.Statement:
+        kind_tok = self.peek()
+        word = kind_tok.text.upper() if kind_tok.kind in _WORD_KINDS else ""
+        if word in _DEF_TYPES:
+            self.advance()
+            names = [self.name(f"after DEF {word}")]
+            while self.at_kind(K.COMMA):
+                self.advance()
+                names.append(self.name(f"in the DEF {word} list"))
+            value = None
+            if len(names) == 1 and self.at_op("="):
+                self.advance()
+                value = self.expr()
+            return A.DefVar(_DEF_TYPES[word], tuple(names), value, self.last_span(tok))
+        if word == "IO":
+            self.advance()
+            name = self.name("after DEF IO")
+            self.expect_op("=", "after the DEF IO name")
+            io_tok = self.peek()
+            io_word = io_tok.text.upper() if io_tok.kind in _WORD_KINDS else ""
+            if io_word not in _IO_TYPES:
+                raise self.fail(
+                    io_tok, f"Expected BIT, BYTE, WORD or INTEGER, found {_describe(io_tok)}"
+                )
+            self.advance()
+            self.expect_kind(K.COMMA, "','", "before the bit number")
+            bit = self.expr()
+            mask = None
+            if self.at_kind(K.COMMA):
+                self.advance()
+                mask = self.expr()
+            return A.DefIO(name, _IO_TYPES[io_word], bit, mask, self.last_span(tok))
+        if word == "PLT":
+            self.advance()
+            items = self.arg_list(True)
+            if len(items) != 8:
+                raise self.fail(
+                    tok,
+                    "DEF PLT needs 8 values: number, start, end A, end B, [diagonal], "
+                    f"count A, count B, direction (found {len(items)})",
+                    "missing-argument" if len(items) < 8 else "too-many-arguments",
+                )
+            number, start, end_a, end_b, diag, count_a, count_b, direction = items
+            if None in (number, start, end_a, end_b, count_a, count_b, direction):
+                raise self.fail(tok, "DEF PLT: only the diagonal point may be left out")
+            assert number and start and end_a and end_b and count_a and count_b and direction
+            return A.DefPlt(
+                number,
+                start,
+                end_a,
+                end_b,
+                diag,
+                count_a,
+                count_b,
+                direction,
+                self.last_span(tok),
+            )
+        if word == "ACT":
+            self.advance()
+            priority = self.expr()
+            self.expect_kind(K.COMMA, "','", "after the DEF ACT priority")
+            condition = self.expr()
+            if self.at_word("GOTO"):
+                jkind = A.JumpKind.GOTO
+            elif self.at_word("GOSUB"):
+                jkind = A.JumpKind.GOSUB
+            else:
+                raise self.fail(
+                    self.peek(),
+                    f"Expected GOTO or GOSUB in DEF ACT, found {_describe(self.peek())}",
+                )
+            self.advance()
+            target = self.target("in DEF ACT")
+            mode = None
+            if self.at_kind(K.COMMA):
+                self.advance()
+                mtok = self.peek()
+                if mtok.kind is K.IDENT and mtok.text.upper() in ("S", "L"):
+                    self.advance()
+                    mode = mtok.text.upper()
+                else:
+                    raise self.fail(mtok, f"Expected S or L, found {_describe(mtok)}")
+            return A.DefAct(priority, condition, jkind, target, mode, self.last_span(tok))
+        if word == "ARCH":
+            self.advance()
+            items = self.arg_list(True)
+            return A.Command(A.CommandKind.DEF_ARCH, tuple(items), self.last_span(tok))
+        if kind_tok.kind is K.IDENT and word.startswith("FN") and len(word) > 2:
+            self.advance()
+            fname = A.Name(word, self.tok_span(kind_tok))
+            params: list[A.Name] = []
+            if self.at_kind(K.LPAREN):
+                self.advance()
+                if not self.at_kind(K.RPAREN):
+                    params.append(self.name("in the DEF FN parameters"))
+                    while self.at_kind(K.COMMA):
+                        self.advance()
+                        params.append(self.name("in the DEF FN parameters"))
+                self.expect_kind(K.RPAREN, "')'", "after the DEF FN parameters")
+            self.expect_op("=", "after the DEF FN name")
+            body = self.expr()
+            return A.DefFn(fname, tuple(params), body, self.last_span(tok))
+        guess = suggest(word, _DEF_WORDS) if word else None
+        if guess is not None:
+            raise self.fail(
+                kind_tok,
+                f"Unknown DEF type {kind_tok.text}. Did you mean DEF {guess}?",
+                "unknown-def-type",
+                guess,
+            )
+        raise self.fail(
+            kind_tok,
+            "Expected a DEF type (INTE, FLOAT, DOUBLE, CHAR, POS, JNT, IO, PLT, ACT, ARCH or "
+            f"FNname), found {_describe(kind_tok)}",
+            "unknown-def-type",
+        )
+
+    def st_dim(self, tok: Token) -> A.Statement:
+        arrays: list[A.DimArray] = []
+        while True:
+            start = self.peek()
+            name = self.name("after DIM")
+            self.expect_kind(K.LPAREN, "'('", f"after DIM {name.name}")
+            sizes = self.args(f"to close DIM {name.name}(")
+            if not sizes:
+                raise self.fail(start, f"DIM {name.name}() needs 1 to 3 sizes")
+            arrays.append(A.DimArray(name, sizes, self.last_span(start)))
+            if not self.at_kind(K.COMMA):
+                break
+            self.advance()
+        return A.Dim(tuple(arrays), self.last_span(tok))
+
+    def st_act(self, tok: Token) -> A.Statement:
+        number = self.expr(6)  # stop before '='
+        self.expect_op("=", "after ACT n")
+        value = self.expr()
+        return A.ActSet(number, value, self.last_span(tok))
+
+    # files and communication -----------------------------------------------------------
+
+    def channel(self) -> A.Expr:
+        if self.at_op("#"):
+            self.advance()
+        return self.expr()
+
+    def st_open(self, tok: Token) -> A.Statement:
+        file = self.expr()
+        mode = None
+        if self.at_word("FOR"):
+            self.advance()
+            mtok = self.peek()
+            mword = mtok.text.upper() if mtok.kind in _WORD_KINDS else ""
+            if mword not in ("INPUT", "OUTPUT", "APPEND"):
+                raise self.fail(mtok, f"Expected INPUT, OUTPUT or APPEND, found {_describe(mtok)}")
+            self.advance()
+            mode = A.FileMode(mword)
+        self.expect_word("AS", "in OPEN … AS #n")
+        number = self.channel()
+        return A.Open(file, mode, number, self.last_span(tok))
+
+    def st_print(self, tok: Token) -> A.Statement:
+        channel = None
+        if self.at_op("#"):
+            channel = self.channel()
+            if not self.at_end():
+                self.expect_kind(K.COMMA, "','", "after the PRINT channel")
+        items: list[A.Expr] = []
+        while not self.at_end():
+            items.append(self.expr())
+            if self.at_kind(K.COMMA) or self.at_op(";"):
+                self.advance()
+                continue
+            break
+        return A.Print(channel, tuple(items), self.last_span(tok))
+
+    def st_input(self, tok: Token) -> A.Statement:
+        channel = None
+        if self.at_op("#"):
+            channel = self.channel()
+            self.expect_kind(K.COMMA, "','", "after the INPUT channel")
+        targets = [self.assign_target()]
+        while self.at_kind(K.COMMA):
+            self.advance()
+            targets.append(self.assign_target())
+        return A.Input(channel, tuple(targets), self.last_span(tok))
+
+    def st_close(self, tok: Token) -> A.Statement:
+        channels: list[A.Expr] = []
+        if not self.at_end():
+            channels.append(self.channel())
+            while self.at_kind(K.COMMA):
+                self.advance()
+                channels.append(self.channel())
+        return A.Close(tuple(channels), self.last_span(tok))
+
+    def st_com(self, tok: Token) -> A.Statement:
+        port = None
+        if self.at_kind(K.LPAREN):
+            self.advance()
+            port = self.expr()
+            self.expect_kind(K.RPAREN, "')'", "after COM(n")
+        stok = self.peek()
+        sword = stok.text.upper() if stok.kind in _WORD_KINDS else ""
+        if sword not in ("ON", "OFF", "STOP"):
+            raise self.fail(stok, f"Expected ON, OFF or STOP after COM, found {_describe(stok)}")
+        self.advance()
+        return A.ComControl(port, A.ComState(sword), self.last_span(tok))
+
+
+_DISPATCH = {
+    "MOV": _LineParser.st_move,
+    "MVS": _LineParser.st_move,
+    "MVR": _LineParser.st_arc,
+    "MVR2": _LineParser.st_arc,
+    "MVR3": _LineParser.st_arc,
+    "MVC": _LineParser.st_arc,
+    "MVA": _LineParser.st_mva,
+    "SERVO": _LineParser.st_switch,
+    "PREC": _LineParser.st_switch,
+    "OADL": _LineParser.st_switch,
+    "CMP": _LineParser.st_cmp,
+    "GOTO": _LineParser.st_goto,
+    "GOSUB": _LineParser.st_goto,
+    "ON": _LineParser.st_on,
+    "RETURN": _LineParser.st_return,
+    "IF": _LineParser.st_if,
+    "ELSE": _LineParser.st_else,
+    "ENDIF": _LineParser.st_endif,
+    "FOR": _LineParser.st_for,
+    "NEXT": _LineParser.st_next,
+    "WHILE": _LineParser.st_while,
+    "WEND": _LineParser.st_wend,
+    "SELECT": _LineParser.st_select,
+    "CASE": _LineParser.st_case,
+    "BREAK": _LineParser.st_break,
+    "DEFAULT": _LineParser.st_default,
+    "END": _LineParser.st_end,
+    "WAIT": _LineParser.st_wait,
+    "FPRM": _LineParser.st_fprm,
+    "RESET": _LineParser.st_reset,
+    "DEF": _LineParser.st_def,
+    "DIM": _LineParser.st_dim,
+    "ACT": _LineParser.st_act,
+    "OPEN": _LineParser.st_open,
+    "PRINT": _LineParser.st_print,
+    "INPUT": _LineParser.st_input,
+    "CLOSE": _LineParser.st_close,
+    "COM": _LineParser.st_com,
+}
+
+assert set(_DISPATCH) | set(_COMMANDS) | {"REM"} == STATEMENT_KEYWORDS
+assert set(_BINARY) - {"MOD", "AND", "OR", "XOR"} <= {
+    "=",
+    "<>",
+    "><",
+    "<",
+    "<=",
+    "=<",
+    ">",
+    ">=",
+    "=>",
+    "<<",
+    ">>",
+    "+",
+    "-",
+    "\\",
+    "*",
+    "/",
+    "^",
+}
+assert {"MOD", "AND", "OR", "XOR", "NOT"} <= KEYWORDS
+
+
+def _label_targets(tokens: list[Token]) -> frozenset[str]:
+    return frozenset(t.text[1:].upper() for t in tokens if t.kind is K.LABEL)
+
+
+def parse_tokens(tokens: list[Token]) -> A.Program:
+    """Build the tree from `tokenize` output (so callers that already lexed need not relex)."""
+    labels = _label_targets(tokens)
+    lines: list[A.Line] = []
+    n = len(tokens)
+    i = 0
+    while i < n:
+        # One text line: tokens up to and including its NEWLINE (or EOF).
+        j = i
+        while tokens[j].kind is not K.NEWLINE and tokens[j].kind is not K.EOF:
+            j += 1
+        lines.append(_parse_line(tokens, i, j, labels))
+        if tokens[j].kind is K.EOF:
+            break
+        i = j + 1
+    return A.Program(tuple(lines))
+
+
+def _parse_line(tokens: list[Token], i: int, j: int, labels: frozenset[str]) -> A.Line:
+    end_tok = tokens[j]
+    lineno = end_tok.line
+    span = A.Span(lineno, 1, lineno, end_tok.column)
+    number = label = comment = None
+    number_span = label_span = None
+    k = i
+    if k < j and tokens[k].kind is K.LINE_NUMBER:
+        tok = tokens[k]
+        number = _to_int(tok.text)
+        number_span = A.Span(lineno, tok.column, lineno, tok.end_column)
+        k += 1
+    if k < j and tokens[k].kind is K.LABEL:
+        tok = tokens[k]
+        label = tok.text[1:].upper()
+        label_span = A.Span(lineno, tok.column, lineno, tok.end_column)
+        k += 1
+    stop = j
+    if stop > k and tokens[stop - 1].kind is K.COMMENT:
+        text = tokens[stop - 1].text
+        comment = text[1:] if text.startswith("'") else text[3:]
+        stop -= 1
+    if stop == k:
+        return A.Line(number, label, None, span, comment, (), number_span, label_span)
+    parser = _LineParser([*tokens[k:stop], end_tok], labels)
+    statement = parser.statement()
+    if not parser.at_end() and not isinstance(statement, A.InvalidStatement) and not parser.issues:
+        extra = parser.peek()
+        parser.fail(
+            extra,
+            f"Unexpected {_describe(extra)} after the end of the statement "
+            "(one statement per line)",
+            "unexpected-token",
+        )
+    return A.Line(
+        number, label, statement, span, comment, tuple(parser.issues), number_span, label_span
+    )
+
+
+def parse(text: str) -> A.Program:
+    """Parse a whole program. Never raises; broken lines become `InvalidStatement` nodes.
+
+    >>> program = parse("10 MOV P1, -50\\n20 HOPEN 1\\n")
+    >>> [type(line.statement).__name__ for line in program.lines]
+    ['Move', 'Command', 'NoneType']
+    """
+    return parse_tokens(tokenize(text))
