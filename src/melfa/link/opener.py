@@ -1,0 +1,89 @@
+"""`open_link(spec)`: one opener for every ``--robot`` form.
+
+=========================  ==================================================================
+spec                       link
+=========================  ==================================================================
+``sim``                    in-process virtual controller (`melfa.sim.open_sim_link`)
+``tcp://host:port``        `TcpLink` (Ethernet controller, or ``melfa sim --tcp``)
+``socket://``, ``loop://``, any other pyserial URL (``rfc2217://``, ``spy://``…): `SerialLink`
+``/dev/ttyUSB0``, ``COM3``  a serial device: `SerialLink` at the settings (9600 8E2 default)
+=========================  ==================================================================
+
+Tracing: ``trace=True``, or ``MELFA_TRACE=1`` in the environment, wraps the link in a
+`TraceLink` printing both directions to stderr.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from melfa.link.base import Link
+from melfa.link.errors import LinkError
+from melfa.link.serial_link import SerialLink
+from melfa.link.settings import LinkSettings
+from melfa.link.tcp import TcpLink
+from melfa.link.wrappers import PacedLink, TraceLink
+
+SIM_SPEC = "sim"
+TRACE_ENV = "MELFA_TRACE"
+ROBOT_ENV = "MELFA_ROBOT"
+
+
+def trace_requested() -> bool:
+    """True when ``MELFA_TRACE`` is set to something other than 0/false/no/empty."""
+    return os.environ.get(TRACE_ENV, "").strip().lower() not in ("", "0", "false", "no")
+
+
+def open_link(
+    spec: str,
+    settings: LinkSettings | None = None,
+    *,
+    trace: bool | None = None,
+    trace_sink: Callable[[str], None] | None = None,
+    pace: bool = False,
+) -> Link:
+    """Open the link ``spec`` names; `LinkError` with a clear message when it cannot."""
+    settings = settings or LinkSettings()
+    spec = spec.strip()
+    if not spec:
+        raise LinkError("no robot given: use a serial device, tcp://host:port, a URL, or sim")
+    link: Link
+    if spec == SIM_SPEC or spec.startswith(SIM_SPEC + ":"):
+        link = _open_sim(spec, settings)
+    elif spec.startswith("tcp://"):
+        link = TcpLink(spec, settings)
+    elif "://" in spec:
+        link = SerialLink(spec, settings)
+    else:
+        if not Path(spec).exists() and not spec.upper().startswith("COM"):
+            raise LinkError(
+                f"no serial device {spec}: is the USB-serial adapter plugged in? "
+                "(try `ls /dev/serial/by-id/`), or use tcp://host:port or sim"
+            )
+        link = SerialLink(spec, settings)
+    if pace:
+        link = PacedLink(link)
+    if trace if trace is not None else trace_requested():
+        link = TraceLink(link, trace_sink)
+    return link
+
+
+def _open_sim(spec: str, settings: LinkSettings) -> Link:
+    try:
+        from melfa.sim import open_sim_link  # type: ignore[attr-defined,unused-ignore]
+    except ImportError:
+        raise LinkError(
+            "the in-process virtual controller is not available in this build; "
+            "start `melfa sim --tcp` and use --robot tcp://127.0.0.1:PORT"
+        ) from None
+    link = open_sim_link(settings=settings)
+    if not isinstance(link, Link):
+        raise LinkError(f"melfa.sim.open_sim_link returned {type(link).__name__}, not a Link")
+    return link
+
+
+def default_robot() -> str:
+    """``$MELFA_ROBOT`` or ``sim``."""
+    return os.environ.get(ROBOT_ENV, "").strip() or SIM_SPEC

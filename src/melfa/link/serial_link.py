@@ -1,0 +1,72 @@
+"""RS-232 through pyserial: a device path or any pyserial URL (``socket://``, ``loop://``,
+``rfc2217://``, ``spy://``…), opened with the `LinkSettings` (9600 8E2 by default)."""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+
+import serial
+
+from melfa.link.base import POLL_S, Link
+from melfa.link.errors import LinkClosed, LinkError
+from melfa.link.settings import LinkSettings
+
+UNPLUGGED_HINT = "the adapter was unplugged, or the other end of the line went away"
+
+
+class SerialLink(Link):
+    """A pyserial port. Blocked reads wake through pyserial's `cancel_read` where it exists."""
+
+    def __init__(self, url: str, settings: LinkSettings | None = None) -> None:
+        settings = settings or LinkSettings()
+        super().__init__(settings, f"{url} ({settings.describe()})")
+        self.url = url
+        try:
+            port = serial.serial_for_url(
+                url, do_not_open=True, timeout=POLL_S, **settings.pyserial_kwargs()
+            )
+            port.open()
+        except (serial.SerialException, OSError, ValueError) as exc:
+            raise LinkError(f"cannot open {url} at {settings.describe()}: {exc}") from None
+        self.port = port
+
+    def _write(self, data: bytes) -> None:
+        try:
+            self.port.write(data)
+        except (serial.SerialException, OSError) as exc:
+            raise self._dead(exc) from None
+
+    def _read(self, timeout: float) -> bytes:
+        try:
+            data = bytes(self.port.read(1))
+            if data:
+                waiting = self.port.in_waiting
+                if waiting:
+                    data += bytes(self.port.read(waiting))
+        except (serial.SerialException, OSError, TypeError) as exc:
+            # TypeError: pyserial's posix read after a concurrent close (fd is None).
+            raise self._dead(exc) from None
+        return data
+
+    def _dead(self, exc: BaseException) -> LinkError:
+        if self._closed:
+            return LinkClosed(f"{self.url} is closed")
+        text = str(exc)
+        if (
+            "returned no data" in text
+            or f"Errno {errno.EIO}" in text
+            or getattr(exc, "errno", None) == errno.EIO
+        ):
+            return LinkClosed(f"{self.url} stopped responding: {UNPLUGGED_HINT} ({text})")
+        return LinkError(f"{self.url}: {text}")
+
+    def _wake(self) -> None:
+        cancel = getattr(self.port, "cancel_read", None)
+        if cancel is not None:
+            with contextlib.suppress(serial.SerialException, OSError):
+                cancel()
+
+    def _close(self) -> None:
+        with contextlib.suppress(serial.SerialException, OSError):
+            self.port.close()

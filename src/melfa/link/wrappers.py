@@ -1,0 +1,106 @@
+"""Links around links: a traffic trace (pyserial's ``spy://``) and 9600-baud pacing."""
+
+from __future__ import annotations
+
+import sys
+import threading
+import time
+from collections.abc import Callable
+
+from melfa.link.base import Link
+
+
+class _Wrapper(Link):
+    def __init__(self, inner: Link, description: str | None = None) -> None:
+        super().__init__(inner.settings, description or inner.description)
+        self.inner = inner
+
+    def _write(self, data: bytes) -> None:
+        self.inner.write(data)
+
+    def _read(self, timeout: float) -> bytes:
+        return self.inner._read(timeout)
+
+    def _wake(self) -> None:
+        self.inner._wake()
+
+    def _close(self) -> None:
+        self.inner.close()
+
+
+def render(data: bytes) -> str:
+    """Bytes as readable text: ``QoK<CR><LF>``, ``<VT>``, other bytes as ``\\xNN``."""
+    names = {13: "<CR>", 10: "<LF>", 11: "<VT>", 0: "<NUL>"}
+    out = []
+    for byte in data:
+        if byte in names:
+            out.append(names[byte])
+        elif 32 <= byte < 127:
+            out.append(chr(byte))
+        else:
+            out.append(f"\\x{byte:02x}")
+    return "".join(out)
+
+
+class TraceLink(_Wrapper):
+    """Logs both directions as text and hex: ``  0.125 -> 1;1;JPOSF<CR>  31 3b 31 …``."""
+
+    def __init__(self, inner: Link, sink: Callable[[str], None] | None = None) -> None:
+        super().__init__(inner)
+        self._sink = sink or (lambda line: print(line, file=sys.stderr, flush=True))
+        self._start = time.monotonic()
+
+    def _log(self, arrow: str, data: bytes) -> None:
+        stamp = time.monotonic() - self._start
+        self._sink(f"{stamp:8.3f} {arrow} {render(data)}  [{data.hex(' ')}]")
+
+    def _write(self, data: bytes) -> None:
+        self._log("->", data)
+        super()._write(data)
+
+    def _read(self, timeout: float) -> bytes:
+        data = super()._read(timeout)
+        if data:
+            self._log("<-", data)
+        return data
+
+
+class PacedLink(_Wrapper):
+    """Delays bytes like a real line: ``bits_per_char / baudrate`` per character each way
+    (12 bits at 8E2: 1.25 ms a character at 9600 baud [DERIVED protocol.md §6.1]).
+
+    Writes return when the last character would have left the wire; received bytes are handed
+    over when the last of them would have arrived. The two directions are independent
+    (RS-232 is full duplex). For benchmarks over an in-memory controller.
+    """
+
+    def __init__(self, inner: Link) -> None:
+        super().__init__(inner, f"{inner.description}, paced")
+        self.char_time = inner.settings.seconds_per_char
+        self._tx_free = 0.0
+        self._rx_free = 0.0
+        self._pace_lock = threading.Lock()
+
+    def _write(self, data: bytes) -> None:
+        with self._pace_lock:
+            self._tx_free = max(time.monotonic(), self._tx_free) + len(data) * self.char_time
+            until = self._tx_free
+        _sleep_until(until)
+        super()._write(data)
+
+    def _read(self, timeout: float) -> bytes:
+        data = super()._read(timeout)
+        if data:
+            with self._pace_lock:
+                self._rx_free = max(time.monotonic(), self._rx_free) + len(data) * self.char_time
+                until = self._rx_free
+            _sleep_until(until)
+        return data
+
+
+def _sleep_until(when: float) -> None:
+    while (left := when - time.monotonic()) > 0:
+        time.sleep(left)
+
+
+__all__ = ["PacedLink", "TraceLink", "render"]
