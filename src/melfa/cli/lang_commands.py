@@ -444,7 +444,12 @@ def _write_atomically(path: Path, data: bytes) -> None:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
         if path.exists():
-            os.chmod(tmp, path.stat().st_mode & 0o7777)  # noqa: PTH101
+            mode = path.stat().st_mode & 0o7777
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            mode = 0o666 & ~umask
+        os.chmod(tmp, mode)  # noqa: PTH101
         os.replace(tmp, path)  # noqa: PTH105
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
