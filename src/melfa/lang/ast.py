@@ -30,12 +30,15 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass
-from typing import TypeAlias
+from typing import NamedTuple, TypeAlias
 
 
-@dataclass(frozen=True, slots=True)
-class Span:
-    """A source range: 1-based line and column, end exclusive."""
+class Span(NamedTuple):
+    """A source range: 1-based line and column, end exclusive.
+
+    A NamedTuple rather than a dataclass: the parser makes one per token, and tuples are
+    several times cheaper to build (the checker runs on every keystroke).
+    """
 
     line: int
     column: int

@@ -92,38 +92,44 @@ def tokenize(text: str) -> list[Token]:
     """
     tokens: list[Token] = []
     append = tokens.append
+    new = tuple.__new__  # Token(...) without the Python-level __new__: this loop is hot
     line = 1
     line_start = 0
     prev = TokenKind.NEWLINE  # the kind of the previous token; start of text = new line
     kind_of = _SIMPLE_KINDS
+    keywords = KEYWORDS
     t_newline = TokenKind.NEWLINE
+    t_keyword = TokenKind.KEYWORD
+    t_ident = TokenKind.IDENT
+    t_integer = TokenKind.INTEGER
     for m in _MASTER.finditer(text):
         group = m.lastgroup
-        assert group is not None
-        start = m.end("ws")
+        ws_start, start = m.span(1)
         end = m.end()
         tok = text[start:end]
-        prefix = m.group("ws")
         col = start - line_start + 1
         if group == "WORD":
-            kind = _word_kind(tok)
+            kind = t_keyword if tok.upper() in keywords else t_ident
         elif group == "INTEGER":
-            kind = TokenKind.LINE_NUMBER if prev is t_newline else TokenKind.INTEGER
+            kind = TokenKind.LINE_NUMBER if prev is t_newline else t_integer
         elif group == "LABEL" and prev in _OPERAND_END:
-            append(Token(TokenKind.OP, "*", line, col, line, col + 1, prefix))
+            prefix = text[ws_start:start]
+            append(new(Token, (TokenKind.OP, "*", line, col, line, col + 1, prefix)))
             word = tok[1:]
             kind = _word_kind(word)
-            append(Token(kind, word, line, col + 1, line, col + len(tok), ""))
+            append(new(Token, (kind, word, line, col + 1, line, col + len(tok), "")))
             prev = kind
             continue
         else:
-            kind = kind_of[group]
-        if kind is t_newline:
-            append(Token(kind, tok, line, col, line + 1, 1, prefix))
-            line += 1
-            line_start = end
-        else:
-            append(Token(kind, tok, line, col, line, col + len(tok), prefix))
+            kind = kind_of[group]  # type: ignore[index]
+            if kind is t_newline:
+                prefix = text[ws_start:start]
+                append(new(Token, (kind, tok, line, col, line + 1, 1, prefix)))
+                line += 1
+                line_start = end
+                prev = kind
+                continue
+        append(new(Token, (kind, tok, line, col, line, col + len(tok), text[ws_start:start])))
         prev = kind
     return tokens
 

@@ -13,6 +13,8 @@ first: ``^``, unary ``+ -``, ``* /``, ``\\``, ``MOD``, binary ``+ -``, ``<< >>``
 
 from __future__ import annotations
 
+from operator import itemgetter
+
 from melfa.lang import ast as A  # noqa: N812  (short alias: the parser builds many nodes)
 from melfa.lang.lexer import tokenize
 from melfa.lang.tokens import FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
@@ -116,7 +118,7 @@ def _describe(tok: Token) -> str:
 class _LineParser:
     """Parses the tokens of one line (NEWLINE/EOF last, comments removed)."""
 
-    def __init__(self, toks: list[Token], labels: frozenset[str]) -> None:
+    def __init__(self, toks: list[Token], labels: _Labels) -> None:
         self.toks = toks
         self.i = 0
         self.issues: list[A.ParseIssue] = []
@@ -1131,29 +1133,41 @@ assert set(_BINARY) - {"MOD", "AND", "OR", "XOR"} <= {
 assert {"MOD", "AND", "OR", "XOR", "NOT"} <= KEYWORDS
 
 
-def _label_targets(tokens: list[Token]) -> frozenset[str]:
-    return frozenset(t.text[1:].upper() for t in tokens if t.kind is K.LABEL)
+class _Labels:
+    """The labels jumped to anywhere in the file, computed only if a line needs them."""
+
+    def __init__(self, tokens: list[Token]) -> None:
+        self.tokens = tokens
+        self.names: frozenset[str] | None = None
+
+    def __contains__(self, name: object) -> bool:
+        if self.names is None:
+            self.names = frozenset(t.text[1:].upper() for t in self.tokens if t.kind is K.LABEL)
+        return name in self.names
 
 
 def parse_tokens(tokens: list[Token]) -> A.Program:
     """Build the tree from `tokenize` output (so callers that already lexed need not relex)."""
-    labels = _label_targets(tokens)
+    labels = _Labels(tokens)
+    kinds = list(map(itemgetter(0), tokens))
+    newline = K.NEWLINE
     lines: list[A.Line] = []
-    n = len(tokens)
     i = 0
-    while i < n:
-        # One text line: tokens up to and including its NEWLINE (or EOF).
-        j = i
-        while tokens[j].kind is not K.NEWLINE and tokens[j].kind is not K.EOF:
-            j += 1
+    last = len(tokens) - 1  # the EOF token
+    while True:
+        # One text line: tokens up to and including its NEWLINE (or the EOF).
+        try:
+            j = kinds.index(newline, i)
+        except ValueError:
+            j = last
         lines.append(_parse_line(tokens, i, j, labels))
-        if tokens[j].kind is K.EOF:
+        if j == last:
             break
         i = j + 1
     return A.Program(tuple(lines))
 
 
-def _parse_line(tokens: list[Token], i: int, j: int, labels: frozenset[str]) -> A.Line:
+def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
     end_tok = tokens[j]
     lineno = end_tok.line
     span = A.Span(lineno, 1, lineno, end_tok.column)

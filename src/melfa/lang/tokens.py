@@ -34,6 +34,10 @@ class TokenKind(enum.Enum):
     EOF = "eof"
     ERROR = "error"  # a character the language does not have, or an unterminated string
 
+    # Enum's own __hash__ runs Python code; members are singletons, so identity hashing is
+    # equivalent and keeps `kind in {...}` cheap in the lexer and parser hot loops.
+    __hash__ = object.__hash__
+
 
 class Token(NamedTuple):
     """One token with its position (1-based, end exclusive) and the whitespace before it."""

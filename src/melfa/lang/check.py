@@ -1,0 +1,545 @@
+"""The checker: syntax issues from the parser plus static analysis, as Diagnostics.
+
+`check(text, points)` never raises and returns diagnostics sorted by position, each inside
+the text. What it finds (rule names are documented in docs/diagnostics.md):
+
+* the parser's issues (at most one per line, more only after THEN/ELSE);
+* block structure: FOR/NEXT, WHILE/WEND, IF/ELSE/ENDIF, SELECT/CASE (via `blocks`);
+* jumps to labels or step numbers that do not exist, duplicate labels;
+* position and joint variables used but defined neither in the program nor in `points`;
+* controller limits: 127 characters a step, 8-character names and labels, step numbers
+  1-32767 (ascending, unique, all-or-none), nesting depths, ON GOTO targets, value ranges;
+* type mistakes that are certain (``M1 * P1``, a string assigned to a number…).
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Iterable, Iterator
+
+from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.blocks import match_blocks
+from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.lexer import tokenize
+from melfa.lang.parser import parse_tokens
+
+MAX_LINE_LENGTH = 127  # characters a step, without the terminator [S2 p.141], L4210
+MAX_NAME_LENGTH = 8  # variable names and labels (IV) [S3 L4300], [S1 "* (Label)"]
+MAX_LINE_NUMBER = 32767  # [S3 L4420]
+MAX_ON_TARGETS = 32  # [S3 L3251]
+
+E, W = Severity.ERROR, Severity.WARNING
+_NO_NUMBERS_HINT = " (this program has no step numbers; jump to a *label)"
+
+
+# Which block family each structural word and each block rule belongs to.
+_WORD_FAMILY = {
+    "FOR": "FOR",
+    "NEXT": "FOR",
+    "WHILE": "WHILE",
+    "WEND": "WHILE",
+    "IF": "IF",
+    "ELSE": "IF",
+    "ENDIF": "IF",
+    "SELECT": "SELECT",
+    "CASE": "SELECT",
+    "DEFAULT": "SELECT",
+    "BREAK": "SELECT",
+    "END": "SELECT",
+}
+_RULE_FAMILY = {
+    "for-without-next": "FOR",
+    "next-without-for": "FOR",
+    "next-mismatch": "FOR",
+    "while-without-wend": "WHILE",
+    "wend-without-while": "WHILE",
+    "if-without-endif": "IF",
+    "endif-without-if": "IF",
+    "else-without-if": "IF",
+    "select-without-end": "SELECT",
+    "end-select-without-select": "SELECT",
+    "case-outside-select": "SELECT",
+    "break-outside-block": "SELECT",
+}
+
+
+class VType(enum.Enum):
+    """What static typing can tell about a value."""
+
+    NUM = "number"
+    STR = "string"
+    POS = "position"
+    JNT = "joint"
+
+
+_DEF_VTYPE = {
+    A.VarType.INTE: VType.NUM,
+    A.VarType.FLOAT: VType.NUM,
+    A.VarType.DOUBLE: VType.NUM,
+    A.VarType.CHAR: VType.STR,
+    A.VarType.POS: VType.POS,
+    A.VarType.JNT: VType.JNT,
+}
+_PREFIX_VTYPE = {"P": VType.POS, "J": VType.JNT, "M": VType.NUM}
+_POSITION_FUNCS = {
+    "FRAM": VType.POS,
+    "INV": VType.POS,
+    "JTOP": VType.POS,
+    "PTOJ": VType.JNT,
+    "POSMID": VType.POS,
+    "ALIGN": VType.POS,
+    "SETFL1": VType.POS,
+    "SETFL2": VType.POS,
+    "SETJNT": VType.JNT,
+    "SETPOS": VType.POS,
+    "CALARC": VType.POS,
+}
+_POSITIONAL = (VType.POS, VType.JNT)
+
+# Node classes of the tree, and for each the names of its child-bearing fields.
+_NODE_TYPES: frozenset[type] = frozenset(
+    obj
+    for obj in vars(A).values()
+    if isinstance(obj, type)
+    and hasattr(obj, "__dataclass_fields__")
+    and obj not in (A.Span, A.ParseIssue)
+)
+_CHILD_FIELDS: dict[type, tuple[str, ...]] = {
+    cls: tuple(
+        name
+        for name in cls.__dataclass_fields__  # type: ignore[attr-defined]
+        if name not in ("span", "issue", "text", "name", "kind", "op", "op_text", "value")
+        or (name in ("name", "value") and cls not in (A.Number, A.String))
+    )
+    for cls in _NODE_TYPES
+}
+
+
+def _walk(node: object) -> Iterator[object]:
+    """Every node under `node` (itself included), depth first."""
+    stack = [node]
+    children = _CHILD_FIELDS
+    pop, push = stack.pop, stack.append
+    while stack:
+        item = pop()
+        fields = children.get(type(item))
+        if fields is None:
+            if type(item) is tuple:
+                stack.extend(item)
+            continue
+        yield item
+        for name in fields:
+            value = getattr(item, name)
+            if value is not None and not isinstance(value, (str, int, float, enum.Enum)):
+                push(value)
+
+
+def _span_diag(
+    span: A.Span,
+    severity: Severity,
+    message: str,
+    rule: str,
+    code: str | None = None,
+    suggestion: str | None = None,
+) -> Diagnostic:
+    return Diagnostic(
+        span.line, span.column, span.end_line, span.end_column, severity, message, rule, code,
+        suggestion,
+    )  # fmt: skip
+
+
+class _Analyzer:
+    def __init__(self, program: A.Program, points: Iterable[str]) -> None:
+        self.program = program
+        self.points = {p.upper() for p in points}
+        self.out: list[Diagnostic] = []
+        self.declared: dict[str, VType] = {}
+        self.defined: set[str] = set(self.points)
+
+    def add(
+        self,
+        span: A.Span,
+        severity: Severity,
+        message: str,
+        rule: str,
+        code: str | None = None,
+        suggestion: str | None = None,
+    ) -> None:
+        self.out.append(_span_diag(span, severity, message, rule, code, suggestion))
+
+    # ------------------------------------------------------------------------- passes
+
+    def run(self) -> list[Diagnostic]:
+        lines = self.program.lines
+        for line in lines:
+            for issue in line.issues:
+                self.add(issue.span, E, issue.message, issue.rule, issue.code, issue.suggestion)
+        self.line_limits()
+        self.numbering()
+        labels = self.labels()
+        self.collect_definitions()
+        self.statements(labels)
+        broken = self.broken_structure()
+        for problem in match_blocks(self.program).problems:
+            if _RULE_FAMILY.get(problem.rule) not in broken:
+                self.add(problem.span, E, problem.message, problem.rule, problem.code)
+        return self.out
+
+    def broken_structure(self) -> set[str]:
+        """Block families with an unparsable opener or closer (WIHLE…): their pairing
+        findings would only repeat the syntax error, so they are left out."""
+        broken: set[str] = set()
+        for line in self.program.lines:
+            stmt = line.statement
+            if not isinstance(stmt, A.InvalidStatement):
+                continue
+            words = stmt.text.upper().split()
+            for word in (words[0] if words else "", stmt.issue.suggestion or ""):
+                family = _WORD_FAMILY.get(word)
+                if family is not None:
+                    broken.add(family)
+        return broken
+
+    def line_limits(self) -> None:
+        for line in self.program.lines:
+            length = line.span.end_column - 1
+            if length > MAX_LINE_LENGTH:
+                span = A.Span(line.span.line, MAX_LINE_LENGTH + 1, line.span.line, length + 1)
+                self.add(
+                    span,
+                    E,
+                    f"Line is {length} characters long; the controller allows "
+                    f"{MAX_LINE_LENGTH}. Split the statement or shorten names",
+                    "line-too-long",
+                    "L4210",
+                )
+
+    def numbering(self) -> None:
+        lines = self.program.lines
+        numbered = [line for line in lines if line.number is not None]
+        if not numbered:
+            return
+        seen: dict[int, int] = {}
+        previous: int | None = None
+        for line in lines:
+            if line.number is None or line.number_span is None:
+                has_content = line.statement is not None or line.label is not None or line.comment
+                if has_content:
+                    self.add(
+                        A.Span(line.span.line, 1, line.span.line, 2),
+                        E,
+                        "This program numbers its lines, so every line needs a step number "
+                        "(or remove all of them: melfa fmt can renumber)",
+                        "missing-line-number",
+                    )
+                continue
+            number, span = line.number, line.number_span
+            if not 1 <= number <= MAX_LINE_NUMBER:
+                self.add(
+                    span,
+                    E,
+                    f"Step number {number} is out of range: use 1 to {MAX_LINE_NUMBER}",
+                    "line-number-range",
+                    "L4420",
+                )
+            if number in seen:
+                self.add(
+                    span,
+                    E,
+                    f"Step number {number} is used twice (also on line {seen[number]}); "
+                    "the controller keeps only the last one",
+                    "duplicate-line-number",
+                )
+            elif previous is not None and number < previous:
+                self.add(
+                    span,
+                    W,
+                    f"Step {number} comes after step {previous}: the controller runs steps in "
+                    "ascending order, not in text order",
+                    "line-number-order",
+                )
+            seen.setdefault(number, line.span.line)
+            previous = number if previous is None else max(previous, number)
+
+    def labels(self) -> set[str]:
+        found: dict[str, int] = {}
+        for line in self.program.lines:
+            if line.label is None or line.label_span is None:
+                continue
+            span = line.label_span
+            if line.label in found:
+                self.add(
+                    span,
+                    E,
+                    f"Label *{line.label} is already defined on line {found[line.label]}",
+                    "duplicate-label",
+                    "L4440",
+                )
+            else:
+                found[line.label] = span.line
+            if len(line.label) > MAX_NAME_LENGTH:
+                self.add(
+                    span,
+                    E,
+                    f"Label *{line.label} is longer than {MAX_NAME_LENGTH} characters",
+                    "label-too-long",
+                    "L4300",
+                )
+        return set(found)
+
+    def collect_definitions(self) -> None:
+        declared, defined = self.declared, self.defined
+        for line in self.program.lines:
+            stmt = line.statement
+            if stmt is None:
+                continue
+            if isinstance(stmt, A.Assign):
+                base = _target_name(stmt.target)
+                if not isinstance(stmt.target, A.Element):
+                    defined.add(base.name)
+            elif isinstance(stmt, A.DefVar):
+                for n in stmt.names:
+                    declared[n.name] = _DEF_VTYPE[stmt.type]
+                    defined.add(n.name)
+            elif isinstance(stmt, A.DefIO):
+                declared[stmt.name.name] = VType.NUM
+                defined.add(stmt.name.name)
+            elif isinstance(stmt, A.Dim):
+                defined.update(a.name.name for a in stmt.arrays)
+            elif isinstance(stmt, A.For):
+                defined.add(stmt.counter.name)
+            elif isinstance(stmt, A.Input):
+                defined.update(_target_name(t).name for t in stmt.targets)
+            elif isinstance(stmt, (A.Fprm, A.DefFn)):
+                defined.update(p.name for p in stmt.params)
+            elif isinstance(stmt, A.If):
+                for branch in (stmt.then, stmt.else_):
+                    if isinstance(branch, A.Assign) and not isinstance(branch.target, A.Element):
+                        defined.add(_target_name(branch.target).name)
+
+    # ----------------------------------------------------------------------- statements
+
+    def statements(self, labels: set[str]) -> None:
+        numbers = {line.number for line in self.program.lines if line.number is not None}
+        numbered = bool(numbers)
+        long_names: set[str] = set()
+        for line in self.program.lines:
+            stmt = line.statement
+            if stmt is None or isinstance(stmt, A.InvalidStatement):
+                continue
+            # NEXT's counters are not uses: FOR already defined them (or blocks reports it).
+            warned_here: set[str] = (
+                {c.name for c in stmt.counters} if isinstance(stmt, A.Next) else set()
+            )
+            for node in _walk(stmt):
+                cls = type(node)
+                if cls is A.Name:
+                    assert isinstance(node, A.Name)
+                    self.name(node, long_names, warned_here)
+                elif cls is A.LabelRef:
+                    assert isinstance(node, A.LabelRef)
+                    if node.name not in labels:
+                        self.add(
+                            node.span,
+                            W,
+                            f"Label *{node.name} is not defined in this program",
+                            "undefined-label",
+                            "L3600",
+                        )
+                elif cls is A.LineRef:
+                    assert isinstance(node, A.LineRef)
+                    if node.number not in numbers:
+                        why = "" if numbered else _NO_NUMBERS_HINT
+                        self.add(
+                            node.span,
+                            E,
+                            f"Step {node.number} does not exist{why}",
+                            "undefined-line",
+                            "L4230",
+                        )
+                elif cls is A.Binary:
+                    assert isinstance(node, A.Binary)
+                    self.binary(node)
+                elif cls is A.Assign:
+                    assert isinstance(node, A.Assign)
+                    self.assign(node)
+                elif cls is A.OnJump:
+                    assert isinstance(node, A.OnJump)
+                    if len(node.targets) > MAX_ON_TARGETS:
+                        self.add(
+                            node.targets[MAX_ON_TARGETS].span.to(node.targets[-1].span),
+                            E,
+                            f"ON … {node.kind.value} has {len(node.targets)} destinations; "
+                            f"the limit is {MAX_ON_TARGETS}",
+                            "too-many-targets",
+                            "L3251",
+                        )
+                elif cls is A.Command:
+                    assert isinstance(node, A.Command)
+                    self.command_ranges(node)
+
+    def name(self, node: A.Name, long_names: set[str], warned_here: set[str]) -> None:
+        name = node.name
+        if len(name.rstrip("$%!#")) > MAX_NAME_LENGTH and name not in long_names:
+            long_names.add(name)
+            self.add(
+                node.span,
+                E,
+                f"Name {name} is longer than {MAX_NAME_LENGTH} characters",
+                "name-too-long",
+                "L4300",
+            )
+        if name in self.defined or name in warned_here or (len(name) > 1 and name[1] == "_"):
+            return
+        vtype = self.vtype_of_name(name)
+        if vtype in _POSITIONAL:
+            warned_here.add(name)
+            kind = "Position" if vtype is VType.POS else "Joint position"
+            self.add(
+                node.span,
+                W,
+                f"{kind} {name} is not defined: add it to the points file or assign it in "
+                "the program",
+                "undefined-point",
+            )
+
+    def vtype_of_name(self, name: str) -> VType | None:
+        declared = self.declared.get(name)
+        if declared is not None:
+            return declared
+        if name.endswith("$"):
+            return VType.STR
+        if len(name) > 1 and name[1] == "_":
+            return {"C": VType.STR}.get(name[0]) or _PREFIX_VTYPE.get(name[0])
+        return _PREFIX_VTYPE.get(name[0])
+
+    def vtype(self, expr: A.Expr | None) -> VType | None:
+        """The static type of `expr` when it is certain, else None."""
+        if isinstance(expr, A.Number):
+            return VType.NUM
+        if isinstance(expr, A.String):
+            return VType.STR
+        if isinstance(expr, A.Name):
+            return self.vtype_of_name(expr.name)
+        if isinstance(expr, A.Index):
+            return self.vtype_of_name(expr.name.name)
+        if isinstance(expr, A.Element):
+            return VType.NUM
+        if isinstance(expr, A.Pallet):
+            return VType.POS
+        if isinstance(expr, A.PositionLiteral):
+            return VType.POS if expr.flags is not None or len(expr.elements) > 8 else None
+        if isinstance(expr, A.Call):
+            if expr.user:
+                return VType.STR if expr.name.endswith("$") else None
+            if expr.name.endswith("$") or expr.name == "RDFL1":
+                return VType.STR
+            return _POSITION_FUNCS.get(expr.name, VType.NUM)
+        if isinstance(expr, A.Unary):
+            inner = self.vtype(expr.operand)
+            return VType.NUM if expr.op is A.UnaryOp.NOT else inner
+        if isinstance(expr, A.Binary):
+            if expr.op.is_comparison or expr.op in (A.BinaryOp.AND, A.BinaryOp.OR):
+                return VType.NUM
+            left, right = self.vtype(expr.left), self.vtype(expr.right)
+            if left in _POSITIONAL:
+                return left
+            if left is VType.NUM and right is VType.NUM:
+                return VType.NUM
+            if left is VType.STR and right is VType.STR and expr.op is A.BinaryOp.ADD:
+                return VType.STR
+        return None
+
+    def binary(self, node: A.Binary) -> None:
+        if node.op not in (A.BinaryOp.MUL, A.BinaryOp.DIV):
+            return
+        left, right = self.vtype(node.left), self.vtype(node.right)
+        if left is VType.NUM and right in _POSITIONAL:
+            self.add(
+                node.span,
+                E,
+                f"A number {node.op.value} a position is not allowed; put the position first "
+                f"(P {node.op.value} M)",
+                "type-mismatch",
+                "L4390",
+            )
+
+    def assign(self, node: A.Assign) -> None:
+        target = node.target
+        if isinstance(target, A.Element):
+            tt: VType | None = VType.NUM
+        else:
+            tt = self.vtype_of_name(_target_name(target).name)
+        vt = self.vtype(node.value)
+        if tt is None or vt is None or tt is vt:
+            return
+        if {tt, vt} == {VType.POS, VType.JNT}:
+            hint = "convert with JTOP() or PTOJ()"
+        elif tt is VType.STR:
+            hint = "convert with STR$()"
+        elif vt is VType.STR:
+            hint = "convert with VAL()"
+        else:
+            hint = "use a variable of the right type"
+        self.add(
+            node.value.span,
+            E,
+            f"Cannot assign a {vt.value} to the {tt.value} variable "
+            f"{_target_name(target).name}: {hint}",
+            "type-mismatch",
+            "L4390",
+        )
+
+    def command_ranges(self, node: A.Command) -> None:
+        if not node.args or not isinstance(node.args[0], A.Number):
+            return
+        arg = node.args[0]
+        value = arg.value
+        limits = {
+            A.CommandKind.OVRD: (1, 100, "OVRD takes 1 to 100 (%)"),
+            A.CommandKind.JOVRD: (1, 100, "JOVRD takes 1 to 100 (%)"),
+            A.CommandKind.HOPEN: (1, 8, "Hand numbers are 1 to 8"),
+            A.CommandKind.HCLOSE: (1, 8, "Hand numbers are 1 to 8"),
+            A.CommandKind.ERROR: (9000, 9299, "User errors are 9000 to 9299"),
+        }.get(node.kind)
+        if limits is not None and not limits[0] <= value <= limits[1]:
+            self.add(arg.span, E, f"{limits[2]}, found {arg.text}", "value-out-of-range")
+
+
+def _target_name(target: A.AssignTarget) -> A.Name:
+    while isinstance(target, A.Element):
+        base = target.base
+        if isinstance(base, (A.Name, A.Index)):
+            target = base
+        else:
+            return A.Name("", target.span)
+    return target if isinstance(target, A.Name) else target.name
+
+
+def check_ast(program: A.Program, points: Iterable[str] = ()) -> list[Diagnostic]:
+    """Diagnostics for an already parsed program, sorted by position."""
+    found = _Analyzer(program, points).run()
+    found.sort(key=lambda d: (d.line, d.column, d.end_line, d.end_column, d.rule))
+    return found
+
+
+def check(text: str, points: Iterable[str] = ()) -> list[Diagnostic]:
+    """Check a program; `points` are the names defined in its points file. Never raises.
+
+    >>> [(d.line, d.code, d.message) for d in check("10 MOV P1\\n20 HOPEN\\n", ["P1"])]
+    [(2, 'L4220', 'HOPEN needs a hand number (1 to 8), found the end of the line')]
+    """
+    try:
+        return check_ast(parse_tokens(tokenize(text)), points)
+    except Exception as exc:  # a bug of ours must not take the editor down
+        return [
+            Diagnostic(
+                1,
+                1,
+                1,
+                1,
+                Severity.ERROR,
+                f"Internal error in melfa's checker (please report it): {exc!r}",
+                "internal-error",
+            )
+        ]
