@@ -1,1 +1,35 @@
-"""melfa.sim (being built)."""
+"""The virtual CR2B-574: answers the R-protocol like the real controller, without the robot.
+
+- `VirtualController`: the sans-I/O core, one request line in, one reply out, time injected.
+- `open_sim_link()`: an in-process `melfa.link.Link` to it (`--robot sim`).
+- `PtyServer` / `TcpServer`: serve it on a fresh pseudo-terminal per connection (pyserial
+  opens the slave at 9600 8E2, the real serial code path) or on `tcp://host:port`.
+- `SimConfig`: every [GUESS] of protocol.md that changes what a client sees.
+- `ProgramRunner` / `StatementExecutor`: the hooks the interpreter (`melfa.sim.interp`) fills.
+
+What it does not do: I/O signals, parameters beyond a few read-only ones, variables through
+VAL/HOT, file transfer (FOPEN…), procedural mode, more than one mechanism.
+"""
+
+from melfa.sim.config import SimConfig
+from melfa.sim.controller import SUPPORTED_COMMANDS, VirtualController
+from melfa.sim.memory import open_sim_link
+from melfa.sim.runner import ProgramRunner, RunnerStatus, StatementExecutor, StepError
+from melfa.sim.servers import PtyServer, TcpServer
+from melfa.sim.session import NO_PACING, Pacing, WireSession
+
+__all__ = [
+    "NO_PACING",
+    "SUPPORTED_COMMANDS",
+    "Pacing",
+    "ProgramRunner",
+    "PtyServer",
+    "RunnerStatus",
+    "SimConfig",
+    "StatementExecutor",
+    "StepError",
+    "TcpServer",
+    "VirtualController",
+    "WireSession",
+    "open_sim_link",
+]

@@ -1,0 +1,132 @@
+"""Everything about the virtual controller that the documents leave open.
+
+Each field that protocol.md marks [GUESS] is a named, configurable value here, so a test (or
+a user who has measured the real CR2B-574) can flip it without touching the controller logic.
+The defaults are what the public traces and drivers suggest.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+from dataclasses import dataclass, field
+
+# --- timing --------------------------------------------------------------------------------
+
+JOG_WATCHDOG_S = 0.140
+"""[DOC S1 §5.2.59] "If the command is not received between about 140 msec, the jog
+operation is automatically stopped." Motion continues while JOG requests keep arriving."""
+
+DEFAULT_REPLY_LATENCY_S = 0.1
+"""Controller processing time added by the servers before a reply (not by the core).
+prior-art.md §5: the S21 traces show about 100–150 ms on top of the line time."""
+
+SECONDS_PER_CHAR_9600_8E2 = 12 / 9600
+"""[DERIVED protocol.md §6.1] 8E2 = 12 bits a character: 1.25 ms per character at 9600 baud."""
+
+# --- wire limits ---------------------------------------------------------------------------
+
+MAX_COMMAND_BYTES = 255
+"""[DOC S1 p.6 §3.1] Maximum command size; the terminator is not counted [GUESS §2.1]."""
+
+MAX_STEP_CHARS = 127
+"""[melfa-basic-iv.md §1] A step holds at most 127 characters (L4210)."""
+
+MAX_LINE_NUMBER = 32767
+"""[melfa-basic-iv.md §1] Line numbers 1…32767 (L4420)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Banner:
+    """The OPEN reply fields [DOC S1 §3.1; TRACE S10, S21]. Defaults follow the CRn-5xx traces
+    with the RV-6S as robot; the copyright field names the simulator so a client can tell."""
+
+    xyz_axes: str = "3F"
+    joint_axes: str = "3F"
+    default_flags: str = "7,0"
+    jog_speeds: str = "3,5,A,1E,32,46,64"
+    program_ext: str = "MB4"
+    parameter_ext: str = "PRM"
+    robot_type: str = "RV-6S"
+    controller: str = "CRn-5xx"
+    maker: str = "MELFA"
+    date: str = "09-08-08"  # [GUESS] firmware date of the lab's CR2B-574 is unknown
+    version: str = "Ver.K9b"  # [GUESS] the S21 trace's firmware; the lab's is unknown
+    language: str = "ENG"
+    copyright: str = "MELFA VIRTUAL CONTROLLER (SIMULATED CR2B-574)"
+    robot_info: str = "1"
+    serial_no: str = "1"
+    taskmax: int = 8  # [DOC S1] TASKMAX default 8, so the edit slot is 9
+
+    def body(self) -> str:
+        """The answer text after `QoK`, trailing `;` included as in the traces."""
+        fields = (
+            self.xyz_axes,
+            self.joint_axes,
+            self.default_flags,
+            self.jog_speeds,
+            self.program_ext,
+            self.parameter_ext,
+            self.robot_type,
+            self.controller,
+            self.maker,
+            self.date,
+            self.version,
+            self.language,
+            self.copyright,
+            self.robot_info,
+            self.serial_no,
+            str(self.taskmax),
+        )
+        return ";".join(fields) + ";"
+
+
+@dataclass(frozen=True, slots=True)
+class SimConfig:
+    """Options of the virtual controller. Every [GUESS] of protocol.md that changes what a
+    client sees is a field here."""
+
+    banner: Banner = field(default_factory=Banner)
+
+    jog_supported: bool = True
+    """[GUESS §3.9, §8.12] Whether CR2B firmware accepts `JOG` over RS-232 in AUTO (Ext.).
+    False answers every JOG with L2030 so the client's step-jog fallback can be tested."""
+
+    jog_watchdog_s: float = JOG_WATCHDOG_S
+
+    exec_needs_program: bool = False
+    """[GUESS §3.4, §8.7] Whether EXEC needs a program loaded in the slot (S6 loads an empty
+    "COSIROP" first). When True, EXEC without PRGLOAD/RUN answers L4140."""
+
+    hand_on_opens: bool = True
+    """[GUESS §3.6, §8.8] Which of HNDON/HNDOFF opens the hand: True = HNDON opens."""
+
+    run_bit_while_exec_moves: bool = True
+    """[GUESS] STATE/DSTATE bit 0x40 (RUN) is also set while an EXEC motion or a jog moves the
+    arm; S6/S7 see EXEC motion as "running" (5640 "Cannot execute during RUN")."""
+
+    rights_for_slot_reset: bool = False
+    """[GUESS] Whether SLOTINIT and RSTPRG need the operation rights. The manual's `*` list
+    does not name them; S9 sends SLOTINIT before CNTLON, the thesis sends RSTPRG after."""
+
+    check_syntax_on_emdat: bool = True
+    """[DOC S1 §5.2.7–5.2.8] EMDAT errors carry the bad item and character position, so the
+    controller checks each line as it is entered. SAVE checks the whole program again."""
+
+    too_long_error: int = 6080
+    """[DOC S4] C6080 "Com mesg is too long" (L3270 is the other candidate) [GUESS which one]."""
+
+    prtver_answer: str = "1"
+    """[TRACE S21] `PRTVERVALS` → `QoK1`; [GUESS] the same for PRTVERLISTL / PRTVEREMDAT."""
+
+    edit_slot: int = 9
+    """[DOC S1] The edit slot is TASKMAX+1."""
+
+    clock_origin: dt.datetime = dt.datetime(2024, 1, 1, 0, 0, 0)
+    """Wall-clock time at `now == 0`, for dates in PDIR and ERRORLOG (the core has no clock)."""
+
+    free_bytes: int = 225536
+    """[TRACE S21] Free program memory shown by PDIR on an empty controller."""
+
+    def __post_init__(self) -> None:
+        if self.jog_watchdog_s <= 0:
+            raise ValueError("jog_watchdog_s must be positive")

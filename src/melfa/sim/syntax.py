@@ -1,0 +1,36 @@
+"""Which program text the controller refuses to store, and with which number.
+
+The controller checks a step when it is entered (EMDAT/EDATA errors carry a character
+position [DOC S1 §5.2.7–5.2.8]) and SAVE refuses a program with a syntax error (L4220).
+We ask `melfa.lang`'s parser (the same one behind `melfa.lang.check`, which students see)
+and refuse for its *syntax* findings only, each with its controller code (L4220, L4210 …).
+The checker's other findings (undefined variables, missing jump targets, style) are left to
+RUN, as on the controller, which stores such programs and fails when it reaches them.
+"""
+
+from __future__ import annotations
+
+from melfa.lang.ast import ParseIssue
+from melfa.lang.parser import parse
+
+DEFAULT_NUMBER = 4220  # L4220 "Syntax error" [DOC S4]
+
+
+def first_syntax_error(text: str) -> tuple[int, int] | None:
+    """(error number, 1-based column) of the first syntax problem, or None.
+
+    >>> first_syntax_error("10 MOV P1\\n")
+    >>> first_syntax_error("10 MOV (\\n")
+    (4220, 8)
+    """
+    for line in parse(text).lines:
+        for issue in line.issues + _statement_issues(line.statement):
+            code = issue.code or ""
+            number = int(code[1:]) if code[1:].isdigit() else DEFAULT_NUMBER
+            return number, issue.span.column
+    return None
+
+
+def _statement_issues(statement: object) -> tuple[ParseIssue, ...]:
+    issue = getattr(statement, "issue", None)
+    return (issue,) if isinstance(issue, ParseIssue) else ()
