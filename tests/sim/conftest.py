@@ -8,7 +8,9 @@ from collections.abc import Iterator
 import pytest
 
 from melfa.sim import NO_PACING, PtyServer, SimConfig, VirtualController
-from tests.fixtures_sim import Driver
+from tests.fixtures_sim import Driver, sim_pty_path, sim_tcp_url
+
+__all__ = ["sim_pty_path", "sim_tcp_url"]  # repo-wide fixtures, re-exported here
 
 
 @pytest.fixture
