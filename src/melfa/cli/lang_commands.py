@@ -272,10 +272,11 @@ def print_text(reports: Sequence[FileReport], console: Console) -> None:
             if rich_terminal and 0 < d.line <= len(lines):
                 shown, carets = _source_excerpt(lines[d.line - 1], d)
                 gutter = f"{d.line:>5} | "
-                console.print(Text(gutter, style="blue") + Text(shown))
+                console.print(Text.assemble((gutter, "blue"), shown))
                 console.print(
-                    Text(" " * (len(gutter) - 2) + "| ", style="blue")
-                    + Text(carets, style=_STYLE[d.severity])
+                    Text.assemble(
+                        (" " * (len(gutter) - 2) + "| ", "blue"), (carets, _STYLE[d.severity])
+                    )
                 )
     counts = _severity_counts(reports)
     style = (
