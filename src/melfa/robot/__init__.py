@@ -1,1 +1,41 @@
-"""melfa.robot (being built)."""
+"""The robot client: one session with one CR2B-574 controller, synchronous.
+
+`Robot` opens the session once, takes the operation rights when an operation needs them, and
+offers typed operations (upload, run, stop, exec, jog, hand, servo, override, read joints/
+pose/state). Refusals raise `ControllerError(number, message)`; link failures raise
+`melfa.link.LinkError`; garbled replies raise `melfa.protocol.RemoteProtocolError`.
+`stop` may be called from any thread, even while another request is in flight.
+"""
+
+from melfa.robot.channel import Channel
+from melfa.robot.client import (
+    RIGHTS_PREFIXES,
+    Progress,
+    Robot,
+    UploadItem,
+    UploadReport,
+    needs_rights,
+    point_items,
+    program_items,
+)
+from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
+from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
+
+__all__ = [
+    "RIGHTS_PREFIXES",
+    "Channel",
+    "ControllerError",
+    "HandMethod",
+    "JogMethod",
+    "Progress",
+    "Robot",
+    "RobotError",
+    "RobotSettings",
+    "Stopped",
+    "UploadItem",
+    "UploadRefused",
+    "UploadReport",
+    "needs_rights",
+    "point_items",
+    "program_items",
+]

@@ -1,0 +1,589 @@
+"""The synchronous robot client: one session with one controller.
+
+Shaped like h11's basic client: a thin loop that writes requests and reads replies, every
+wire decision left to `melfa.protocol`. Unlike the thesis (protocol.md §4.2), which opened a new
+connection and re-ran OPEN/CNTLON/RSTPRG/PRGLOAD/SRVON for every command, the session opens
+once (``OPEN=<client name>``) and takes the operation rights (``CNTLON``) the first time an
+operation needs them [DOC S1 §5.1 `*` commands], keeping both until `close`.
+
+Threads: one worker thread uses the client (the service runs it that way); any other thread
+may call `stop` at any time. See `stop` and `melfa.robot.channel` for how STOP overtakes a
+request in flight.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import re
+import threading
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from typing import Final
+
+from melfa.link import Link, LinkError, LinkSettings, open_link
+from melfa.protocol import (
+    EDIT_SLOT,
+    REQUEST_LIMIT,
+    DState,
+    EditRefused,
+    EmdatChunk,
+    ErrorStatus,
+    Jog,
+    JogMode,
+    LocalProtocolError,
+    Ok,
+    OpenBanner,
+    Position,
+    Refused,
+    Reply,
+    Request,
+    State,
+    chunk_emdat,
+    error_text,
+)
+from melfa.protocol.answers import RunStatus
+from melfa.robot.channel import Channel
+from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
+from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
+
+Progress = Callable[[int, int], None]
+"""``progress(bytes_sent, bytes_total)`` during an upload."""
+
+RIGHTS_PREFIXES: Final = (
+    "EXEC",
+    "STEP",
+    "PRGLOAD=",
+    "PRGUP",
+    "PRGDOWN",
+    "LINENO=",
+    "SRVON",
+    "OVRD=",
+    "RUN",
+    "ALIGN",
+    "MOVSP",
+    "JOG",
+    "BREAKON",
+    "HOME",
+    "DATINST",
+    "RSTALRM",
+)
+"""Commands marked `*` in the manual's command list [DOC S1/S2 §5.1], plus RSTALRM
+[DOC S5: alarm reset needs the rights]. STOP and SRVOFF never need them."""
+
+NO_RIGHTS: Final = 6020
+BUSY: Final = 5640
+NOT_FOUND: Final = 4140
+PROGRAM_RUNNING: Final = 4180
+JOG_NOT_ACCEPTED: Final = (2030, 6010)
+"""Refusals that mean "this firmware does not take JOG here" [DOC S4 L2030; 6010 unknown
+command]; `JogMethod.AUTO` then falls back to step moves."""
+
+_NUMBERED = re.compile(r"\s*\d+(\s|$)")
+_DEF_POINT = re.compile(r"\s*DEF\s+(POS|JNT)\s+", re.IGNORECASE)
+
+
+def needs_rights(command: str) -> bool:
+    """Whether ``command`` needs the operation rights."""
+    upper = command.upper()
+    return upper.startswith(RIGHTS_PREFIXES) and not upper.startswith("JOGST")
+
+
+@dataclass(frozen=True)
+class UploadItem:
+    """One EMDAT item and where it came from (1-based line of the caller's text)."""
+
+    text: str
+    source_line: int
+    source: str = "program"
+
+
+@dataclass(frozen=True)
+class UploadReport:
+    """What an upload sent."""
+
+    items: int
+    requests: int
+    bytes_sent: int
+    seconds: float
+
+
+def program_items(program: str | Sequence[str]) -> list[UploadItem]:
+    """Program text -> numbered EMDAT items. An unnumbered program is numbered 10, 20, …
+    with `melfa.lang.numbering.number_lines` (jump targets rewritten)."""
+    lines = program.splitlines() if isinstance(program, str) else list(program)
+    lines = [line.rstrip("\r\n \t") for line in lines]
+    if not all(_NUMBERED.match(line) for line in lines if line.strip()):
+        from melfa.lang.numbering import NumberingError, number_lines
+
+        try:
+            lines = number_lines("\n".join(lines)).split("\n")
+        except NumberingError as exc:
+            raise RobotError(f"cannot number the program: {exc}") from None
+    return [
+        UploadItem(line.strip(), index, "program")
+        for index, line in enumerate(lines, start=1)
+        if line.strip()
+    ]
+
+
+def point_items(points: str | Sequence[str]) -> list[UploadItem]:
+    """Points -> EMDAT items ``Pname=(…)(fl1,fl2)``: ``DEF POS``/``DEF JNT`` stripped
+    [protocol.md §4.2 item 4], blank and comment lines skipped."""
+    lines = points.splitlines() if isinstance(points, str) else list(points)
+    out = []
+    for index, line in enumerate(lines, start=1):
+        text = _DEF_POINT.sub("", line.strip(), count=1).strip()
+        if text and not text.startswith("'"):
+            out.append(UploadItem(text, index, "points"))
+    return out
+
+
+class Robot:
+    """A session with one controller over one `Link`.
+
+    >>> from melfa.sim import open_sim_link
+    >>> with Robot(open_sim_link()) as robot:
+    ...     robot.override(50)
+    ...     robot.joints().values("J1", "J2")
+    50
+    (0.0, 0.0)
+    """
+
+    def __init__(self, link: Link, settings: RobotSettings | None = None) -> None:
+        self.link = link
+        self.settings = settings or RobotSettings()
+        self.channel = Channel(link)
+        self.banner: OpenBanner | None = None
+        self.alarm = False
+        """True while the last reply was ``Qok``/``Qer`` (an alarm is active)."""
+        self.jog_method: JogMethod | None = None
+        """The jog method found to work (cached after the first jog)."""
+        self._rights = False
+        self._op_lock = threading.RLock()
+        self._open_lock = threading.Lock()
+        self._stop_generation = 0
+        self._op_generation = 0
+
+    @classmethod
+    def open(
+        cls,
+        spec: str,
+        link_settings: LinkSettings | None = None,
+        settings: RobotSettings | None = None,
+        *,
+        trace: bool | None = None,
+    ) -> Robot:
+        """Open the link ``spec`` names (see `melfa.link.open_link`) and wrap it."""
+        return cls(open_link(spec, link_settings, trace=trace), settings)
+
+    # ----------------------------------------------------------------- session basics
+
+    def __enter__(self) -> Robot:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    @property
+    def edit_slot(self) -> int:
+        """Slot for EMDAT: setting, else TASKMAX+1 from the banner, else 9."""
+        if self.settings.edit_slot is not None:
+            return self.settings.edit_slot
+        if self.banner is not None and self.banner.edit_slot is not None:
+            return self.banner.edit_slot
+        return EDIT_SLOT
+
+    def connect(self) -> OpenBanner:
+        """Open the session once (``OPEN=<client name>``); later calls return the banner."""
+        with self._open_lock:
+            if self.banner is None:
+                reply = self._send(f"OPEN={self.settings.client_name}")
+                ok = self._expect_ok(reply, f"OPEN={self.settings.client_name}")
+                try:
+                    self.banner = OpenBanner.parse(ok.answer)
+                except Exception:
+                    self.banner = OpenBanner(0x3F, 0x3F, "", "", "", "", "", "", None)
+            return self.banner
+
+    def close(self) -> None:
+        """Release the rights, end the session, close the link. Never raises."""
+        with contextlib.suppress(Exception):
+            if not self.link.closed and self.banner is not None:
+                if self._rights:
+                    self._send("CNTLOFF")
+                self._send("CLOSE")
+        self._rights = False
+        self.banner = None
+        self.link.close()
+
+    def request(self, command: str, *, slot: int | None = None, timeout: float | None = None) -> Ok:
+        """Send any command (opening the session and taking rights as needed); the reply,
+        or `ControllerError` if refused."""
+        with self._operation():
+            return self._call(command, slot=slot, timeout=timeout)
+
+    # ------------------------------------------------------------------------ program
+
+    def upload_program(
+        self, program: str | Sequence[str], progress: Progress | None = None
+    ) -> UploadReport:
+        """Replace program `settings.program` (slot program "1") with ``program``.
+
+        Sequence: NEW, LOAD=1, [PRTVERLISTL, PRTVEREMDAT], ECLR, EMDAT… to the edit slot,
+        SAVE. SAVE is sent only if every EMDAT was accepted; on any failure (refusal, link
+        loss, stop) the edit is closed with NEW, so the old program stays, and the error is
+        raised. An `UploadRefused` names the line and column in ``program``.
+        ECLR also clears the program's positions: use `load_project` to send both.
+        """
+        with self._operation():
+            return self._edit(program_items(program), progress)
+
+    def upload_points(
+        self, points: str | Sequence[str], progress: Progress | None = None
+    ) -> UploadReport:
+        """Add or replace positions (``P1=(…)(7,0)`` or ``DEF POS P1=…`` lines) in the
+        program, keeping its steps (no ECLR)."""
+        with self._operation():
+            return self._edit(point_items(points), progress, clear=False)
+
+    def load_project(
+        self,
+        program: str | Sequence[str],
+        points: str | Sequence[str] = (),
+        progress: Progress | None = None,
+    ) -> UploadReport:
+        """Program and points in one LOAD…SAVE session (they live in the same program, and
+        one session saves the NEW/LOAD/handshake/SAVE round trips of a second one)."""
+        with self._operation():
+            return self._edit(program_items(program) + point_items(points), progress)
+
+    def delete(self) -> None:
+        """Delete the program and its points: RSTPRG (release the slot), FDEL<program>.
+        Deleting a program that does not exist is not an error."""
+        with self._operation():
+            with contextlib.suppress(ControllerError):
+                self._call("RSTPRG")
+            try:
+                self._call(f"FDEL{self.settings.program}")
+            except ControllerError as exc:
+                if exc.number != NOT_FOUND:
+                    raise
+
+    def run(self) -> None:
+        """Start the program: ``RUN<program>;1`` (cycle mode) [S7 ``1;1;RUN1;1``]."""
+        with self._operation():
+            mode = 1 if self.settings.cycle_mode else 0
+            self._call(f"RUN{self.settings.program};{mode}")
+
+    def reset_program(self) -> None:
+        """``RSTPRG``: back to the program's first line (after a stop)."""
+        with self._operation():
+            self._call("RSTPRG")
+
+    def stop(self) -> None:
+        """Stop everything: ``<robot>;0;STOP`` (all slots) [DOC S5: always allowed, no rights].
+
+        Callable from any thread at any time. It never waits behind the worker: the STOP
+        bytes go out at once, even while another request awaits its reply (the channel
+        pipelines STOP and pairs replies in order). Then any multi-request operation in
+        progress (upload, jog, wait) raises `Stopped` at its next step; an upload closes its
+        edit with NEW. STOP's own reply is awaited (one request timeout at most).
+        """
+        self._stop_generation += 1
+        if self.banner is None:
+            self.connect()
+        reply = self.channel.request(
+            Request("STOP", robot=self.settings.robot, slot=self.settings.stop_slot)
+        )
+        self._note(reply)
+        if not isinstance(reply, Ok):
+            raise self._refusal(reply, "STOP", fetch=False)
+
+    def wait_idle(self, timeout: float = 60.0, poll: float = 0.2) -> DState:
+        """Poll ``DSTATE`` until the RUN bit (0x40) clears [DOC S1 p.55; ≥ 100 ms spacing
+        while running, DOC S1 §3.3.3]. `Stopped` if `stop` is called meanwhile."""
+        with self._operation() as generation:
+            end = time.monotonic() + timeout
+            while True:
+                state = DState.parse(self._call("DSTATE").answer)
+                if RunStatus.RUNNING not in state.status.run:
+                    return state
+                if time.monotonic() > end:
+                    raise RobotError(f"still running after {timeout:g} s")
+                self._checkpoint(generation)
+                time.sleep(poll)
+                self._checkpoint(generation)
+
+    # ----------------------------------------------------------------- single actions
+
+    def exec(self, statement: str) -> None:
+        """Execute one MELFA BASIC statement now: ``EXEC<statement>`` (replies when accepted,
+        not when done [DOC S1 §5.2.16])."""
+        with self._operation():
+            self._call("EXEC" + statement.strip())
+
+    def servo(self, on: bool) -> None:
+        """``SRVON`` (needs rights) / ``SRVOFF``."""
+        with self._operation():
+            self._call("SRVON" if on else "SRVOFF")
+
+    def override(self, percent: int) -> int:
+        """Set the operation-panel override, 1–100 % (``OVRD=``); returns the new value."""
+        if not 1 <= percent <= 100:
+            raise LocalProtocolError(f"override {percent} % is outside 1–100")
+        with self._operation():
+            answer = self._call(f"OVRD={percent}").answer
+            return int(answer) if answer.isdigit() else percent
+
+    def hand(self, open_: bool, number: int = 1) -> None:
+        """Open or close hand ``number`` (1–8). Default ``EXECHOPEN n``/``EXECHCLOSE n``."""
+        if not 1 <= number <= 8:
+            raise LocalProtocolError(f"hand {number} is outside 1–8")
+        with self._operation():
+            if self.settings.hand is HandMethod.EXEC:
+                self._call(f"EXEC{'HOPEN' if open_ else 'HCLOSE'} {number}")
+            else:
+                on = open_ == self.settings.hnd_on_opens
+                self._call(f"{'HNDON' if on else 'HNDOFF'}{number}")
+
+    def reset_alarm(self) -> None:
+        """``RSTALRM`` (needs rights)."""
+        with self._operation():
+            self._call("RSTALRM")
+            self.alarm = False
+
+    def error_text(self, number: int) -> str:
+        """The controller's text for an error (``ERRORMES<n>``), else melfa's table."""
+        with self._operation():
+            return self._error_message(number)
+
+    def current_error(self) -> ErrorStatus | None:
+        """``ERROR``: the active error, or None."""
+        with self._operation():
+            return ErrorStatus.parse(self._call("ERROR").answer)
+
+    # ------------------------------------------------------------------------ reading
+
+    def joints(self) -> Position:
+        """``JPOSF``: J1…J6 in degrees (`Position.values(*JOINT_NAMES)`)."""
+        with self._operation():
+            return Position.parse(self._call("JPOSF").answer)
+
+    def pose(self) -> Position:
+        """``PPOSF``: X, Y, Z (mm), A, B, C (degrees), FL1/FL2, override, speed."""
+        with self._operation():
+            return Position.parse(self._call("PPOSF").answer)
+
+    def state(self) -> State:
+        """``STATE``: program, line, override, run/stop status bits, error."""
+        with self._operation():
+            return State.parse(self._call("STATE").answer)
+
+    def dstate(self) -> DState:
+        """``DSTATE``: the short status poll."""
+        with self._operation():
+            return DState.parse(self._call("DSTATE").answer)
+
+    # --------------------------------------------------------------------------- jog
+
+    def jog(self, mode: JogMode, axis: int, direction: int) -> JogMethod:
+        """Move one axis while called repeatedly (every ≤ 100 ms; the controller stops a JOG
+        not renewed within ~140 ms [DOC S1 §5.2.59]). Returns the method used.
+
+        `JogMethod.AUTO`: JOG first; if the firmware refuses it (L2030, 6010) switch to step
+        moves for the rest of the session: one small ``EXECMVS``/``EXECMOV`` relative move
+        per call, skipped (not queued) while the previous step still moves (5640).
+        """
+        request = Jog.axis(mode, axis, direction)  # checks axis/direction first
+        with self._operation():
+            method = self.jog_method or self.settings.jog
+            if method is not JogMethod.STEP:
+                reply = self._raw(request.command, rights=True)
+                if isinstance(reply, Ok):
+                    self.jog_method = JogMethod.JOG
+                    return JogMethod.JOG
+                if method is JogMethod.JOG or getattr(reply, "error", 0) not in JOG_NOT_ACCEPTED:
+                    raise self._refusal(reply, request.command)
+                self.jog_method = JogMethod.STEP
+            try:
+                self._call("EXEC" + self.step_statement(mode, axis, direction))
+            except ControllerError as exc:
+                if exc.number != BUSY:
+                    raise
+            return JogMethod.STEP
+
+    def jog_stop(self) -> None:
+        """End a jog now: JOG with empty masks (a step jog ends by itself)."""
+        with self._operation():
+            if self.jog_method is JogMethod.JOG:
+                self._call(Jog(JogMode.JOINT).command)
+
+    def step_statement(self, mode: JogMode, axis: int, direction: int) -> str:
+        """The relative move a step jog sends: joint ``MOV J_CURR+(…)``, world
+        ``MVS P_CURR+(…)`` [DOC melfa-basic-iv §7], tool ``MVS P_CURR*(…)`` [CODE S19]."""
+        size = self.settings.jog_step_deg if mode is JogMode.JOINT or axis >= 3 else None
+        step = (size if size is not None else self.settings.jog_step_mm) * direction
+        values = ["0"] * 6
+        values[min(axis, 5)] = f"{step:g}"
+        offset = "(" + ",".join(values) + ")"
+        if mode is JogMode.JOINT:
+            return f"MOV J_CURR+{offset}"
+        if mode is JogMode.TOOL:
+            return f"MVS P_CURR*{offset}"
+        return f"MVS P_CURR+{offset}"
+
+    # ----------------------------------------------------------------------- plumbing
+
+    @contextlib.contextmanager
+    def _operation(self) -> Iterator[int]:
+        with self._op_lock:
+            generation = self._stop_generation
+            yield generation
+
+    def _checkpoint(self, generation: int) -> None:
+        if self._stop_generation != generation:
+            raise Stopped("stopped by request")
+
+    def _send(self, command: str, slot: int | None = None, timeout: float | None = None) -> Reply:
+        request = Request(
+            command, robot=self.settings.robot, slot=self.settings.slot if slot is None else slot
+        )
+        reply = self.channel.request(request, timeout)
+        self._note(reply)
+        return reply
+
+    def _note(self, reply: Reply) -> None:
+        self.alarm = reply.alarm
+
+    def _raw(
+        self,
+        command: str,
+        *,
+        slot: int | None = None,
+        timeout: float | None = None,
+        rights: bool | None = None,
+    ) -> Reply:
+        """Send with session and rights handled; the reply as it is (refusals included)."""
+        if self.banner is None:
+            self.connect()
+        if rights if rights is not None else needs_rights(command):
+            self._take_rights()
+            reply = self._send(command, slot, timeout)
+            if isinstance(reply, Refused) and reply.error == NO_RIGHTS:
+                self._rights = False  # lost them (mode switch, T/B): take them again once
+                self._take_rights()
+                reply = self._send(command, slot, timeout)
+            return reply
+        return self._send(command, slot, timeout)
+
+    def _call(self, command: str, *, slot: int | None = None, timeout: float | None = None) -> Ok:
+        return self._expect_ok(self._raw(command, slot=slot, timeout=timeout), command)
+
+    def _take_rights(self) -> None:
+        if not self._rights:
+            self._expect_ok(self._send("CNTLON"), "CNTLON")
+            self._rights = True
+
+    def _expect_ok(self, reply: Reply, command: str) -> Ok:
+        if isinstance(reply, Ok):
+            return reply
+        raise self._refusal(reply, command)
+
+    def _refusal(self, reply: Reply, command: str, *, fetch: bool = True) -> ControllerError:
+        number = getattr(reply, "error", 0)
+        message = self._error_message(number) if fetch else error_text(number)
+        return ControllerError(number, message, command=command[:40], alarm=reply.alarm)
+
+    def _error_message(self, number: int) -> str:
+        fallback = error_text(number)
+        if not self.settings.fetch_error_text or self.banner is None:
+            return fallback
+        try:
+            reply = self._send(f"ERRORMES{number}")
+        except (LinkError, LocalProtocolError):
+            raise
+        except Exception:
+            return fallback
+        if isinstance(reply, Ok) and reply.answer.strip():
+            letter = fallback[0] if fallback[:1] in ("H", "L", "C") else ""
+            return f"{letter}{number:04d} {reply.answer.strip()}" if letter else reply.answer
+        return fallback
+
+    def _edit(
+        self, items: list[UploadItem], progress: Progress | None, *, clear: bool | None = None
+    ) -> UploadReport:
+        """The LOAD…SAVE session shared by every upload."""
+        with self._operation() as generation:
+            started = time.monotonic()
+            sent_before = self.channel.sent_bytes
+            chunks = self._chunks(items)
+            total = sum(len(c.request.to_bytes()) for c in chunks)
+            if progress is not None:
+                progress(0, total)
+            program = self.settings.program
+            self._call("NEW")
+            try:
+                self._call(f"LOAD={program}")
+            except ControllerError as exc:
+                if exc.number != PROGRAM_RUNNING:
+                    raise
+                self._call("RSTPRG")  # a paused run holds the program: release it, retry
+                self._call(f"LOAD={program}")
+            sent = 0
+            try:
+                if self.settings.prtver_handshakes:
+                    self._call("PRTVERLISTL")
+                    self._call("PRTVEREMDAT")
+                if self.settings.clear_with_eclr if clear is None else clear:
+                    self._call("ECLR")
+                for chunk in chunks:
+                    self._checkpoint(generation)
+                    reply = self._send(chunk.request.command, slot=chunk.request.slot)
+                    if not isinstance(reply, Ok):
+                        raise self._upload_refusal(reply, chunk, items)
+                    sent += len(chunk.request.to_bytes())
+                    if progress is not None:
+                        progress(sent, total)
+                self._checkpoint(generation)
+                self._call("SAVE", timeout=self.settings.save_timeout)
+            except BaseException:
+                with contextlib.suppress(Exception):
+                    self._send("NEW")  # close without saving: the old program stays
+                raise
+            return UploadReport(
+                len(items),
+                len(chunks),
+                self.channel.sent_bytes - sent_before,
+                time.monotonic() - started,
+            )
+
+    def _chunks(self, items: list[UploadItem]) -> list[EmdatChunk]:
+        slot = self.edit_slot
+        prefix = len(f"{self.settings.robot};{slot};EMDAT")
+        for item in items:
+            if len(item.text) > REQUEST_LIMIT - prefix:
+                raise RobotError(
+                    f"{item.source} line {item.source_line} is {len(item.text)} characters; "
+                    f"one EMDAT request carries at most {REQUEST_LIMIT - prefix}"
+                )
+        try:
+            return chunk_emdat([i.text for i in items], robot=self.settings.robot, slot=slot)
+        except LocalProtocolError as exc:
+            raise RobotError(str(exc)) from None
+
+    def _upload_refusal(
+        self, reply: Reply, chunk: EmdatChunk, items: list[UploadItem]
+    ) -> ControllerError:
+        if isinstance(reply, EditRefused):
+            index = chunk.line_index(reply.item or 1)
+            item = items[min(index, len(items) - 1)]
+            return UploadRefused(
+                reply.error,
+                self._error_message(reply.error),
+                line=item.source_line,
+                column=reply.column,
+                text=item.text,
+                alarm=reply.alarm,
+            )
+        return self._refusal(reply, "EMDAT")
