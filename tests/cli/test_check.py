@@ -7,9 +7,12 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from melfa.cli import app
@@ -355,3 +358,15 @@ def _mkdir(path: Path) -> Path:
 
 def _strip_ansi(text: str) -> str:
     return re.sub(r"\x1b\[[0-9;]*m", "", text)
+
+
+@settings(max_examples=40)
+@given(st.binary(max_size=300), st.sampled_from(["x.MB4", "x.POS"]))
+def test_any_bytes_give_a_report_never_a_traceback(data: bytes, name: str) -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        path = write(Path(folder), name, data)
+        result = CliRunner().invoke(app, ["check", str(path), "--format", "json"])
+    assert result.exception is None or isinstance(result.exception, SystemExit)
+    assert result.exit_code in (0, 1)
+    [entry] = json.loads(result.stdout)
+    assert entry["file"] == str(path)
