@@ -1,0 +1,74 @@
+"""The controller's general-purpose I/O as a program sees it (``M_IN``, ``M_OUT`` …).
+
+Inputs are set from outside the program (tests, the CLI, later the UI) with `set_input`;
+outputs are written by the program and read by anyone. Bits are numbered as on the
+controller (0…); a multi-bit read (``M_IN8(n)``, ``M_INW(n)``) takes `width` bits starting
+at bit n, lowest bit first [melfa-basic-iv.md §4.7].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+
+class IOState:
+    """Input and output bits of one controller; changes notify `listeners`."""
+
+    def __init__(self) -> None:
+        self._inputs: dict[int, int] = {}
+        self._outputs: dict[int, int] = {}
+        self.listeners: list[Callable[[str, int, int], None]] = []
+        """Called with ("in"|"out", bit, value) whenever a bit changes."""
+
+    # --- inputs -------------------------------------------------------------------------
+    def input(self, bit: int) -> int:
+        return self._inputs.get(bit, 0)
+
+    def set_input(self, bit: int, value: int | bool) -> None:
+        """Drive one input bit (what a sensor or the operator would do)."""
+        self._set(self._inputs, "in", bit, 1 if value else 0)
+
+    def read_inputs(self, start: int, width: int) -> int:
+        return _read(self._inputs, start, width)
+
+    def set_inputs(self, start: int, width: int, value: int) -> None:
+        for i in range(width):
+            self._set(self._inputs, "in", start + i, (value >> i) & 1)
+
+    # --- outputs ------------------------------------------------------------------------
+    def output(self, bit: int) -> int:
+        return self._outputs.get(bit, 0)
+
+    def set_output(self, bit: int, value: int | bool) -> None:
+        self._set(self._outputs, "out", bit, 1 if value else 0)
+
+    def read_outputs(self, start: int, width: int) -> int:
+        return _read(self._outputs, start, width)
+
+    def write_outputs(self, start: int, width: int, value: int) -> None:
+        for i in range(width):
+            self._set(self._outputs, "out", start + i, (value >> i) & 1)
+
+    def outputs(self) -> dict[int, int]:
+        """Every output bit that is on (a copy)."""
+        return {k: v for k, v in self._outputs.items() if v}
+
+    def clear_outputs(self) -> None:
+        for bit in list(self._outputs):
+            self.set_output(bit, 0)
+
+    def _set(self, table: dict[int, int], kind: str, bit: int, value: int) -> None:
+        if bit < 0:
+            raise ValueError(f"I/O bit numbers start at 0, got {bit}")
+        if table.get(bit, 0) != value:
+            table[bit] = value
+            for listener in self.listeners:
+                listener(kind, bit, value)
+
+
+def _read(table: dict[int, int], start: int, width: int) -> int:
+    value = 0
+    for i in range(width):
+        if table.get(start + i, 0):
+            value |= 1 << i
+    return value
