@@ -23,6 +23,7 @@ from melfa.kin.flags import (
     turns_for_angle,
 )
 from melfa.kin.model import (
+    DEFAULT_INTERFERENCE,
     DH,
     HOME,
     INTERFERENCE_RULES,
@@ -32,6 +33,7 @@ from melfa.kin.model import (
     DHRow,
     Interference,
     check_limits,
+    interference_violation,
     within_limits,
 )
 from melfa.kin.pose import (
@@ -66,6 +68,7 @@ from melfa.kin.solver import (
 __all__ = [
     "ABC_ORDER",
     "ALL_CONFIGURATIONS",
+    "DEFAULT_INTERFERENCE",
     "DH",
     "FL1_ABOVE",
     "FL1_NONFLIP",
@@ -99,6 +102,7 @@ __all__ = [
     "flange_target",
     "ik",
     "ik_batch",
+    "interference_violation",
     "matrix_to_abc",
     "matrix_to_pose",
     "pose_add",

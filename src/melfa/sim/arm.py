@@ -1,0 +1,709 @@
+"""The simulated RV-6S arm: joints, servo, hands, speed settings, TOOL/BASE, motion in time.
+
+Time is injected: every call that can change the state takes ``now`` (seconds of the
+caller's clock, real or simulated) and nothing here reads a clock. A move builds a plan
+(`melfa.sim.motion`), checked before the arm starts, and `advance(now)` moves the joints
+along it. "As fast as possible" callers jump their clock to `motion_end()`.
+
+Both the virtual controller's EXEC and the interpreter's RUN drive one `SimulatedArm`.
+Refusals are `ArmError`s carrying the controller's error number (protocol.md §2.3):
+
+| class | number | when |
+|---|---|---|
+| `ServoOff` | L2000 | a move or jog with the servo off |
+| `JogRefused` | L2030 | a jog the arm cannot take (moving, unsupported mode) |
+| `JointLimitError` | H2160 | a target or path sample outside a joint range or interference limit |
+| `OutOfRange` | L2600 | no IK solution: out of reach, or a path through a singularity [GUESS] |
+| `IllegalPosition` | L2800 | impossible geometry: collinear arc points, FL1 change in MVS [GUESS] |
+| `ArmBusy` | L5640 | a new move while one is running (the busy reply S6/S7 rely on) |
+
+[GUESS] L2600 ("position data exceeds the limit") rather than H2180-H2193 (X/Y/Z data exceeds
+the limit) for unreachable targets: the latter read like the XYZ operating-range check.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections import deque
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+
+from melfa.kin import (
+    DEFAULT_INTERFERENCE,
+    HOME,
+    Interference,
+    InterferenceLimitExceeded,
+    JointLimitExceeded,
+    Joints,
+    KinematicsError,
+    Pose,
+    Unreachable,
+    fk,
+    ik,
+    pose_mul,
+)
+from melfa.sim import motion
+from melfa.sim.motion import Frames, IllegalMove, JogMode, MoveKind, Plan, Profile, Speeds
+
+__all__ = [
+    "ERR_BUSY",
+    "ERR_ILLEGAL_POSITION",
+    "ERR_JOG_REFUSED",
+    "ERR_JOINT_LIMIT",
+    "ERR_OUT_OF_RANGE",
+    "ERR_SERVO_OFF",
+    "HAND_COUNT",
+    "JOG_WATCHDOG_S",
+    "ArmBusy",
+    "ArmError",
+    "HandEvent",
+    "HandState",
+    "IllegalPosition",
+    "Inch",
+    "JogMode",
+    "JogRefused",
+    "JointLimitError",
+    "MoveEvent",
+    "OutOfRange",
+    "ServoOff",
+    "SimulatedArm",
+    "TrajectoryRecorder",
+    "TrajectorySample",
+    "directions_from_masks",
+    "from_kinematics",
+]
+
+ERR_SERVO_OFF = 2000
+ERR_JOG_REFUSED = 2030
+ERR_JOINT_LIMIT = 2160
+ERR_OUT_OF_RANGE = 2600
+ERR_ILLEGAL_POSITION = 2800
+ERR_BUSY = 5640
+
+HAND_COUNT = 8
+"""Hands 1..8 [DOC S1 HOPEN/HCLOSE]."""
+JOG_WATCHDOG_S = 0.14
+"""[DOC S1 §5.2.59] a JOG not repeated within about 140 ms stops by itself."""
+JOG_STEP_S = 0.02
+"""Integration step of continuous jog (Cartesian jog solves IK at each step)."""
+INCH_HIGH = 1.0
+"""[GUESS] inching step "high": mm for XYZ/TOOL axes, degrees for joints and A/B/C."""
+INCH_LOW = 0.1
+"""[GUESS] inching step "low"."""
+OP_OVERRIDE_DEFAULT = 100.0
+"""[GUESS] the OP override after power-on (the real one is whatever the panel was left at)."""
+
+
+# --- errors --------------------------------------------------------------------------------
+
+
+class ArmError(Exception):
+    """A refusal by the (simulated) controller, with its error number and level letter."""
+
+    number: int = 0
+    level: str = "L"
+
+    def __init__(self, message: str, number: int | None = None) -> None:
+        if number is not None:
+            self.number = number
+        self.message = message
+        super().__init__(f"{self.code}: {message}")
+
+    @property
+    def code(self) -> str:
+        """Number with its level letter, as the error list writes it: "H2160"."""
+        return f"{self.level}{self.number}"
+
+
+class ServoOff(ArmError):
+    number = ERR_SERVO_OFF
+
+
+class JogRefused(ArmError):
+    number = ERR_JOG_REFUSED
+
+
+class JointLimitError(ArmError):
+    """`joint` is 1-based, or None for an interference limit (several joints together)."""
+
+    number = ERR_JOINT_LIMIT
+    level = "H"
+
+    def __init__(self, message: str, joint: int | None = None, value: float | None = None) -> None:
+        self.joint = joint
+        self.value = value
+        super().__init__(message)
+
+
+class OutOfRange(ArmError):
+    number = ERR_OUT_OF_RANGE
+
+
+class IllegalPosition(ArmError):
+    number = ERR_ILLEGAL_POSITION
+
+
+class ArmBusy(ArmError):
+    number = ERR_BUSY
+
+
+def from_kinematics(exc: KinematicsError) -> ArmError:
+    """The controller error for a kinematics refusal."""
+    if isinstance(exc, JointLimitExceeded):
+        return JointLimitError(str(exc), exc.joint, exc.value)
+    if isinstance(exc, InterferenceLimitExceeded):
+        return JointLimitError(str(exc))
+    if isinstance(exc, Unreachable):
+        return OutOfRange(str(exc))
+    if isinstance(exc, IllegalMove):
+        return IllegalPosition(str(exc))
+    return OutOfRange(str(exc))
+
+
+# --- recorder ------------------------------------------------------------------------------
+
+
+class HandState(enum.Enum):
+    OPEN = "open"
+    CLOSED = "closed"
+
+
+@dataclass(frozen=True, slots=True)
+class TrajectorySample:
+    """Where the arm was at `time`: joints (deg), TCP pose, hands 1..8 (None = never set)."""
+
+    time: float
+    joints: Joints
+    pose: Pose
+    hands: tuple[HandState | None, ...]
+    line: int | None
+
+
+@dataclass(frozen=True, slots=True)
+class HandEvent:
+    time: float
+    hand: int
+    state: HandState
+    line: int | None
+
+
+@dataclass(frozen=True, slots=True)
+class MoveEvent:
+    """A motion began at `time`; `plan.sample(t - time)` replays it (fast runs included)."""
+
+    time: float
+    kind: MoveKind
+    plan: Plan
+    line: int | None
+
+    @property
+    def end_time(self) -> float:
+        return self.time + self.plan.duration
+
+
+class TrajectoryRecorder:
+    """Bounded ring buffers of samples and events (oldest dropped first)."""
+
+    def __init__(self, max_samples: int = 20000, max_events: int = 5000) -> None:
+        self._samples: deque[TrajectorySample] = deque(maxlen=max_samples)
+        self._events: deque[HandEvent | MoveEvent] = deque(maxlen=max_events)
+
+    def add_sample(self, sample: TrajectorySample) -> None:
+        self._samples.append(sample)
+
+    def add_event(self, event: HandEvent | MoveEvent) -> None:
+        self._events.append(event)
+
+    @property
+    def samples(self) -> list[TrajectorySample]:
+        return list(self._samples)
+
+    @property
+    def events(self) -> list[HandEvent | MoveEvent]:
+        return list(self._events)
+
+    @property
+    def moves(self) -> list[MoveEvent]:
+        return [e for e in self._events if isinstance(e, MoveEvent)]
+
+    @property
+    def hand_events(self) -> list[HandEvent]:
+        return [e for e in self._events if isinstance(e, HandEvent)]
+
+    @property
+    def last(self) -> TrajectorySample | None:
+        return self._samples[-1] if self._samples else None
+
+    def since(self, time: float) -> list[TrajectorySample]:
+        """Samples at or after `time` (for streaming to a viewer)."""
+        return [s for s in self._samples if s.time >= time]
+
+    def clear(self) -> None:
+        self._samples.clear()
+        self._events.clear()
+
+
+# --- jog ---------------------------------------------------------------------------------
+
+
+class Inch(enum.Enum):
+    """JOG inching field [DOC S1 §5.2.59]."""
+
+    OFF = 0
+    HIGH = 1
+    LOW = 2
+
+
+def directions_from_masks(negative: int, positive: int) -> tuple[int, ...]:
+    """Per-axis -1/0/+1 from the JOG command's axis masks (bit 0 = X/J1 ... bit 7 = L2/J8).
+
+    >>> directions_from_masks(0x01, 0x04)
+    (-1, 0, 1, 0, 0, 0, 0, 0)
+    """
+    return tuple(((positive >> i) & 1) - ((negative >> i) & 1) for i in range(8))
+
+
+@dataclass(slots=True)
+class _Jog:
+    mode: JogMode
+    directions: tuple[int, ...]
+    last_command: float
+
+
+# --- the arm -------------------------------------------------------------------------------
+
+
+class SimulatedArm:
+    """The simulated RV-6S. All times are seconds of the caller's clock.
+
+    >>> arm = SimulatedArm(servo_on=True)
+    >>> plan = arm.move_joint(Joints(10, 0, 90, 0, 90, 0), now=0.0)
+    >>> arm.is_moving(0.1), arm.is_moving(plan.duration)
+    (True, False)
+    >>> arm.joints
+    Joints(j1=10.0, j2=0.0, j3=90.0, j4=0.0, j5=90.0, j6=0.0)
+    """
+
+    def __init__(
+        self,
+        joints: Sequence[float] = HOME,
+        *,
+        now: float = 0.0,
+        servo_on: bool = False,
+        recorder: TrajectoryRecorder | None = None,
+        interference: Interference = DEFAULT_INTERFERENCE,
+        profile: Profile = Profile.TRAPEZOID,
+    ) -> None:
+        self._joints = Joints.of(joints)
+        self._time = now
+        self._servo = servo_on
+        self._hands: list[HandState | None] = [None] * HAND_COUNT
+        self._op_override = OP_OVERRIDE_DEFAULT
+        self._profile = profile
+        self._speeds = Speeds(op_override=self._op_override, profile=profile)
+        self._interference = interference
+        self._tool: Pose | None = None
+        self._base: Pose | None = None
+        self._plan: Plan | None = None
+        self._plan_start = now
+        self._plan_end = now
+        self._jog: _Jog | None = None
+        self._line: int | None = None
+        self.recorder = recorder if recorder is not None else TrajectoryRecorder()
+        self.fault: ArmError | None = None
+        """Set when a continuous jog ran into a limit (it stopped there); the controller
+        reads it, raises its alarm, and clears it with `clear_fault()`."""
+
+    # --- state ------------------------------------------------------------------------
+
+    @property
+    def joints(self) -> Joints:
+        """Joints (deg) as of the last `advance`."""
+        return self._joints
+
+    @property
+    def pose(self) -> Pose:
+        """TCP pose under the active TOOL and BASE, with structure flags (P_CURR)."""
+        return fk(self._joints, self._tool, self._base)
+
+    @property
+    def flange_pose(self) -> Pose:
+        return fk(self._joints)
+
+    @property
+    def servo_on(self) -> bool:
+        return self._servo
+
+    @property
+    def time(self) -> float:
+        """The latest time the arm was advanced to."""
+        return self._time
+
+    @property
+    def frames(self) -> Frames:
+        return Frames(self._tool, self._base, self._interference)
+
+    @property
+    def tool(self) -> Pose | None:
+        return self._tool
+
+    @property
+    def base(self) -> Pose | None:
+        return self._base
+
+    @property
+    def plan(self) -> Plan | None:
+        """The running plan (None when still or jogging)."""
+        return self._plan
+
+    @property
+    def line(self) -> int | None:
+        return self._line
+
+    def set_line(self, line: int | None) -> None:
+        """The program line now executing, stamped on what the recorder keeps."""
+        self._line = line
+
+    def set_tool(self, tool: Pose | None) -> None:
+        """TOOL: the TCP relative to the flange (None = flange)."""
+        self._tool = tool
+
+    def set_base(self, base: Pose | None) -> None:
+        """BASE: the robot base frame as seen from the world frame (None = identity)."""
+        self._base = base
+
+    # --- speed settings ---------------------------------------------------------------
+
+    @property
+    def speeds(self) -> Speeds:
+        return self._speeds
+
+    @property
+    def op_override(self) -> float:
+        return self._op_override
+
+    def set_op_override(self, percent: float) -> None:
+        """OP (panel) override, 1..100 % (the protocol's ``OVRD=``)."""
+        _check_percent("OP override", percent)
+        self._op_override = float(percent)
+        self._speeds = replace(self._speeds, op_override=float(percent))
+
+    def set_speeds(
+        self,
+        *,
+        ovrd: float | None = None,
+        jovrd: float | None = None,
+        spd: float | None = None,
+        accel: tuple[float, float] | None = None,
+    ) -> None:
+        """Program settings: OVRD and JOVRD (1..100 %), SPD (mm/s, > 0), ACCEL (acc, dec %).
+
+        Out-of-range values are the caller's mistake (`ValueError`); the interpreter
+        validates program values and reports them with its own error numbers.
+        """
+        s = self._speeds
+        if ovrd is not None:
+            _check_percent("OVRD", ovrd)
+            s = replace(s, ovrd=float(ovrd))
+        if jovrd is not None:
+            _check_percent("JOVRD", jovrd)
+            s = replace(s, jovrd=float(jovrd))
+        if spd is not None:
+            if not spd > 0:
+                raise ValueError(f"SPD must be > 0 mm/s, got {spd}")
+            s = replace(s, spd=float(spd))
+        if accel is not None:
+            acc, dec = accel
+            if not (acc > 0 and dec > 0):
+                raise ValueError(f"ACCEL must be > 0 %, got {acc}, {dec}")
+            s = replace(s, accel=float(acc), decel=float(dec))
+        self._speeds = s
+
+    def reset_speeds(self) -> None:
+        """Program settings back to their defaults (END, program reset) [S1 END]."""
+        self._speeds = Speeds(op_override=self._op_override, profile=self._profile)
+
+    # --- servo and hands --------------------------------------------------------------
+
+    def set_servo(self, on: bool, now: float) -> None:
+        """Servo on/off; switching off while moving stops the arm where it is (brakes)."""
+        self.advance(now)
+        if not on:
+            self._plan = None
+            self._jog = None
+        self._servo = on
+
+    def set_hand(self, hand: int, open_: bool, now: float) -> None:
+        """HOPEN/HCLOSE (hand 1..8). Recorded as a hand event."""
+        if not 1 <= hand <= HAND_COUNT:
+            raise ValueError(f"hand number {hand} is outside 1..{HAND_COUNT}")
+        self.advance(now)
+        state = HandState.OPEN if open_ else HandState.CLOSED
+        self._hands[hand - 1] = state
+        self.recorder.add_event(HandEvent(now, hand, state, self._line))
+        self._record(now)
+
+    def hand_open(self, hand: int) -> bool | None:
+        """True open, False closed, None never commanded since start."""
+        state = self._hands[hand - 1]
+        return None if state is None else state is HandState.OPEN
+
+    @property
+    def hands(self) -> tuple[HandState | None, ...]:
+        return tuple(self._hands)
+
+    # --- time --------------------------------------------------------------------------
+
+    def advance(self, now: float) -> Joints:
+        """Bring the joints up to `now` along the plan or jog. Earlier times are ignored."""
+        if now < self._time:
+            return self._joints
+        moving = self._plan is not None or self._jog is not None
+        if self._plan is not None:
+            if now >= self._plan_end:  # absolute compare: exact for clocks jumped to the end
+                self._joints = self._plan.end_joints
+                self._plan = None
+            else:
+                self._joints = self._plan.sample(now - self._plan_start)
+        if self._jog is not None:
+            self._advance_jog(now)
+        self._time = now
+        if moving:
+            self._record(now)
+        return self._joints
+
+    def is_moving(self, now: float | None = None) -> bool:
+        """Whether a plan or jog is still running (after advancing to `now` when given)."""
+        if now is not None:
+            self.advance(now)
+        return self._plan is not None or self._jog is not None
+
+    def motion_end(self) -> float | None:
+        """When the running motion ends (a jog: its watchdog deadline); None when still."""
+        if self._plan is not None:
+            return self._plan_end
+        if self._jog is not None:
+            return self._jog.last_command + JOG_WATCHDOG_S
+        return None
+
+    def stop(self, now: float, *, immediate: bool = False) -> None:
+        """Stop: decelerate along the path at the plan's deceleration (or freeze at once);
+        `motion_end()` becomes the moment the arm is still. Ends a jog at once."""
+        self.advance(now)
+        self._jog = None
+        if self._plan is None:
+            return
+        if immediate:
+            self._plan = None
+            return
+        stop_plan = self._plan.stopped(now - self._plan_start)
+        self._start_plan(stop_plan, now)
+
+    def record(self, now: float, line: int | None = None) -> TrajectorySample:
+        """Advance to `now` and store a sample (with `line`, or the current line)."""
+        self.advance(now)
+        return self._record(now, line)
+
+    def clear_fault(self) -> None:
+        self.fault = None
+
+    # --- moves -------------------------------------------------------------------------
+
+    def move_joint(
+        self,
+        target: Pose | Joints,
+        now: float,
+        *,
+        close: float | None = None,
+        shortcut: bool = False,
+    ) -> Plan:
+        """MOV target [, close] [TYPE shortcut]: joint interpolation (see `motion.plan_joint`)."""
+        return self._begin(
+            now,
+            lambda q: motion.plan_joint(
+                q, target, self._speeds, self.frames, close=close, shortcut=shortcut
+            ),
+        )
+
+    def move_linear(self, target: Pose | Joints, now: float, *, close: float | None = None) -> Plan:
+        """MVS target [, close]: straight-line move (see `motion.plan_linear`)."""
+        return self._begin(
+            now, lambda q: motion.plan_linear(q, target, self._speeds, self.frames, close=close)
+        )
+
+    def move_linear_offset(self, distance: float, now: float) -> Plan:
+        """``MVS , d``: `distance` mm along the current tool Z."""
+        return self._begin(
+            now, lambda q: motion.plan_linear_offset(q, distance, self._speeds, self.frames)
+        )
+
+    def move_arc(self, start: Pose, via: Pose, end: Pose, now: float) -> Plan:
+        """MVR start, via, end."""
+        return self._begin(
+            now, lambda q: motion.plan_arc(q, start, via, end, self._speeds, self.frames)
+        )
+
+    def move_arc_ref(self, start: Pose, end: Pose, ref: Pose, now: float) -> Plan:
+        """MVR2 start, end, ref (the arc not passing ref)."""
+        return self._begin(
+            now, lambda q: motion.plan_arc_ref(q, start, end, ref, self._speeds, self.frames)
+        )
+
+    def move_arc_centre(self, start: Pose, end: Pose, centre: Pose, now: float) -> Plan:
+        """MVR3 start, end, centre."""
+        return self._begin(
+            now,
+            lambda q: motion.plan_arc_centre(q, start, end, centre, self._speeds, self.frames),
+        )
+
+    def move_circle(self, start: Pose, via1: Pose, via2: Pose, now: float) -> Plan:
+        """MVC start, via1, via2 (full circle back to start)."""
+        return self._begin(
+            now, lambda q: motion.plan_circle(q, start, via1, via2, self._speeds, self.frames)
+        )
+
+    def move_arch(self, target: Pose | Joints, now: float, *, height: float | None = None) -> Plan:
+        """MVA target: lift, traverse, lower (see `motion.plan_arch`)."""
+        h = motion.ARCH_HEIGHT_MM if height is None else height
+        return self._begin(
+            now, lambda q: motion.plan_arch(q, target, self._speeds, self.frames, height=h)
+        )
+
+    def to_joints(self, target: Pose, *, use_flags: bool = True) -> Joints:
+        """IK of a pose under the active TOOL/BASE near the current joints (PTOJ)."""
+        try:
+            return ik(
+                target,
+                self._joints,
+                self._tool,
+                self._base,
+                use_fl1=use_flags,
+                use_fl2=use_flags,
+                interference=self._interference,
+            )
+        except KinematicsError as exc:
+            raise from_kinematics(exc) from exc
+
+    def to_pose(self, joints: Sequence[float]) -> Pose:
+        """FK under the active TOOL/BASE (JTOP)."""
+        return fk(joints, self._tool, self._base)
+
+    # --- jog ---------------------------------------------------------------------------
+
+    def jog(
+        self,
+        mode: JogMode,
+        directions: Sequence[int],
+        now: float,
+        *,
+        inch: Inch = Inch.OFF,
+    ) -> None:
+        """One JOG command: keep moving in `mode` along `directions` (-1/0/+1 per axis,
+        X/J1 first) until `jog_stop`, or until no JOG arrives for `JOG_WATCHDOG_S`.
+        All-zero directions stop. With inching, one small step (`INCH_HIGH`/`INCH_LOW`)."""
+        self.advance(now)
+        if not self._servo:
+            raise ServoOff("the servo is OFF: jog refused")
+        if self._plan is not None:
+            raise JogRefused("JOG operation cannot be accepted while a move runs")
+        if mode not in (JogMode.JOINT, JogMode.XYZ, JogMode.TOOL):
+            raise JogRefused(f"jog mode {mode.name} is not simulated")
+        dirs = tuple(int(d > 0) - int(d < 0) for d in directions[:6])
+        if not any(dirs):
+            self._jog = None
+            return
+        if inch is not Inch.OFF:
+            self._jog = None
+            self._inch(mode, dirs, INCH_HIGH if inch is Inch.HIGH else INCH_LOW, now)
+            return
+        if self._jog is not None and (self._jog.mode, self._jog.directions) == (mode, dirs):
+            self._jog.last_command = now
+        else:
+            self._jog = _Jog(mode, dirs, now)
+
+    def jog_stop(self, now: float) -> None:
+        """Stop jogging at once (the jog speed is low; no deceleration modelled)."""
+        self.advance(now)
+        self._jog = None
+
+    def _inch(self, mode: JogMode, dirs: tuple[int, ...], step: float, now: float) -> None:
+        d = [float(v) * step for v in dirs] + [0.0] * (6 - len(dirs))
+        if mode is JogMode.JOINT:
+            target_j = Joints.of(q + dq for q, dq in zip(self._joints, d, strict=True))
+            self.move_joint(target_j, now)
+            return
+        here = self.pose
+        if mode is JogMode.XYZ:
+            target = replace(
+                here,
+                x=here.x + d[0],
+                y=here.y + d[1],
+                z=here.z + d[2],
+                a=here.a + d[3],
+                b=here.b + d[4],
+                c=here.c + d[5],
+            )
+        else:
+            target = pose_mul(here, Pose(d[0], d[1], d[2], d[3], d[4], d[5]))
+        self.move_linear(target, now)
+
+    def _advance_jog(self, now: float) -> None:
+        jog = self._jog
+        assert jog is not None
+        deadline = jog.last_command + JOG_WATCHDOG_S
+        end = min(now, deadline)
+        t = self._time
+        while t < end:
+            dt = min(JOG_STEP_S, end - t)
+            try:
+                self._joints = motion.jog_step(
+                    self._joints, jog.mode, jog.directions, dt, self._op_override, self.frames
+                )
+            except KinematicsError as exc:
+                self.fault = from_kinematics(exc)
+                self._jog = None
+                return
+            t += dt
+        if now >= deadline:
+            self._jog = None
+
+    # --- internals ---------------------------------------------------------------------
+
+    def _begin(self, now: float, build: Callable[[Joints], Plan]) -> Plan:
+        self.advance(now)
+        if not self._servo:
+            raise ServoOff("the servo is OFF: move refused")
+        if self._plan is not None or self._jog is not None:
+            raise ArmBusy("the arm is still moving")
+        try:
+            plan = build(self._joints)
+        except KinematicsError as exc:
+            raise from_kinematics(exc) from exc
+        self._start_plan(plan, now)
+        return plan
+
+    def _start_plan(self, plan: Plan, now: float) -> None:
+        self._plan = plan
+        self._plan_start = now
+        self._plan_end = now + plan.duration
+        self.recorder.add_event(MoveEvent(now, plan.kind, plan, self._line))
+        if plan.duration <= 0.0:
+            self._joints = plan.end_joints
+            self._plan = None
+        self._record(now)
+
+    def _record(self, now: float, line: int | None = None) -> TrajectorySample:
+        sample = TrajectorySample(
+            now,
+            self._joints,
+            self.pose,
+            tuple(self._hands),
+            self._line if line is None else line,
+        )
+        self.recorder.add_sample(sample)
+        return sample
+
+
+def _check_percent(name: str, value: float) -> None:
+    if not 1 <= value <= 100:
+        raise ValueError(f"{name} must be 1..100 %, got {value}")
