@@ -161,15 +161,18 @@ def test_exec_relative_moves(ready: Driver) -> None:
     ready.wait(2)
     z_after_tool_move = Position.parse(ready.ok("PPOSF"))["Z"]
     assert z_after_tool_move == pytest.approx(695.0, abs=0.01)
-    ready.ok("EXECMOV J_CURR+(10,0,0,0,0,0)")
+    ready.ok("EXECJSTEP=(10,0,0,0,0,0)")  # S18's joint jog: MOV J_CURR + JSYM3
+    ready.ok("EXECMOV J_CURR+JSTEP")
     ready.wait(2)
     assert Position.parse(ready.ok("JPOSF"))["J1"] == pytest.approx(10.0)
 
 
 def test_stop_halts_an_exec_motion(ready: Driver) -> None:
-    ready.ok("EXECMOV J_CURR+(100,0,0,0,0,0)")
+    ready.ok("EXECJSTEP=(100,0,0,0,0,0)")
+    ready.ok("EXECMOV J_CURR+JSTEP")
     ready.wait(0.1)
-    assert Driver(ready.controller, ready.now).send("STOP", slot=0) == b"QoK\r"
+    assert ready.send("STOP", slot=0) == b"QoK\r"
+    ready.wait(0.5)  # the arm decelerates along its path
     stopped = Position.parse(ready.ok("JPOSF"))["J1"]
     ready.wait(2)
     assert Position.parse(ready.ok("JPOSF"))["J1"] == stopped
@@ -346,7 +349,7 @@ def test_fdel(drive: Driver) -> None:
 
 
 def test_run_stop_resume(ready: Driver) -> None:
-    _upload(ready, "R", "10 OVRD 10\x0b20 OVRD 20\x0b30 OVRD 30\x0b40 END")
+    _upload(ready, "R", "10 DLY 0.5\x0b20 DLY 0.5\x0b30 END")
     ready.ok("RUNR;1")
     state = State.parse(ready.ok("STATE"))
     assert state.program == "R.MB4" and state.status.run & 0x40
@@ -383,3 +386,38 @@ def test_too_long_error_is_configurable() -> None:
 def test_replies_are_typed_the_same_way(drive: Driver) -> None:
     assert drive.reply("STATE") == Refused(6010)
     assert isinstance(drive.controller.respond("1;1;OPEN=X", 0.0), Ok)
+
+
+def test_run_moves_the_arm_and_reports_the_line(ready: Driver) -> None:
+    _upload(
+        ready,
+        "M",
+        "10 MOV J1\x0b20 DLY 0.5\x0b30 END",
+        "J1=(45,0,90,0,90,0)",
+    )
+    ready.ok("RUNM;1")
+    ready.wait(0.2)
+    state = State.parse(ready.ok("STATE"))
+    assert state.line == 10 and state.status.run & 0x40
+    j1 = Position.parse(ready.ok("JPOSF"))["J1"]
+    assert j1 is not None and 0 < j1 < 45
+    ready.wait(5)
+    assert Position.parse(ready.ok("JPOSF"))["J1"] == 45.0
+    assert not State.parse(ready.ok("STATE")).status.run & 0x40
+
+
+def test_a_program_error_becomes_an_alarm(ready: Driver) -> None:
+    _upload(ready, "BAD", "10 MOV J1\x0b20 END", "J1=(175,0,90,0,90,0)")
+    # RUN is accepted; the first step fails at once, so the reply already shows the alarm
+    assert ready.send("RUNBAD;1") == b"Qok\r"
+    ready.wait(0.1)
+    assert ready.send("ERROR") == b"Qok2160;1\r"
+    state = State.parse(ready.send("STATE")[3:-1].decode())
+    assert state.status.error == 2160 and not state.status.run & 0x40
+    assert ready.send("ERRORLOGTOP").split(b";")[2:7] == [
+        b"2160",
+        b"Joint angle exceeds the limit",
+        b"1",
+        b"BAD",
+        b"10",
+    ]

@@ -46,7 +46,7 @@ from melfa.protocol.messages import (
 )
 from melfa.sim import errors as err
 from melfa.sim.config import SimConfig
-from melfa.sim.machine import ArmFault, ControllerArm, make_arm
+from melfa.sim.machine import ArmFault, ControllerArm, SimArm, make_arm
 from melfa.sim.runner import (
     LineWalker,
     ProgramRunner,
@@ -54,6 +54,7 @@ from melfa.sim.runner import (
     RunnerStatus,
     StatementExecutor,
     StepError,
+    SupportsNextEvent,
 )
 from melfa.sim.store import (
     EditBuffer,
@@ -172,7 +173,8 @@ class VirtualController:
         self.config = config or SimConfig()
         self.arm: ControllerArm = arm if arm is not None else make_arm()
         self._runner_factory = runner_factory or _default_runner_factory(self.arm)
-        self.executor = executor if executor is not None else _default_executor(self.arm)
+        self._executor = executor
+        self._bare_executor = _default_executor(self.arm) if executor is None else None
         self.store = ProgramStore()
         initial = {"COSIROP": ""} if programs is None else programs
         for name, text in initial.items():
@@ -205,15 +207,19 @@ class VirtualController:
                 self._jogging = None
         for slot in self.slots.values():
             if slot.runner is not None and slot.runner.status is RunnerStatus.RUNNING:
-                runner = slot.runner
-                runner.advance(now)
-                failure = runner.error
-                if failure is not None and _failed(runner):
-                    self.raise_alarm(
-                        failure.number, now, program=slot.program or "", line=failure.line or 0
-                    )
+                self._run_slot(slot, now)
         self._advance_arm(now)
         self._now = now
+
+    def _run_slot(self, slot: Slot, now: float) -> None:
+        runner = slot.runner
+        if runner is None:
+            return
+        _advance_through_events(runner, now)
+        failure = runner.error
+        if failure is not None and _failed(runner) and self.alarm is None:
+            program = slot.program or ""
+            self.raise_alarm(failure.number, now, program=program, line=failure.line or 0)
 
     def _advance_arm(self, now: float) -> None:
         try:
@@ -524,9 +530,24 @@ class VirtualController:
         slot = self._slot(req)
         if self.config.exec_needs_program and slot.program is None and req.slot != 9:
             return Refused(err.PROGRAM_NOT_FOUND)
+        if _is_comment(statement):
+            # `EXECREM Waiting...` is S6's busy probe: a comment is accepted, nothing runs.
+            return Ok()
+        executor = self._executor_for(slot)
+        if executor is None:
+            return Refused(err.ILLEGAL_COMMAND)
         self._jogging = None
-        self.executor.execute(statement, now)
+        executor.execute(statement, now)
         return Ok()
+
+    def _executor_for(self, slot: Slot) -> StatementExecutor | None:
+        """EXEC runs in the slot's program (its variables) when one is loaded [DOC S1
+        §5.2.16: "in the task slot"], else in a bare interpreter; `executor=` overrides."""
+        if self._executor is not None:
+            return self._executor
+        if isinstance(slot.runner, StatementExecutor):
+            return slot.runner
+        return self._bare_executor
 
     def _jog(self, arg: str, req: Request, now: float) -> Reply:
         if not self.config.jog_supported:
@@ -547,8 +568,10 @@ class VirtualController:
             return Ok()
         if self._jogging is None and self.arm.is_moving:
             return Refused(err.BUSY)
-        if self._jogging is None or self._jogging.jog != jog:
+        try:
             self.arm.jog(jog, now)
+        except ArmFault as fault:
+            return Refused(fault.number)
         self._jogging = _JogState(jog, now)
         return Ok()
 
@@ -607,6 +630,7 @@ class VirtualController:
                 slot.cycle = cycle
                 assert slot.runner is not None
                 slot.runner.resume(now)
+                self._started(slot, now)
                 return Ok()
             if slot.state is SlotState.PAUSED:
                 return Refused(err.PROGRAM_RUNNING)
@@ -615,11 +639,17 @@ class VirtualController:
             return Refused(err.PROGRAM_NOT_FOUND)
         elif slot.state is SlotState.PAUSED:
             slot.runner.resume(now)
+            self._started(slot, now)
             return Ok()
         assert slot.runner is not None
         slot.cycle = cycle
         slot.runner.start(now, cycle=cycle)
+        self._started(slot, now)
         return Ok()
+
+    def _started(self, slot: Slot, now: float) -> None:
+        """A program starts executing at the RUN, not at the next request."""
+        self._run_slot(slot, now)
 
     def _rstprg(self, arg: str, req: Request, now: float) -> Reply:
         slot = self._slot(req)
@@ -825,6 +855,31 @@ class VirtualController:
 # ------------------------------------------------------------------------------ helpers
 
 
+MAX_EVENTS_PER_ADVANCE = 10000
+"""Bound on the scheduled events (move ends, DLY ends) replayed in one `advance`."""
+
+
+def _advance_through_events(runner: ProgramRunner, now: float) -> None:
+    """Advance a runner to `now` stopping at each scheduled event on the way, so a program
+    keeps its own timing (DLY 0.5 then DLY 0.5 ends at 1.0) however rarely we are polled."""
+    if isinstance(runner, SupportsNextEvent):
+        last = -1.0
+        for _ in range(MAX_EVENTS_PER_ADVANCE):
+            when = runner.next_event_time()
+            if when is None or when > now or when <= last:
+                break
+            last = when
+            runner.advance(when)
+            if runner.status is not RunnerStatus.RUNNING:
+                return
+    runner.advance(now)
+
+
+def _is_comment(statement: str) -> bool:
+    upper = statement.upper()
+    return upper.startswith(("'", "REM ", "REM\t")) or upper == "REM"
+
+
 def _failed(runner: ProgramRunner) -> bool:
     return runner.status is RunnerStatus.FAILED
 
@@ -894,16 +949,24 @@ def _program_from_text(name: str, text: str, config: SimConfig) -> Program:
 
 
 def _default_runner_factory(arm: ControllerArm) -> RunnerFactory:
-    return LineWalker
+    """The interpreter on the shared `SimulatedArm`; `LineWalker` for a foreign arm."""
+    if not isinstance(arm, SimArm):
+        return LineWalker
+    from melfa.sim.interp.armport import ArmPort
+    from melfa.sim.interp.interpreter import Interpreter
+
+    port = ArmPort(arm.arm)
+    return lambda: Interpreter(port)
 
 
-def _default_executor(arm: ControllerArm) -> StatementExecutor:
-    from melfa.sim.direct import DirectExecutor
-    from melfa.sim.machine import InterimArm
+def _default_executor(arm: ControllerArm) -> StatementExecutor | None:
+    """EXEC outside any loaded program: a bare interpreter on the shared arm."""
+    if not isinstance(arm, SimArm):
+        return None
+    from melfa.sim.interp.armport import ArmPort
+    from melfa.sim.interp.interpreter import Interpreter
 
-    if not isinstance(arm, InterimArm):
-        raise TypeError("the interim EXEC executor needs an InterimArm; pass executor=")
-    return DirectExecutor(arm)
+    return Interpreter(ArmPort(arm.arm))
 
 
 VC = VirtualController

@@ -83,6 +83,15 @@ class ProgramRunner(Protocol):
         """Set when `status` is FAILED."""
 
 
+@runtime_checkable
+class SupportsNextEvent(Protocol):
+    """Optional for a `ProgramRunner`: when its next scheduled event (a move's or a DLY's
+    end) happens. The controller then advances through each event in turn, so a program's
+    timing does not depend on how often a client polls."""
+
+    def next_event_time(self) -> float | None: ...
+
+
 class StepError(Exception):
     """A statement (EXEC or program step) refused with the controller's error number."""
 
