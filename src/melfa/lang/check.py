@@ -29,6 +29,7 @@ MAX_LINE_NUMBER = 32767  # [S3 L4420]
 MAX_ON_TARGETS = 32  # [S3 L3251]
 
 E, W = Severity.ERROR, Severity.WARNING
+_MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
 _NO_NUMBERS_HINT = " (this program has no step numbers; jump to a *label)"
 
 
@@ -223,8 +224,8 @@ class _Analyzer:
         previous: int | None = None
         for line in lines:
             if line.number is None or line.number_span is None:
-                has_content = line.statement is not None or line.label is not None or line.comment
-                if has_content:
+                # Comment-only lines carry no behaviour; numbering tools number them.
+                if line.statement is not None or line.label is not None:
                     self.add(
                         A.Span(line.span.line, 1, line.span.line, 2),
                         E,
@@ -413,8 +414,10 @@ class _Analyzer:
             return {"C": VType.STR}.get(name[0]) or _PREFIX_VTYPE.get(name[0])
         return _PREFIX_VTYPE.get(name[0])
 
-    def vtype(self, expr: A.Expr | None) -> VType | None:
+    def vtype(self, expr: A.Expr | None, depth: int = 0) -> VType | None:
         """The static type of `expr` when it is certain, else None."""
+        if depth > _MAX_TYPE_DEPTH:
+            return None
         if isinstance(expr, A.Number):
             return VType.NUM
         if isinstance(expr, A.String):
@@ -436,12 +439,13 @@ class _Analyzer:
                 return VType.STR
             return _POSITION_FUNCS.get(expr.name, VType.NUM)
         if isinstance(expr, A.Unary):
-            inner = self.vtype(expr.operand)
+            inner = self.vtype(expr.operand, depth + 1)
             return VType.NUM if expr.op is A.UnaryOp.NOT else inner
         if isinstance(expr, A.Binary):
             if expr.op.is_comparison or expr.op in (A.BinaryOp.AND, A.BinaryOp.OR):
                 return VType.NUM
-            left, right = self.vtype(expr.left), self.vtype(expr.right)
+            left = self.vtype(expr.left, depth + 1)
+            right = self.vtype(expr.right, depth + 1)
             if left in _POSITIONAL:
                 return left
             if left is VType.NUM and right is VType.NUM:

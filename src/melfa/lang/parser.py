@@ -51,6 +51,7 @@ _BINARY: dict[str, tuple[int, A.BinaryOp]] = {
     "^": (12, A.BinaryOp.POW),
 }
 _PREC_NOT_OPERAND = 5
+MAX_EXPR_DEPTH = 64  # nested operators/parentheses; far beyond a 127-character step
 _PREC_UNARY_OPERAND = 12
 
 _DEF_TYPES = {t.value: t for t in A.VarType}
@@ -123,6 +124,7 @@ class _LineParser:
         self.i = 0
         self.issues: list[A.ParseIssue] = []
         self.labels = labels  # labels jumped to anywhere in the file (for bare-word hints)
+        self.depth = 0  # expression nesting, bounded so deep input cannot exhaust the stack
 
     # ------------------------------------------------------------------ token helpers
 
@@ -189,7 +191,7 @@ class _LineParser:
         suggestion: str | None = None,
         code: str | None = "L4220",
     ) -> _Fail:
-        if tok.kind is K.ERROR and rule == "syntax-error":
+        if tok.kind is K.ERROR:
             if tok.text.startswith('"'):
                 message, rule = (
                     'String is not closed: add the closing " on this line',
@@ -223,6 +225,9 @@ class _LineParser:
     def expr(self, min_prec: int = 0) -> A.Expr:
         tok = self.toks[self.i]
         kind = tok.kind
+        self.depth += 1
+        if self.depth > MAX_EXPR_DEPTH:
+            raise self.fail(tok, "Expression is nested too deeply; split it into steps")
         left: A.Expr
         if kind is K.OP and (tok.text == "-" or tok.text == "+"):
             self.i += 1
@@ -258,6 +263,7 @@ class _LineParser:
                 A.Span(start.line, start.column, end.end_line, end.end_column),
                 tok.text.upper(),
             )
+        self.depth -= 1
         return left
 
     def postfix(self, base: A.Expr) -> A.Expr:
@@ -398,6 +404,7 @@ class _LineParser:
         """Parse one statement; on error, skip to a `stop` word or the end of the line."""
         start_i = self.i
         start = self.toks[self.i]
+        self.depth = 0
         try:
             return self.statement_inner()
         except _Fail as failure:
@@ -417,6 +424,14 @@ class _LineParser:
         tok = self.toks[self.i]
         if tok.kind is K.KEYWORD:
             word = tok.text.upper()
+            nxt = self.peek(1)
+            if nxt.kind is K.OP and nxt.text == "=":
+                kind = "a built-in function" if word in FUNCTIONS else "a reserved word"
+                raise self.fail(
+                    tok,
+                    f"{word} is {kind} and cannot be assigned; choose another variable name",
+                    "reserved-word",
+                )
             method = _DISPATCH.get(word)
             if method is not None:
                 self.i += 1
@@ -425,12 +440,6 @@ class _LineParser:
             if command is not None:
                 self.i += 1
                 return self.command(tok, *command)
-            if word in FUNCTIONS and self.peek(1).kind is K.OP and self.peek(1).text == "=":
-                raise self.fail(
-                    tok,
-                    f"{word} is a built-in function and cannot be assigned; choose another name",
-                    "reserved-word",
-                )
             raise self.fail(tok, f"{word} cannot start a statement", "invalid-statement")
         if tok.kind is K.IDENT:
             return self.assignment_or_typo(tok)
@@ -711,6 +720,7 @@ class _LineParser:
                 raise self.fail(self.peek(), "IF needs a condition", "missing-argument")
             condition = self.expr()
         except _Fail as failure:
+            self.depth = 0
             # Resume at THEN if the line has one; otherwise the whole IF is invalid.
             j = self.i
             while toks[j].kind not in _END_KINDS and not (
