@@ -79,6 +79,9 @@ JOG_NOT_ACCEPTED: Final = (2030, 6010)
 """Refusals that mean "this firmware does not take JOG here" [DOC S4 L2030; 6010 unknown
 command]; `JogMethod.AUTO` then falls back to step moves."""
 
+JOG_JOINT_VARIABLE: Final = "JMJOG"
+"""Joint variable the step jog assigns (≤ 8 characters, L4300; leading J = joint type)."""
+
 _NUMBERED = re.compile(r"\s*\d+(\s|$)")
 _DEF_POINT = re.compile(r"\s*DEF\s+(POS|JNT)\s+", re.IGNORECASE)
 
@@ -407,7 +410,8 @@ class Robot:
                     raise self._refusal(reply, request.command)
                 self.jog_method = JogMethod.STEP
             try:
-                self._call("EXEC" + self.step_statement(mode, axis, direction))
+                for statement in self.step_statements(mode, axis, direction):
+                    self._call("EXEC" + statement)
             except ControllerError as exc:
                 if exc.number != BUSY:
                     raise
@@ -419,19 +423,21 @@ class Robot:
             if self.jog_method is JogMethod.JOG:
                 self._call(Jog(JogMode.JOINT).command)
 
-    def step_statement(self, mode: JogMode, axis: int, direction: int) -> str:
-        """The relative move a step jog sends: joint ``MOV J_CURR+(…)``, world
-        ``MVS P_CURR+(…)`` [DOC melfa-basic-iv §7], tool ``MVS P_CURR*(…)`` [CODE S19]."""
+    def step_statements(self, mode: JogMode, axis: int, direction: int) -> list[str]:
+        """The relative move a step jog sends. Joint: ``JMJOG=(…)`` then
+        ``MOV J_CURR+JMJOG`` (a bare ``(…)`` constant is a position, so joint offsets go
+        through a J variable, as S18 does); world: ``MVS P_CURR+(…)`` [melfa-basic-iv §7];
+        tool frame: ``MVS P_CURR*(…)`` [CODE S19]."""
         size = self.settings.jog_step_deg if mode is JogMode.JOINT or axis >= 3 else None
         step = (size if size is not None else self.settings.jog_step_mm) * direction
         values = ["0"] * 6
         values[min(axis, 5)] = f"{step:g}"
         offset = "(" + ",".join(values) + ")"
         if mode is JogMode.JOINT:
-            return f"MOV J_CURR+{offset}"
+            return [f"{JOG_JOINT_VARIABLE}={offset}", f"MOV J_CURR+{JOG_JOINT_VARIABLE}"]
         if mode is JogMode.TOOL:
-            return f"MVS P_CURR*{offset}"
-        return f"MVS P_CURR+{offset}"
+            return [f"MVS P_CURR*{offset}"]
+        return [f"MVS P_CURR+{offset}"]
 
     # ----------------------------------------------------------------------- plumbing
 
