@@ -297,7 +297,10 @@ class Compiler:
                     st.problems[i] = (errors.SELECT_UNMATCH, "END SELECT without SELECT")
                     continue
                 st.select_end[stack.pop()[1]] = i
-            elif isinstance(s, ast.Break):
+            elif isinstance(s, ast.Break) or (
+                isinstance(s, ast.If)
+                and (isinstance(s.then, ast.Break) or isinstance(s.else_, ast.Break))
+            ):
                 inner = next(
                     (
                         (kind, j)

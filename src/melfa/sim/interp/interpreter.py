@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from melfa.lang import ast
 from melfa.lang.parser import parse
@@ -128,10 +128,9 @@ class Delay:
 
 @dataclass(slots=True)
 class Motion:
-    """Waiting for the arm; `then` holds further moves (arc approach, MVA legs)."""
+    """Waiting for the arm until `until`; `watch` is a WTHIF (condition, action)."""
 
     until: float
-    then: list[Callable[[float], float]] = field(default_factory=list)
     watch: tuple[Callable[[], bool], Callable[[], None]] | None = None
 
 
@@ -349,31 +348,44 @@ class Interpreter:
 
     # ------------------------------------------------------------------ time
     def advance(self, now: float) -> None:
-        """Run the program up to time `now` (at most `max_statements` statements)."""
-        if now > self.now:
-            self.now = now
-        now = self.now
-        self.robot.advance(now)
+        """Run the program up to time `now` (at most `max_statements` statements).
+
+        The program has its own clock (`self.now`): when a move or DLY ends before `now`,
+        the clock steps to that end and the next statements run then, so a chain of moves
+        keeps its timing however coarsely the controller calls `advance`.
+        """
+        target = max(now, self.now)
+        if self._status is RunnerStatus.RUNNING:
+            self._run_until(target)
+        self._move_clock(target)
+        self.robot.set_line(self.line)
+
+    def _move_clock(self, t: float) -> None:
+        if t > self.now:
+            self.now = t
+        self.robot.advance(self.now)
         if self.pulses:
-            self._fire_pulses(now)
-        if self._status is not RunnerStatus.RUNNING:
-            return
+            self._fire_pulses(self.now)
+
+    def _run_until(self, target: float) -> None:
         steps = self.steps
         n = len(steps)
         budget = self.max_statements
+        set_line = self.robot.set_line
         while budget > 0:
-            blk = self.block
-            if blk is not None:
-                if not self._ready(blk, now):
+            if self.block is not None and not self._ready(self.block, target):
+                if not self.acts or self._status is not RunnerStatus.RUNNING:
                     break
-                if self._status is not RunnerStatus.RUNNING:
+                self._move_clock(target)  # interrupts are watched while a program waits
+                self._check_interrupts(self.now)
+                if self.block is not None or self._status is not RunnerStatus.RUNNING:
                     break
+            if self._status is not RunnerStatus.RUNNING:
+                break
             if self.acts:
-                self._check_interrupts(now)
+                self._check_interrupts(self.now)
                 if self._status is not RunnerStatus.RUNNING:
                     break
-                if self.block is not None:
-                    continue
             pc = self.pc
             if pc >= n:
                 self._finish()
@@ -381,6 +393,7 @@ class Interpreter:
             self.current = pc
             self.pc = pc + 1
             step = steps[pc]
+            set_line(step.number)
             try:
                 step.run()
             except errors.RunError as exc:
@@ -389,39 +402,34 @@ class Interpreter:
             budget -= 1
             if self._status is not RunnerStatus.RUNNING:
                 break
-        self.robot.set_line(self.line)
 
-    def _ready(self, blk: Blocker, now: float) -> bool:
+    def _ready(self, blk: Blocker, target: float) -> bool:
+        """Whether the program may go on by `target`; moves the program clock to when."""
+        if isinstance(blk, Delay):
+            if blk.until > target:
+                return False
+            self._move_clock(blk.until)
+            self.block = None
+            return True
         if isinstance(blk, Motion):
+            ends = blk.until <= target
+            self._move_clock(min(blk.until, target))
             if blk.watch is not None:
                 cond, action = blk.watch
                 try:
-                    hit = cond()
-                    if hit:
+                    if cond():
                         blk.watch = None
                         action()
                 except errors.RunError as exc:
                     self._fail(exc, self.steps[self.current].number)
                     return False
-                if self.block is not blk:
+                if self.block is not blk:  # SKIP or HLT acted on the move
                     return self._status is RunnerStatus.RUNNING and self.block is None
-            while blk.until <= now:
-                if not blk.then:
-                    self.block = None
-                    return True
-                nxt = blk.then.pop(0)
-                try:
-                    blk.until = nxt(blk.until)
-                except errors.RunError as exc:
-                    self._fail(exc, self.steps[self.current].number)
-                    return False
-                self.robot.advance(now)
-            return False
-        if isinstance(blk, Delay):
-            if blk.until <= now:
-                self.block = None
-                return True
-            return False
+            if not ends:
+                return False
+            self.block = None
+            return True
+        self._move_clock(target)
         try:
             ok = blk.condition()
         except errors.RunError as exc:
@@ -551,16 +559,14 @@ class Interpreter:
 
     def start_motion(
         self,
-        first: Callable[[float], float],
-        then: list[Callable[[float], float]] | None = None,
+        move: Callable[[float], float],
         watch: tuple[Callable[[], bool], Callable[[], None]] | None = None,
     ) -> None:
-        """Begin a move (or a chain of moves) and block the program until it ends."""
+        """Begin a move and block the program until it ends."""
         if not self.robot.servo_on:
             raise errors.RunError(errors.SERVO_OFF, "the servo is OFF (SERVO ON first)")
         self.skipped = 0
-        end = first(self.now)
-        self.block = Motion(end, then or [], watch)
+        self.block = Motion(move(self.now), watch)
 
     def skip_motion(self) -> None:
         """SKIP (from WTH/WTHIF): stop the move and go on with the next line."""
