@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from melfa.kin import (
     HOME,
@@ -329,3 +331,36 @@ def test_xyz_jog_moves_the_tcp_along_world_x() -> None:
 def test_tool_jog_moves_along_tool_z() -> None:
     q = jog_step(HOME, JogMode.TOOL, (0, 0, 1, 0, 0, 0), 0.1, 100)
     assert tcp(q) == pytest.approx((400, 0, 645 - 25), abs=1e-6)  # hand down: tool Z is down
+
+
+@settings(max_examples=30)
+@given(
+    st.tuples(st.floats(-60, 60), st.floats(-20, 40), st.floats(60, 120), st.floats(-90, 90)),
+    st.tuples(*(st.floats(-150, 150) for _ in range(3))),
+)
+def test_mvs_samples_lie_on_the_line_whenever_the_move_is_accepted(
+    q: tuple[float, float, float, float], offset: tuple[float, float, float]
+) -> None:
+    start = Joints(q[0], q[1], q[2], q[3], 60, 0)
+    here = fk(start)
+    goal = Pose(
+        here.x + offset[0],
+        here.y + offset[1],
+        here.z + offset[2],
+        here.a,
+        here.b,
+        here.c,
+        here.fl1,
+        here.fl2,
+    )
+    try:
+        plan = plan_linear(start, goal, Speeds(spd=500))
+    except KinematicsError:
+        return  # refused up front: nothing moved
+    a, b = np.array(here.xyz), np.array(goal.xyz)
+    assert plan.start_joints == pytest.approx(start, abs=1e-6)
+    for t in np.linspace(0, plan.duration, 9):
+        p = tcp(plan.sample(float(t)))
+        if np.linalg.norm(b - a) > 1e-6:
+            assert _distance_to_line(p, a, b) < 1e-6
+    assert tcp(plan.end_joints) == pytest.approx(b, abs=1e-6)

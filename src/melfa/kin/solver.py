@@ -93,11 +93,29 @@ def fk_batch(joints: Sequence[float] | FloatArray) -> FloatArray:
     return np.asarray(out, dtype=float)
 
 
+def _fk_single(joints: Sequence[float]) -> FloatArray:
+    """`fk_batch` for one joint vector, without the per-row array overhead (hot path)."""
+    t = np.eye(4)
+    for q, row, alpha, off in zip(joints, DH, _ALPHA, _OFFSET, strict=True):
+        th = math.radians(float(q)) + float(off)
+        ct, st = math.cos(th), math.sin(th)
+        ca, sa = math.cos(alpha), math.sin(alpha)
+        t = t @ np.array(
+            [
+                [ct, -st * ca, st * sa, row.a * ct],
+                [st, ct * ca, -ct * sa, row.a * st],
+                [0.0, sa, ca, row.d],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        )
+    return t
+
+
 def fk_matrix(
     joints: Sequence[float], tool: Pose | None = None, base: Pose | None = None
 ) -> FloatArray:
     """4×4 TCP transform (flange when no tool) in the world frame (robot base when no base)."""
-    t: FloatArray = fk_batch(np.asarray(joints, dtype=float))[0]
+    t = _fk_single(joints)
     if tool is not None:
         t = t @ pose_to_matrix(tool)
     if base is not None:
