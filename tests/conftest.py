@@ -13,4 +13,8 @@ settings.register_profile(
 )
 settings.register_profile("ci", parent=settings.get_profile("default"), derandomize=True)
 settings.register_profile("thorough", parent=settings.get_profile("default"), max_examples=2000)
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "default"))
+_default_profile = "ci" if os.environ.get("CI") else "default"
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _default_profile))
+
+# Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
+from tests.fixtures_sim import sim_pty_path, sim_tcp_url  # noqa: E402, F401
