@@ -182,7 +182,7 @@ class Compiler:
                 run = _nothing
             else:
                 run = self.statement(ln.statement, i)
-            steps.append(Step(self._shown(ln), run))
+            steps.append(Step(self._shown(ln), run, ln.span.line))
         return steps
 
     @staticmethod

@@ -56,7 +56,7 @@ class Step:
 
     number: int | None  # step number shown as the line (text line when unnumbered)
     run: Callable[[], None]
-    text: str = ""
+    text_line: int = 0  # 1-based line of the program text
 
 
 class Array:
@@ -185,6 +185,9 @@ class Interpreter:
         self.points: dict[str, Value] = {}
         self.sysvars = SystemVariables(self)
         self.rnd = builtins.Rnd()
+        self.on_step: Callable[[Step], None] | None = None
+        """Called before each program step runs (tracing; None costs nothing)."""
+        self.source: list[str] = []
         self.console: list[str] = []
         """What PRINT wrote (the simulator has no serial port to write to)."""
         # program
@@ -216,6 +219,7 @@ class Interpreter:
         """
         lines = positions.values() if isinstance(positions, Mapping) else positions
         self.load_program(parse(text), [parse(line) for line in lines])
+        self.source = text.splitlines()
 
     def load_program(
         self, program: ast.Program, point_programs: Iterable[ast.Program] = ()
@@ -229,6 +233,7 @@ class Interpreter:
         self.next_handlers.clear()
         self.types.clear()
         self.user_functions.clear()
+        self.source = []
         self.steps = self.compiler.compile_program(program, points)
         self.points = points
         self.reset()
@@ -337,6 +342,14 @@ class Interpreter:
     def error(self) -> RunnerError | None:
         return self._error
 
+    def step_text(self, step: Step) -> str:
+        """The source text of a step (without its number), for traces."""
+        if 0 < step.text_line <= len(self.source):
+            text = self.source[step.text_line - 1].strip()
+            head, _, rest = text.partition(" ")
+            return rest.strip() if head.isdigit() else text
+        return ""
+
     @property
     def is_running(self) -> bool:
         return self._status is RunnerStatus.RUNNING
@@ -394,6 +407,8 @@ class Interpreter:
             self.pc = pc + 1
             step = steps[pc]
             set_line(step.number)
+            if self.on_step is not None:
+                self.on_step(step)
             try:
                 step.run()
             except errors.RunError as exc:
