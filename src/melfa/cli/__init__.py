@@ -12,9 +12,11 @@ becomes one clear message and an exit code, never a traceback:
 from melfa.cli.app import app
 
 # Each module registers its commands on `app` when imported.
-from melfa.cli import lang_commands as _lang_commands  # noqa: F401, E402  # isort: skip
-from melfa.cli import robot_commands as _robot_commands  # noqa: F401, E402  # isort: skip
-from melfa.cli import sim_commands as _sim_commands  # noqa: F401, E402  # isort: skip
+from melfa.cli import lang_commands as _lang_commands  # noqa: F401  # isort: skip
+from melfa.cli import robot_commands as _robot_commands  # noqa: F401  # isort: skip
+from melfa.cli import sim_commands as _sim_commands  # noqa: F401  # isort: skip
+from melfa.cli import users_commands as _users_commands  # noqa: F401  # isort: skip
+from melfa.cli import serve_commands as _serve_commands  # noqa: F401  # isort: skip
 
 
 def main() -> None:

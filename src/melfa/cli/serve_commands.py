@@ -1,0 +1,1 @@
+"""`melfa serve`: the web IDE (being built)."""

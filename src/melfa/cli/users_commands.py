@@ -1,0 +1,1 @@
+"""`melfa users …`: accounts and lab groups (being built)."""
