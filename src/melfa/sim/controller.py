@@ -10,8 +10,10 @@ What it models: the OPEN session (6010 before OPEN), operation rights (6020), se
 alarms (`Qok`/`Qer` while one is active, RSTALRM), the OP override, program memory with the
 edit protocol (LOAD/EMDAT/SAVE/NEW…), task slots with RUN/STOP/RSTPRG through a
 `ProgramRunner`, EXEC through a `StatementExecutor`, JOG with its ~140 ms watchdog, the
-hand, STATE/DSTATE/JPOSF/PPOSF and the error log. What it does not: parameters beyond a few
-read-only ones, I/O signals, VAL/HOT variables, file transfer (FOPEN…), breakpoints.
+hand, STATE/DSTATE/JPOSF/PPOSF, the error log and the general-purpose I/O (one `IOState`
+shared by the programs and EXEC; `set_input` drives inputs from outside, `IN`/`OUT` read
+and write them over the protocol). What it does not: parameters beyond a few read-only
+ones, VAL/HOT variables, file transfer (FOPEN…), breakpoints.
 
 >>> c = VirtualController()
 >>> c.handle(b"1;1;STATE\\r", now=0.0)
@@ -46,6 +48,7 @@ from melfa.protocol.messages import (
 )
 from melfa.sim import errors as err
 from melfa.sim.config import SimConfig
+from melfa.sim.interp.io import IOState
 from melfa.sim.machine import ArmFault, ControllerArm, SimArm, make_arm
 from melfa.sim.runner import (
     LineWalker,
@@ -54,7 +57,6 @@ from melfa.sim.runner import (
     RunnerStatus,
     StatementExecutor,
     StepError,
-    SupportsNextEvent,
 )
 from melfa.sim.store import (
     EditBuffer,
@@ -78,6 +80,10 @@ LISTL_MAX_ANSWER = 240
 
 ALARM_BLOCKS = 5600
 """L5600 "Cannot execute during an error": motion commands while an alarm is active [DOC S4]."""
+
+IO_WORD_BITS = 16
+"""[GUESS] `IN<n>` / `OUT<n>` answer 16 signals from bit n as 4 hex digits, the width of
+`OUT=<n>;<hex4>` [protocol.md §3.10 gives the commands, not the answers]."""
 
 
 class SlotState(enum.Enum):
@@ -142,9 +148,10 @@ class _Command:
     needs_open: bool = True
 
 
-def _level(number: int) -> ErrorLevel:
-    info = ERROR_MESSAGES.get(number)
-    letter = info.level if info is not None else "L"
+def _level(number: int, letter: str | None = None) -> ErrorLevel:
+    if letter is None:
+        info = ERROR_MESSAGES.get(number)
+        letter = info.level if info is not None else "L"
     return {"H": ErrorLevel.HIGH, "C": ErrorLevel.CAUTION}.get(letter, ErrorLevel.LOW)
 
 
@@ -159,6 +166,7 @@ class VirtualController:
     `runner_factory` makes the program runner of a slot (default: the interpreter when
     `melfa.sim.interp` offers one, else `LineWalker`); `executor` runs EXEC statements
     (default: the interpreter's, bound to this controller's arm). Both are hooks for tests.
+    The default runners and EXEC share this controller's arm and its one `io`.
     """
 
     def __init__(
@@ -172,9 +180,11 @@ class VirtualController:
     ) -> None:
         self.config = config or SimConfig()
         self.arm: ControllerArm = arm if arm is not None else make_arm()
-        self._runner_factory = runner_factory or _default_runner_factory(self.arm)
+        self.io = IOState()
+        """The controller's I/O signals: every program (RUN) and EXEC read and write these."""
+        self._runner_factory = runner_factory or _default_runner_factory(self.arm, self.io)
         self._executor = executor
-        self._bare_executor = _default_executor(self.arm) if executor is None else None
+        self._bare_executor = _default_executor(self.arm, self.io) if executor is None else None
         self.store = ProgramStore()
         initial = {"COSIROP": ""} if programs is None else programs
         for name, text in initial.items():
@@ -215,11 +225,19 @@ class VirtualController:
         runner = slot.runner
         if runner is None:
             return
-        _advance_through_events(runner, now)
+        # The runner keeps its own timing between polls (a DLY or move that starts inside
+        # `advance` starts when the previous step ended): one call is enough.
+        runner.advance(now)
         failure = runner.error
         if failure is not None and _failed(runner) and self.alarm is None:
-            program = slot.program or ""
-            self.raise_alarm(failure.number, now, program=program, line=failure.line or 0)
+            self.raise_alarm(
+                failure.number,
+                now,
+                program=slot.program or "",
+                line=failure.line or 0,
+                level=failure.level,
+                message=failure.message,
+            )
 
     def _advance_arm(self, now: float) -> None:
         try:
@@ -236,10 +254,24 @@ class VirtualController:
     def program_running(self) -> bool:
         return any(s.state is SlotState.RUNNING for s in self.slots.values())
 
-    def raise_alarm(self, number: int, now: float, *, program: str = "", line: int = 0) -> None:
+    def raise_alarm(
+        self,
+        number: int,
+        now: float,
+        *,
+        program: str = "",
+        line: int = 0,
+        level: str | None = None,
+        message: str | None = None,
+    ) -> None:
         """An error occurs: it becomes the active alarm and enters the error log. H-level
-        errors switch the servo off; any error stops motion and pauses running programs."""
-        alarm = Alarm(number, _level(number), _message(number), now, program, line)
+        errors switch the servo off; any error stops motion and pauses running programs.
+
+        `level` (H/L/C) and `message` default to the error table's; a program error brings
+        its own (user ERROR 9xxx numbers have no table entry)."""
+        known = ERROR_MESSAGES.get(number)
+        text = known.message if known is not None else (message or _message(number))
+        alarm = Alarm(number, _level(number, level), text, now, program, line)
         self.alarm = alarm
         self.error_log.insert(0, alarm)
         self._jogging = None
@@ -415,7 +447,12 @@ class VirtualController:
         if self.rights:
             run |= RunStatus.OPERATION_ENABLED
         if slot.state is SlotState.RUNNING:
-            stop = StopStatus(0)
+            # [DOC S1 p.55] stop status 0x04 while the program sits in WAIT.
+            stop = (
+                StopStatus.WAIT
+                if slot.runner is not None and slot.runner.waiting
+                else StopStatus(0)
+            )
         elif slot.state is SlotState.PAUSED:
             stop = StopStatus.STOP
         else:
@@ -479,6 +516,42 @@ class VirtualController:
     def _linerd(self, arg: str, req: Request, now: float) -> Reply:
         return Ok(str(self._slot(req).line))
 
+    # ---------------------------------------------------------------------------- I/O
+
+    def set_input(self, bit: int, value: int | bool) -> None:
+        """Drive input signal `bit` (a sensor, the operator, a test, the UI). A program in
+        WAIT sees it at its next `advance`."""
+        self.io.set_input(bit, value)
+
+    def _signal_bit(self, text: str) -> int | None:
+        value = text.strip()
+        return int(value) if value.isdigit() else None
+
+    def _in(self, arg: str, req: Request, now: float) -> Reply:
+        bit = self._signal_bit(arg)
+        if bit is None:
+            return Refused(err.ILLEGAL_COMMAND)
+        return Ok(f"{self.io.read_inputs(bit, IO_WORD_BITS):04X}")
+
+    def _out_get(self, arg: str, req: Request, now: float) -> Reply:
+        bit = self._signal_bit(arg)
+        if bit is None:
+            return Refused(err.ILLEGAL_COMMAND)
+        return Ok(f"{self.io.read_outputs(bit, IO_WORD_BITS):04X}")
+
+    def _out_set(self, arg: str, req: Request, now: float) -> Reply:
+        # `OUT=<n>;<hex4>` [protocol.md §3.10]: 16 output signals from n.
+        start, _, value = arg.partition(";")
+        bit = self._signal_bit(start)
+        try:
+            word = int(value.strip(), 16)
+        except ValueError:
+            return Refused(err.ILLEGAL_COMMAND)
+        if bit is None or not 0 <= word <= 0xFFFF:
+            return Refused(err.ILLEGAL_COMMAND)
+        self.io.write_outputs(bit, IO_WORD_BITS, word)
+        return Ok()
+
     # ---------------------------------------------------------------------- override
 
     def _ovrd_set(self, arg: str, req: Request, now: float) -> Reply:
@@ -530,9 +603,6 @@ class VirtualController:
         slot = self._slot(req)
         if self.config.exec_needs_program and slot.program is None and req.slot != 9:
             return Refused(err.PROGRAM_NOT_FOUND)
-        if _is_comment(statement):
-            # `EXECREM Waiting...` is S6's busy probe: a comment is accepted, nothing runs.
-            return Ok()
         executor = self._executor_for(slot)
         if executor is None:
             return Refused(err.ILLEGAL_COMMAND)
@@ -855,31 +925,6 @@ class VirtualController:
 # ------------------------------------------------------------------------------ helpers
 
 
-MAX_EVENTS_PER_ADVANCE = 10000
-"""Bound on the scheduled events (move ends, DLY ends) replayed in one `advance`."""
-
-
-def _advance_through_events(runner: ProgramRunner, now: float) -> None:
-    """Advance a runner to `now` stopping at each scheduled event on the way, so a program
-    keeps its own timing (DLY 0.5 then DLY 0.5 ends at 1.0) however rarely we are polled."""
-    if isinstance(runner, SupportsNextEvent):
-        last = -1.0
-        for _ in range(MAX_EVENTS_PER_ADVANCE):
-            when = runner.next_event_time()
-            if when is None or when > now or when <= last:
-                break
-            last = when
-            runner.advance(when)
-            if runner.status is not RunnerStatus.RUNNING:
-                return
-    runner.advance(now)
-
-
-def _is_comment(statement: str) -> bool:
-    upper = statement.upper()
-    return upper.startswith(("'", "REM ", "REM\t")) or upper == "REM"
-
-
 def _failed(runner: ProgramRunner) -> bool:
     return runner.status is RunnerStatus.FAILED
 
@@ -948,25 +993,25 @@ def _program_from_text(name: str, text: str, config: SimConfig) -> Program:
     return Program(clean, lines, positions, config.clock_origin)
 
 
-def _default_runner_factory(arm: ControllerArm) -> RunnerFactory:
-    """The interpreter on the shared `SimulatedArm`; `LineWalker` for a foreign arm."""
+def _default_runner_factory(arm: ControllerArm, io: IOState) -> RunnerFactory:
+    """The interpreter on the shared `SimulatedArm` and I/O; `LineWalker` for a foreign arm."""
     if not isinstance(arm, SimArm):
         return LineWalker
     from melfa.sim.interp.armport import ArmPort
     from melfa.sim.interp.interpreter import Interpreter
 
     port = ArmPort(arm.arm)
-    return lambda: Interpreter(port)
+    return lambda: Interpreter(port, io)
 
 
-def _default_executor(arm: ControllerArm) -> StatementExecutor | None:
-    """EXEC outside any loaded program: a bare interpreter on the shared arm."""
+def _default_executor(arm: ControllerArm, io: IOState) -> StatementExecutor | None:
+    """EXEC outside any loaded program: a bare interpreter on the shared arm and I/O."""
     if not isinstance(arm, SimArm):
         return None
     from melfa.sim.interp.armport import ArmPort
     from melfa.sim.interp.interpreter import Interpreter
 
-    return Interpreter(ArmPort(arm.arm))
+    return Interpreter(ArmPort(arm.arm), io)
 
 
 VC = VirtualController
@@ -995,6 +1040,9 @@ _TABLE: list[_Command] = [
     _Command("LINERD", VC._linerd),
     _Command("OVRD=", VC._ovrd_set, rights=True),
     _Command("OVRD", VC._ovrd_get),
+    _Command("IN", VC._in),
+    _Command("OUT=", VC._out_set),
+    _Command("OUT", VC._out_get),
     _Command("HNDON", VC._hndon),
     _Command("HNDOFF", VC._hndoff),
     _Command("HNDSTS", VC._hndsts),

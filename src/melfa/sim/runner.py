@@ -69,7 +69,9 @@ class ProgramRunner(Protocol):
         """RSTPRG / SLOTINIT: back to the first step, variables cleared."""
 
     def advance(self, now: float) -> None:
-        """Execute up to time `now`."""
+        """Execute up to time `now`. A statement that starts inside this call starts when
+        the previous one ended (a DLY 0.5 after a DLY 0.5 ends at 1.0), not at `now`: the
+        runner's timing must not depend on how often it is polled."""
 
     @property
     def status(self) -> RunnerStatus: ...
@@ -82,14 +84,9 @@ class ProgramRunner(Protocol):
     def error(self) -> RunnerError | None:
         """Set when `status` is FAILED."""
 
-
-@runtime_checkable
-class SupportsNextEvent(Protocol):
-    """Optional for a `ProgramRunner`: when its next scheduled event (a move's or a DLY's
-    end) happens. The controller then advances through each event in turn, so a program's
-    timing does not depend on how often a client polls."""
-
-    def next_event_time(self) -> float | None: ...
+    @property
+    def waiting(self) -> bool:
+        """The program sits in a WAIT (STATE's stop status shows 0x04)."""
 
 
 class StepError(Exception):
@@ -187,3 +184,7 @@ class LineWalker:
     @property
     def error(self) -> RunnerError | None:
         return None
+
+    @property
+    def waiting(self) -> bool:
+        return False

@@ -359,11 +359,14 @@ class ExprCompiler:
             c = self.cond(e)
             t = TRUE_VALUE
             return lambda: t if c() else 0
-        side = hint
-        if side is None:
-            side = static_type(e.left) if e.op is not ast.BinaryOp.MUL else None
-            if side is None and e.op in (ast.BinaryOp.ADD, ast.BinaryOp.SUB):
-                side = static_type(e.right)
+        if e.op in (ast.BinaryOp.ADD, ast.BinaryOp.SUB):
+            # The operands' own kind wins over the context's: in ``MOV J_CURR+(0,0,5,0,0,0)``
+            # the move wants a position, but a constant added to joints is a joint constant.
+            side = self._positional(e.left) or self._positional(e.right) or hint
+        else:
+            side = hint
+            if side is None and e.op is not ast.BinaryOp.MUL:
+                side = static_type(e.left)
         left = self.value(e.left, side)
         right = self.value(e.right, side if e.op in (ast.BinaryOp.ADD, ast.BinaryOp.SUB) else None)
         fn = ARITHMETIC[e.op]
@@ -378,6 +381,12 @@ class ExprCompiler:
 
             return add
         return lambda: fn(left(), right())
+
+    def _positional(self, e: ast.Expr) -> VarType | None:
+        """POSITION or JOINT when `e` is known to be one (by DEF or by its name), else None."""
+        declared = self.it.types.get(e.name) if isinstance(e, ast.Name) else None
+        kind = declared or static_type(e)
+        return kind if kind in (VarType.POSITION, VarType.JOINT) else None
 
     # -- conditions ------------------------------------------------------------------------
     def cond(self, e: ast.Expr) -> Cond:

@@ -37,7 +37,12 @@ from melfa.sim.interp.values import (
 from melfa.sim.runner import RunnerError, RunnerStatus
 
 MAX_STATEMENTS_PER_ADVANCE = 2000
-"""Statements one `advance` call may run before giving the controller back its loop."""
+"""Statements one `advance` call may run at one instant of program time (a loop with no
+motion or DLY) before giving the controller back its loop."""
+
+MAX_EVENTS_PER_ADVANCE = 10000
+"""Move/DLY ends one `advance` call may step through; past it the program falls behind (only
+a client that polls less than every few minutes with a program of very short DLYs sees it)."""
 
 ARRAY_LOWER_BOUND = 1
 """[GUESS] First subscript of a DIM array (DIM M(10) has M(1)…M(10))."""
@@ -365,7 +370,8 @@ class Interpreter:
 
         The program has its own clock (`self.now`): when a move or DLY ends before `now`,
         the clock steps to that end and the next statements run then, so a chain of moves
-        keeps its timing however coarsely the controller calls `advance`.
+        keeps its timing however coarsely the controller calls `advance`. Each instant the
+        clock steps to gets a fresh statement budget (up to `MAX_EVENTS_PER_ADVANCE` steps).
         """
         target = max(now, self.now)
         if self._status is RunnerStatus.RUNNING:
@@ -384,9 +390,20 @@ class Interpreter:
         steps = self.steps
         n = len(steps)
         budget = self.max_statements
+        events = MAX_EVENTS_PER_ADVANCE
         set_line = self.robot.set_line
         while budget > 0:
-            if self.block is not None and not self._ready(self.block, target):
+            if self.block is not None:
+                before = self.now
+                ready = self._ready(self.block, target)
+                if ready and self.now > before:
+                    events -= 1  # the clock stepped to a move/DLY end: a new instant
+                    budget = self.max_statements
+                    if events <= 0:
+                        break
+            else:
+                ready = True
+            if not ready:
                 if not self.acts or self._status is not RunnerStatus.RUNNING:
                     break
                 self._move_clock(target)  # interrupts are watched while a program waits
@@ -667,6 +684,8 @@ class Interpreter:
         self.advance(now)
         program = parse(statement)
         lines = [ln for ln in program.lines if ln.statement is not None]
+        if not lines and any(ln.comment is not None for ln in program.lines):
+            return  # ``EXECREM Waiting...``: a comment is accepted and does nothing [CODE S6]
         if len(lines) != 1:
             raise errors.RunError(errors.SYNTAX_ERROR, "EXEC takes exactly one statement")
         stmt = lines[0].statement
