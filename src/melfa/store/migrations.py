@@ -1,0 +1,151 @@
+"""The schema, as named migrations applied in order before first use.
+
+Rules (docs/store.md): a migration that has shipped is never edited. Each is recorded in
+`migrations` with a SHA-256 of its statements, and opening a database whose recorded hash
+differs, or that holds a migration this melfa does not know (a newer melfa made it), is
+refused instead of guessed at. Change the schema by appending a migration.
+
+Each migration is a tuple of single statements run in one transaction (SQLite DDL is
+transactional), so a failure leaves the database as it was.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+
+__all__ = ["MIGRATIONS", "Migration"]
+
+
+@dataclass(frozen=True, slots=True)
+class Migration:
+    name: str
+    statements: tuple[str, ...]
+
+    @property
+    def checksum(self) -> str:
+        """Fingerprint of the statements, to detect an edited shipped migration."""
+        return hashlib.sha256("\n;\n".join(self.statements).encode()).hexdigest()
+
+
+_ACCOUNTS = Migration(
+    "0001_accounts",
+    (
+        """
+        CREATE TABLE groups (
+            id INTEGER PRIMARY KEY,
+            name TEXT NOT NULL UNIQUE COLLATE NOCASE,
+            created TEXT NOT NULL
+        )
+        """,
+        """
+        CREATE TABLE users (
+            id INTEGER PRIMARY KEY,
+            username TEXT NOT NULL UNIQUE COLLATE NOCASE,
+            display_name TEXT NOT NULL DEFAULT '',
+            role TEXT NOT NULL CHECK (role IN ('admin', 'instructor', 'student')),
+            group_id INTEGER REFERENCES groups (id) ON DELETE SET NULL,
+            password_hash TEXT NOT NULL,
+            created TEXT NOT NULL,
+            last_login TEXT,
+            disabled INTEGER NOT NULL DEFAULT 0 CHECK (disabled IN (0, 1))
+        )
+        """,
+        "CREATE INDEX users_group ON users (group_id)",
+    ),
+)
+
+_WORKSPACES = Migration(
+    "0002_workspaces",
+    (
+        """
+        CREATE TABLE workspaces (
+            id INTEGER PRIMARY KEY,
+            user_id INTEGER REFERENCES users (id) ON DELETE CASCADE,
+            group_id INTEGER REFERENCES groups (id) ON DELETE CASCADE,
+            created TEXT NOT NULL,
+            head INTEGER NOT NULL DEFAULT 0,
+            CHECK ((user_id IS NULL) <> (group_id IS NULL))
+        )
+        """,
+        "CREATE UNIQUE INDEX workspaces_user ON workspaces (user_id) WHERE user_id IS NOT NULL",
+        "CREATE UNIQUE INDEX workspaces_group ON workspaces (group_id) WHERE group_id IS NOT NULL",
+        """
+        CREATE TABLE revisions (
+            id INTEGER PRIMARY KEY,
+            workspace_id INTEGER NOT NULL REFERENCES workspaces (id) ON DELETE CASCADE,
+            number INTEGER NOT NULL,
+            author_id INTEGER REFERENCES users (id) ON DELETE SET NULL,
+            author TEXT,
+            created TEXT NOT NULL,
+            reason TEXT NOT NULL CHECK (reason IN ('autosave', 'save', 'import', 'restore')),
+            program TEXT NOT NULL,
+            points TEXT NOT NULL,
+            restored_from INTEGER,
+            UNIQUE (workspace_id, number)
+        )
+        """,
+        "CREATE INDEX revisions_reason ON revisions (workspace_id, reason, created)",
+    ),
+)
+
+_AUDIT = Migration(
+    "0003_audit",
+    (
+        """
+        CREATE TABLE audit (
+            id INTEGER PRIMARY KEY,
+            at TEXT NOT NULL,
+            actor TEXT,
+            role TEXT,
+            action TEXT NOT NULL,
+            details TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(details)),
+            result TEXT NOT NULL
+        )
+        """,
+        "CREATE INDEX audit_at ON audit (at)",
+        "CREATE INDEX audit_actor ON audit (actor, id)",
+        "CREATE INDEX audit_action ON audit (action, id)",
+        """
+        CREATE TRIGGER audit_no_update BEFORE UPDATE ON audit
+        BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END
+        """,
+        """
+        CREATE TRIGGER audit_no_delete BEFORE DELETE ON audit
+        BEGIN SELECT RAISE(ABORT, 'the audit log is append-only'); END
+        """,
+    ),
+)
+
+_SESSIONS = Migration(
+    "0004_sessions",
+    (
+        """
+        CREATE TABLE sessions (
+            token_hash TEXT PRIMARY KEY,
+            user_id INTEGER NOT NULL REFERENCES users (id) ON DELETE CASCADE,
+            csrf_token TEXT NOT NULL,
+            created TEXT NOT NULL,
+            expires TEXT NOT NULL,
+            last_seen TEXT NOT NULL,
+            client_addr TEXT
+        )
+        """,
+        "CREATE INDEX sessions_user ON sessions (user_id)",
+        "CREATE INDEX sessions_expires ON sessions (expires)",
+        """
+        CREATE TABLE login_attempts (
+            id INTEGER PRIMARY KEY,
+            username TEXT NOT NULL COLLATE NOCASE,
+            client_addr TEXT NOT NULL,
+            at TEXT NOT NULL,
+            success INTEGER NOT NULL CHECK (success IN (0, 1))
+        )
+        """,
+        "CREATE INDEX login_attempts_user ON login_attempts (username, at)",
+        "CREATE INDEX login_attempts_addr ON login_attempts (client_addr, at)",
+    ),
+)
+
+MIGRATIONS: tuple[Migration, ...] = (_ACCOUNTS, _WORKSPACES, _AUDIT, _SESSIONS)
+"""Every migration, in the order they apply. Append only."""
