@@ -3,15 +3,50 @@
 from __future__ import annotations
 
 import io
+from dataclasses import dataclass
 from pathlib import Path
 
-from melfa.sim.interp.cli_trace import run_and_trace
+import pytest
+
+from melfa.sim.interp.cli_trace import STATEMENT_WIDTH, run_and_trace
 
 PROGRAM = "10 SERVO ON\n20 SPD 20\n30 OVRD 20\n40 MOV Pa\n50 MOV Pb\n60 HOPEN 1\n70 END\n"
 POINTS = (
     "DEF POS Pa=(584.73,141.04,385.25,-163.74,1.11,-78.61)(7,0)\n"
     "DEF POS Pb=(225.48,-363.55,683.37,-128.32,2.12,-123.50)(7,0)\n"
 )
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@dataclass
+class Row:
+    start: float
+    took: float
+    line: int
+    statement: str
+    pose: list[float]
+    hands: str
+
+
+def rows(text: str) -> list[Row]:
+    """The step rows of a trace, read by column."""
+    out = []
+    for ln in text.splitlines():
+        cells = ln[: 25 + STATEMENT_WIDTH]
+        if len(ln) < 25 + STATEMENT_WIDTH or not cells[:9].strip().replace(".", "").isdigit():
+            continue
+        rest = ln[25 + STATEMENT_WIDTH :].split()
+        out.append(
+            Row(
+                start=float(cells[:9]),
+                took=float(cells[10:17]) if cells[10:17].strip() else 0.0,
+                line=int(cells[18:23]),
+                statement=cells[25:].rstrip(),
+                pose=[float(v) for v in rest[:6]],
+                hands=rest[6],
+            )
+        )
+    return out
 
 
 def write(tmp_path: Path, program: str, points: str | None = None) -> tuple[Path, Path | None]:
@@ -24,38 +59,113 @@ def write(tmp_path: Path, program: str, points: str | None = None) -> tuple[Path
     return prog, pts
 
 
-def test_trace_shows_each_step_with_pose_and_hand(tmp_path: Path) -> None:
-    prog, pts = write(tmp_path, PROGRAM, POINTS)
+def trace(prog: Path, pts: Path | None, **kwargs: object) -> tuple[int, str]:
     out = io.StringIO()
-    assert run_and_trace(prog, pts, True, out) == 0
-    lines = out.getvalue().splitlines()
-    rows = [ln.split() for ln in lines[1:] if ln.split()[1].isdigit()]
-    assert [r[1] for r in rows[:7]] == ["10", "20", "30", "40", "50", "60", "70"]
-    mov_pb = next(r for r in rows if r[1] == "50")
-    assert mov_pb[4:7] == ["584.73", "141.04", "385.25"]  # MOV Pb starts where Pa was
-    assert lines[-2].split()[-1] == "O---"  # hand 1 open at the end
-    assert lines[-1].startswith("finished at line 70")
+    code = run_and_trace(prog, pts, True, out, **kwargs)  # type: ignore[arg-type]
+    return code, out.getvalue()
 
 
-def test_run_time_error_gives_line_message_and_exit_1(tmp_path: Path) -> None:
+def test_each_row_is_a_step_after_it_ran(tmp_path: Path) -> None:
+    code, text = trace(*write(tmp_path, PROGRAM, POINTS))
+    assert code == 0
+    got = rows(text)
+    assert [r.line for r in got] == [10, 20, 30, 40, 50, 60, 70]
+    mov_pa, mov_pb, hopen = got[3], got[4], got[5]
+    assert mov_pa.pose[:3] == [584.73, 141.04, 385.25]  # where MOV Pa left the tool
+    assert mov_pa.took > 0 and mov_pb.start == pytest.approx(mov_pa.start + mov_pa.took, abs=2e-3)
+    assert (mov_pa.hands, hopen.hands) == ("----", "O---")
+    assert got[0].took == 0.0  # SERVO ON takes no time
+
+
+def test_summary_gives_simulated_time_final_pose_and_hands(tmp_path: Path) -> None:
+    _, text = trace(*write(tmp_path, PROGRAM, POINTS))
+    last = text.splitlines()[-1]
+    end = rows(text)[-1].start
+    assert last.startswith(f"finished at line 70 after {end:.3f} s (simulated)")
+    assert "X 225.48 Y -363.55 Z 683.37 mm, A -128.32 B 2.12 C -123.50 °, (7,0)" in last
+    assert last.endswith("hand 1 open")
+
+
+def test_header_names_the_units() -> None:
+    code, text = trace(EXAMPLES / "sample.MB4", EXAMPLES / "sample.POS")
+    assert code == 0
+    header = next(ln for ln in text.splitlines() if "statement" in ln)
+    assert "x mm" in header and "a °" in header and "took s" in header
+
+
+def test_comments_are_left_out_and_long_statements_cut(tmp_path: Path) -> None:
+    program = "10 M1 = 54   ' the diameter\n20 M2 = M1 + M1 + M1 + M1 + M1 + M1 + M1 + M1\n"
+    _, text = trace(*write(tmp_path, program))
+    first, second = rows(text)
+    assert first.statement == "M1 = 54"
+    assert len(second.statement) == STATEMENT_WIDTH and second.statement.endswith("…")
+
+
+def test_print_output_appears_under_its_step(tmp_path: Path) -> None:
+    _, text = trace(*write(tmp_path, '10 M1 = 6 * 7\n20 PRINT "M1 is", M1\n30 END\n'))
+    lines = text.splitlines()
+    at = next(i for i, ln in enumerate(lines) if "PRINT " in ln and "PRINT>" not in ln)
+    assert lines[at + 1].strip() == "PRINT> M1 is,42"
+
+
+def test_pyramid_example_ends_home_with_the_hand_open() -> None:
+    code, text = trace(EXAMPLES / "pyramid.MB4", EXAMPLES / "pyramid.POS")
+    assert code == 0
+    last = text.splitlines()[-1]
+    assert last.startswith("finished at line 27 after")
+    assert "X 400.00 Y 0.00 Z 645.00 mm" in last and last.endswith("hand 1 open")
+    closes = [r for r in rows(text) if r.statement == "HCLOSE 1"]
+    assert len(closes) == 6  # six pieces picked
+
+
+def test_run_time_error_gives_line_source_number_and_message(tmp_path: Path) -> None:
     prog, _ = write(tmp_path, PROGRAM)  # no points: Pa has no value
-    out = io.StringIO()
-    assert run_and_trace(prog, None, True, out) == 1
-    assert out.getvalue().splitlines()[-1].endswith("L3700 in line 40: variable PA has no value")
+    code, text = trace(prog, None)
+    assert code == 1
+    lines = text.splitlines()
+    assert lines[-3].startswith("stopped by an error at line 40 after 0.000 s")
+    assert lines[-2] == (
+        f"{prog}:4: error in line 40: L3700 Undefined (uninitialised) variable "
+        "(variable PA has no value)"
+    )
+    assert lines[-1] == "    40 MOV Pa"
+
+
+def test_joint_limit_error_is_h_level_with_the_controller_text(tmp_path: Path) -> None:
+    prog, _ = write(tmp_path, "SERVO ON\nJ1 = (175,0,90,0,90,0)\nMOV J1\n")
+    code, text = trace(prog, None)
+    assert code == 1
+    assert "error in line 3: H2160 Joint angle exceeds the limit" in text
+    assert text.splitlines()[-1] == "    MOV J1"
+
+
+def test_inputs_release_a_wait(tmp_path: Path) -> None:
+    prog, _ = write(tmp_path, "10 WAIT M_IN(3) = 1\n20 HOPEN 1\n30 END\n")
+    code, text = trace(prog, None, max_time=5)
+    assert code == 0
+    assert text.splitlines()[-1].startswith("waiting (WAIT) at line 10, stopped after 5 s")
+    code, text = trace(prog, None, max_time=5, inputs={3: 1})
+    assert code == 0
+    assert text.splitlines()[-1].startswith("finished at line 30")
 
 
 def test_missing_file_and_broken_points_exit_2(tmp_path: Path) -> None:
-    out = io.StringIO()
-    assert run_and_trace(tmp_path / "NOPE.MB4", None, True, out) == 2
-    assert "cannot read" in out.getvalue()
+    code, text = trace(tmp_path / "NOPE.MB4", None)
+    assert code == 2 and "cannot read" in text
     prog, pts = write(tmp_path, PROGRAM, "DEF POS Pa=(1,2)(7,0)\n")
-    out = io.StringIO()
-    assert run_and_trace(prog, pts, True, out) == 2
-    assert "TEST.POS:1:" in out.getvalue()
+    code, text = trace(prog, pts)
+    assert code == 2 and "TEST.POS:1:" in text
 
 
 def test_endless_program_is_cut_at_max_time(tmp_path: Path) -> None:
     prog, _ = write(tmp_path, "10 DLY 1\n20 GOTO 10\n")
-    out = io.StringIO()
-    assert run_and_trace(prog, None, True, out, max_time=5) == 0
-    assert out.getvalue().splitlines()[-1].startswith("still running at line")
+    code, text = trace(prog, None, max_time=5)
+    assert code == 0
+    assert text.splitlines()[-1].startswith("still running at line")
+
+
+def test_hlt_pauses(tmp_path: Path) -> None:
+    prog, _ = write(tmp_path, "10 M1 = 1\n20 HLT\n30 END\n")
+    code, text = trace(prog, None)
+    assert code == 0
+    assert text.splitlines()[-1].startswith("paused by HLT at line 20")

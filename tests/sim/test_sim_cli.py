@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import serial
 from typer.testing import CliRunner
@@ -73,3 +74,78 @@ def test_usage_mistakes_are_one_line_and_exit_2() -> None:
     assert result.exit_code == 2
     result = runner.invoke(app, ["sim", "--pty", "--tcp", ":0"])
     assert result.exit_code == 2
+
+
+# ------------------------------------------------------------------------------------ --run
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_run_traces_a_program_and_exits_with_its_code(tmp_path: Path) -> None:
+    runner = CliRunner()
+    result = runner.invoke(
+        app,
+        [
+            "sim",
+            "--run",
+            str(EXAMPLES / "sample.MB4"),
+            "--points",
+            str(EXAMPLES / "sample.POS"),
+            "--fast",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert result.output.splitlines()[-1].startswith("finished at line 70 after")
+    bad = tmp_path / "BAD.MB4"
+    bad.write_text("10 M1 = 1 / 0\n20 END\n")
+    result = runner.invoke(app, ["sim", "--run", str(bad), "--fast"])
+    assert result.exit_code == 1
+    assert "error in line 10:" in result.output and "Traceback" not in result.output
+    assert result.output.splitlines()[-1] == "    10 M1 = 1 / 0"
+
+
+def test_run_inputs_are_set_before_the_program_starts(tmp_path: Path) -> None:
+    prog = tmp_path / "W.MB4"
+    prog.write_text("10 WAIT M_IN(3) = 1 AND M_IN(4) = 0\n20 HOPEN 1\n30 END\n")
+    runner = CliRunner()
+    args = ["sim", "--run", str(prog), "--fast", "--max-time", "2"]
+    waiting = runner.invoke(app, args)
+    assert waiting.exit_code == 0
+    assert waiting.output.splitlines()[-1].startswith("waiting (WAIT) at line 10")
+    done = runner.invoke(app, [*args, "--input", "3=1", "--input", "4=0"])
+    assert done.exit_code == 0
+    assert done.output.splitlines()[-1].startswith("finished at line 30")
+
+
+def test_run_usage_mistakes_exit_2(tmp_path: Path) -> None:
+    runner = CliRunner()
+    prog = tmp_path / "P.MB4"
+    prog.write_text("10 END\n")
+    for args in (
+        ["--run", str(prog), "--input", "3"],
+        ["--run", str(prog), "--input", "3=2"],
+        ["--run", str(prog), "--tcp", ":0"],
+        ["--run", str(prog), "--max-time", "0"],
+        ["--fast"],
+        ["--points", str(prog)],
+        ["--input", "1=1"],
+    ):
+        result = runner.invoke(app, ["sim", *args])
+        assert result.exit_code == 2, (args, result.output)
+        assert "Traceback" not in result.output
+    missing = runner.invoke(app, ["sim", "--run", str(tmp_path / "NOPE.MB4")])
+    assert missing.exit_code == 2 and "cannot read" in missing.output
+
+
+def test_run_into_a_closed_pipe_is_quiet(tmp_path: Path) -> None:
+    endless = tmp_path / "LOOP.MB4"
+    endless.write_text("10 DLY 0.01\n20 GOTO 10\n")  # far more output than a pipe holds
+    proc = subprocess.run(
+        f"{sys.executable} -m melfa sim --run {endless} --fast --max-time 600 | head -n 2",
+        shell=True,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert len(proc.stdout.splitlines()) == 2
+    assert proc.stderr == ""

@@ -1,14 +1,17 @@
-"""`melfa sim`: run the virtual CR2B-574 on a pseudo-terminal or a TCP port.
+"""`melfa sim`: run the virtual CR2B-574 on a pseudo-terminal or a TCP port, or run one
+program on the simulated arm and print its trace (`--run PROGRAM.MB4`, no robot, no port).
 
-Thin on purpose: options are parsed here, the work is in `melfa.sim`. To add an option
-(the interpreter's `--run PROGRAM.MB4`), add a parameter to `sim` and a branch before the
-server starts; `build_controller` and `serve_pty` / `serve_tcp` are reusable.
+Thin on purpose: options are parsed here, the work is in `melfa.sim` (the trace in
+`melfa.sim.interp.cli_trace`); `build_controller` and `serve_pty` / `serve_tcp` are reusable.
 """
 
 from __future__ import annotations
 
+import os
 import signal
+import sys
 import threading
+from pathlib import Path
 from types import FrameType
 from typing import Annotated
 
@@ -19,6 +22,8 @@ from melfa.cli.app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
 from melfa.sim.config import DEFAULT_REPLY_LATENCY_S
+from melfa.sim.interp.cli_trace import run_and_trace
+from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
 
 console = Console(highlight=False)
 errors = Console(stderr=True, highlight=False)
@@ -39,6 +44,38 @@ def parse_host_port(text: str) -> tuple[str, int]:
     if not port.isdigit() or not 0 <= int(port) <= 65535:
         raise ValueError(f"{text!r} is not HOST:PORT (port 0–65535; 0 picks a free one)")
     return host or "127.0.0.1", int(port)
+
+
+def parse_input(text: str) -> tuple[int, int]:
+    """`N=V` (input signal N to value V, 0 or 1) -> (N, V); ValueError with what is wrong.
+
+    >>> parse_input("3=1"), parse_input(" 12 = 0 ")
+    ((3, 1), (12, 0))
+    """
+    bit, sep, value = text.partition("=")
+    bit, value = bit.strip(), value.strip()
+    if not sep or not bit.isdigit() or value not in ("0", "1"):
+        raise ValueError(f"{text!r} is not N=V (input signal number N ≥ 0, value 0 or 1)")
+    return int(bit), int(value)
+
+
+def run_program(
+    program: Path,
+    points: Path | None,
+    fast: bool,
+    inputs: dict[int, int],
+    max_time: float,
+) -> int:
+    """`--run`: the trace on stdout; a closed pipe (`| head`) ends it quietly."""
+    try:
+        code = run_and_trace(program, points, fast, sys.stdout, max_time=max_time, inputs=inputs)
+        sys.stdout.flush()
+    except BrokenPipeError:
+        # The reader went away: nothing more to say, and Python must not complain at exit.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+    return code
 
 
 def _until_interrupted(stop: threading.Event) -> None:
@@ -107,11 +144,63 @@ def sim(
         bool,
         typer.Option("--no-jog", help="Refuse JOG with L2030, as a CR2B that does not take it."),
     ] = False,
+    run: Annotated[
+        Path | None,
+        typer.Option(
+            "--run",
+            metavar="PROGRAM.MB4",
+            help="Run this program on the simulated arm and print its trace (no server).",
+        ),
+    ] = None,
+    points: Annotated[
+        Path | None,
+        typer.Option("--points", metavar="FILE.POS", help="Points file for --run."),
+    ] = None,
+    fast: Annotated[
+        bool, typer.Option("--fast", help="With --run: as fast as possible, not in real time.")
+    ] = False,
+    inputs: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--input",
+            metavar="N=V",
+            help="With --run: set input signal M_IN(N) to V (0/1) first; repeatable.",
+        ),
+    ] = None,
+    max_time: Annotated[
+        float,
+        typer.Option("--max-time", metavar="S", help="With --run: stop after S simulated seconds."),
+    ] = DEFAULT_MAX_TIME_S,
 ) -> None:
-    """Run the virtual CR2B-574 controller until Ctrl-C."""
+    """Run the virtual CR2B-574 controller until Ctrl-C, or trace one program (--run)."""
     if pty and tcp is not None:
         errors.print("[red]error:[/] choose one of --pty and --tcp")
         raise typer.Exit(2)
+    if run is not None:
+        if pty or tcp is not None:
+            errors.print("[red]error:[/] --run traces a program; it does not serve --pty/--tcp")
+            raise typer.Exit(2)
+        if max_time <= 0:
+            errors.print(f"[red]error:[/] --max-time {max_time:g} must be > 0 seconds")
+            raise typer.Exit(2)
+        settings: dict[int, int] = {}
+        for text in inputs or []:
+            try:
+                bit, value = parse_input(text)
+            except ValueError as exc:
+                errors.print(f"[red]error:[/] --input {exc}")
+                raise typer.Exit(2) from None
+            settings[bit] = value
+        raise typer.Exit(run_program(run, points, fast, settings, max_time))
+    for name, given in (
+        ("--points", points is not None),
+        ("--fast", fast),
+        ("--input", bool(inputs)),
+        ("--max-time", max_time != DEFAULT_MAX_TIME_S),
+    ):
+        if given:
+            errors.print(f"[red]error:[/] {name} goes with --run PROGRAM.MB4")
+            raise typer.Exit(2)
     if baud not in BAUDRATES:
         errors.print(f"[red]error:[/] --baud {baud} is not one of {', '.join(map(str, BAUDRATES))}")
         raise typer.Exit(2)

@@ -211,6 +211,9 @@ class Interpreter:
         self._status = RunnerStatus.IDLE
         self._error: RunnerError | None = None
         self._cycle = True
+        self.stopped_at: float | None = None
+        """Program time when the program last stopped running (END, an error, HLT, STOP),
+        which `now` may have passed since; None while it runs."""
         self._act_mask: int | None = None  # priorities >= this are masked (in a handler)
         from melfa.sim.interp.compiler import Compiler
 
@@ -270,6 +273,7 @@ class Interpreter:
         self.reset()
         self._cycle = cycle
         self.now = now
+        self.stopped_at = None
         self._status = RunnerStatus.RUNNING if self.steps else RunnerStatus.FINISHED
 
     def resume(self, now: float) -> None:
@@ -283,6 +287,7 @@ class Interpreter:
         if self.remaining_delay is not None:
             self.block = Delay(now + self.remaining_delay)
             self.remaining_delay = None
+        self.stopped_at = None
         self._status = RunnerStatus.RUNNING
 
     def pause(self, now: float) -> None:
@@ -305,6 +310,7 @@ class Interpreter:
             self.resume_index = self.current
         self.block = None
         self._status = RunnerStatus.PAUSED
+        self.stopped_at = now
 
     def reset(self) -> None:
         """RSTPRG: first step, stacks and program variables cleared, speeds to defaults."""
@@ -493,6 +499,7 @@ class Interpreter:
         self.loops.clear()
         if self._cycle:
             self._status = RunnerStatus.FINISHED
+            self.stopped_at = self.now
         else:
             self.pc = 0
 
@@ -506,6 +513,7 @@ class Interpreter:
             self.robot.stop(self.now)
         self.block = None
         self._status = RunnerStatus.FAILED
+        self.stopped_at = self.now
         if exc.error_level is errors.ErrorLevel.HIGH:
             self.robot.set_servo(False, self.now)  # H level errors turn the servo off
 
@@ -564,6 +572,7 @@ class Interpreter:
     def hold(self) -> None:
         """HLT: pause; RUN continues with the next line."""
         self._status = RunnerStatus.PAUSED
+        self.stopped_at = self.now
 
     def end(self) -> None:
         self._finish()
