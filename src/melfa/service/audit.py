@@ -1,0 +1,40 @@
+"""Audit sinks: where "who moved the arm, when, with what result" is kept.
+
+The service writes two `AuditEvent`s per command (accepted, then the outcome). The store
+engineer provides a SQLite-backed sink with the same one-method protocol; `write` is called
+on the event loop's thread, so a sink must be quick (buffer, or hand off to its own writer).
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+from melfa.service.events import AuditEvent
+
+
+@runtime_checkable
+class AuditSink(Protocol):
+    def write(self, entry: AuditEvent) -> None:
+        """Keep ``entry``; must not block for long and should not raise."""
+
+
+class MemoryAuditSink:
+    """Keeps entries in a list (tests, the embedded default).
+
+    >>> sink = MemoryAuditSink()
+    >>> sink.write(AuditEvent(command_id=1, command="run"))
+    >>> [e.result for e in sink.entries]
+    ['accepted']
+    """
+
+    def __init__(self, limit: int = 10000) -> None:
+        self.limit = limit
+        self.entries: list[AuditEvent] = []
+
+    def write(self, entry: AuditEvent) -> None:
+        self.entries.append(entry)
+        if len(self.entries) > self.limit:
+            del self.entries[: len(self.entries) - self.limit]
+
+
+__all__ = ["AuditSink", "MemoryAuditSink"]

@@ -1,0 +1,243 @@
+"""Values and events of the service: who asks (`Actor`), what the robot is doing
+(`StateSnapshot`) and what happened (the event dataclasses).
+
+Every event is a frozen dataclass with a ``name``, the ``actor`` it concerns (None for the
+service itself) and a UTC timestamp ``at`` (datasette's ``events.py`` habit). The web layer
+serialises them with `event_to_dict`; it never invents events of its own.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import enum
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any, ClassVar
+
+
+def utc_now() -> dt.datetime:
+    """Now, timezone-aware UTC."""
+    return dt.datetime.now(dt.UTC)
+
+
+class Role(enum.Enum):
+    """What a signed-in person may do."""
+
+    OBSERVER = "observer"
+    """Watches; may stop; never holds the lease."""
+    STUDENT = "student"
+    """May hold the lease when it is free."""
+    INSTRUCTOR = "instructor"
+    """May hold the lease and take it over from anyone."""
+
+
+@dataclass(frozen=True)
+class Actor:
+    """Who asks: passed with every call (the web layer fills it from the login)."""
+
+    user: str
+    role: Role
+    session_id: str
+
+    def __str__(self) -> str:
+        return f"{self.user} ({self.role.value}, session {self.session_id})"
+
+
+SERVICE_ACTOR = Actor("melfa-service", Role.INSTRUCTOR, "service")
+"""The service acting on its own (closing, heartbeat loss)."""
+
+
+class LinkStatus(enum.Enum):
+    """State of the line to the controller."""
+
+    CONNECTING = "connecting"
+    CONNECTED = "connected"
+    RECONNECTING = "reconnecting"
+    LOST = "lost"
+    """Reconnecting for longer than `ServiceConfig.lost_after_s`; still trying."""
+    CLOSED = "closed"
+
+
+class JogFrame(enum.Enum):
+    """Jog coordinate frames: tool (the thesis's requirement), base XYZ, joints."""
+
+    TOOL = "tool"
+    XYZ = "xyz"
+    JOINT = "joint"
+
+
+@dataclass(frozen=True)
+class Alarm:
+    """An active controller alarm with its text (``ERRORMES`` or melfa's table)."""
+
+    number: int
+    text: str
+
+
+@dataclass(frozen=True, kw_only=True)
+class Event:
+    """Base of every event: name, actor, UTC time."""
+
+    NAME: ClassVar[str] = "event"
+    actor: Actor | None = None
+    at: dt.datetime = field(default_factory=utc_now)
+
+    @property
+    def name(self) -> str:
+        return self.NAME
+
+
+@dataclass(frozen=True, kw_only=True)
+class StateSnapshot(Event):
+    """Everything known about the robot at one moment. Fields are None until first read.
+
+    ``pose_measured`` is False when the pose was computed from the joints (forward
+    kinematics with the tool offset learned from the last PPOSF) rather than read.
+    """
+
+    NAME: ClassVar[str] = "state"
+    seq: int = 0
+    link: LinkStatus = LinkStatus.CONNECTING
+    joints: tuple[float, ...] | None = None
+    pose: tuple[float, ...] | None = None
+    """X, Y, Z (mm), A, B, C (degrees)."""
+    pose_measured: bool = False
+    flags: tuple[int, int] | None = None
+    servo: bool | None = None
+    running: bool | None = None
+    moving: bool | None = None
+    program: str = ""
+    line: int | None = None
+    override: int | None = None
+    speed: float | None = None
+    """TCP end speed in mm/s from the last position reply."""
+    alarm: Alarm | None = None
+    hands: tuple[bool | None, ...] = ()
+    """Hands 1…8: True open, False closed, None unknown."""
+    busy: str | None = None
+    """The long operation holding the line (``upload``), polling paused meanwhile."""
+    jogging: bool = False
+    lease_holder: str | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class LinkStatusChanged(Event):
+    """The link went up, down, or is being reopened."""
+
+    NAME: ClassVar[str] = "link"
+    status: LinkStatus
+    detail: str = ""
+
+
+@dataclass(frozen=True, kw_only=True)
+class CommandResult(Event):
+    """A command finished: ``ok`` only after the controller answered. ``error_number`` is
+    the controller's error number when it refused."""
+
+    NAME: ClassVar[str] = "result"
+    command_id: int
+    command: str
+    ok: bool
+    error: str = ""
+    error_number: int | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class UploadProgress(Event):
+    """Bytes of an upload sent so far, out of ``total``."""
+
+    NAME: ClassVar[str] = "progress"
+    command_id: int
+    command: str
+    sent: int
+    total: int
+
+
+@dataclass(frozen=True, kw_only=True)
+class LeaseChanged(Event):
+    """The operator lease moved: ``holder`` None means free. ``actor`` caused it."""
+
+    NAME: ClassVar[str] = "lease"
+    holder: Actor | None
+    previous: Actor | None
+    reason: str
+
+
+@dataclass(frozen=True, kw_only=True)
+class JogChanged(Event):
+    """A hold-to-move jog began or ended (``reason``: released, heartbeat lost, stop …)."""
+
+    NAME: ClassVar[str] = "jog"
+    active: bool
+    frame: JogFrame | None = None
+    axis: int | None = None
+    direction: int | None = None
+    reason: str = ""
+
+
+@dataclass(frozen=True, kw_only=True)
+class AuditEvent(Event):
+    """Who asked for what that can move or change the robot, and what came of it.
+
+    One command gives two entries with the same ``command_id``: ``result="accepted"`` when
+    it is queued (or ``"refused: …"`` when the service turns it down), then ``"ok"`` or
+    ``"failed: …"`` when the controller's reply arrives.
+    """
+
+    NAME: ClassVar[str] = "audit"
+    command_id: int
+    command: str
+    detail: str = ""
+    result: str = "accepted"
+    moves: bool = True
+
+
+@dataclass(frozen=True, kw_only=True)
+class ThesisOutput(Event):
+    """A string the thesis's Execute Node would publish on a ROS topic (``tool_pose``,
+    ``joint_state``)."""
+
+    NAME: ClassVar[str] = "thesis"
+    topic: str
+    text: str
+
+
+def event_to_dict(event: Event) -> dict[str, Any]:
+    """JSON-ready dict: enums as values, datetimes as ISO 8601, ``name`` included."""
+
+    def plain(value: Any) -> Any:
+        if isinstance(value, enum.Enum):
+            return value.value
+        if isinstance(value, dt.datetime):
+            return value.isoformat()
+        if isinstance(value, dict):
+            return {k: plain(v) for k, v in value.items()}
+        if isinstance(value, list | tuple):
+            return [plain(v) for v in value]
+        return value
+
+    out: dict[str, Any] = {"name": event.name}
+    raw = asdict(event)
+    for f in fields(event):
+        out[f.name] = plain(raw[f.name])
+    return out
+
+
+__all__ = [
+    "SERVICE_ACTOR",
+    "Actor",
+    "Alarm",
+    "AuditEvent",
+    "CommandResult",
+    "Event",
+    "JogChanged",
+    "JogFrame",
+    "LeaseChanged",
+    "LinkStatus",
+    "LinkStatusChanged",
+    "Role",
+    "StateSnapshot",
+    "ThesisOutput",
+    "UploadProgress",
+    "event_to_dict",
+    "utc_now",
+]

@@ -1,0 +1,150 @@
+"""Jog requests and the dead-man keeper shared by the event loop and the worker thread.
+
+Hold-to-move rides on the controller's own dead-man [DOC S1 §5.2.59]: a JOG not renewed
+within ~140 ms stops by itself. The keeper turns client heartbeats into JOG renewals one for
+one: a heartbeat marks the jog *fresh* and queues at most one renewal; a renewal consumes the
+freshness. No heartbeat, no JOG — so a released key, a hidden page, a dead socket *or a
+stalled service* all end in the controller stopping the arm within its watchdog.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+
+from melfa.protocol import JogMode
+from melfa.service.events import Actor, JogFrame
+
+_MODES = {JogFrame.TOOL: JogMode.TOOL, JogFrame.XYZ: JogMode.XYZ, JogFrame.JOINT: JogMode.JOINT}
+_CARTESIAN = ("X", "Y", "Z", "A", "B", "C")
+_JOINTS = ("J1", "J2", "J3", "J4", "J5", "J6")
+
+
+@dataclass(frozen=True)
+class JogRequest:
+    """One axis of one frame in one direction.
+
+    >>> JogRequest.make("tool", "x", "+")
+    JogRequest(frame=<JogFrame.TOOL: 'tool'>, axis=0, direction=1)
+    >>> JogRequest.make(JogFrame.JOINT, "J3", -1).label
+    'joint J3-'
+    """
+
+    frame: JogFrame
+    axis: int
+    """0-based: X/J1 = 0 … C/J6 = 5."""
+    direction: int
+
+    @classmethod
+    def make(cls, frame: JogFrame | str, axis: int | str, direction: int | str) -> JogRequest:
+        """Check and normalise; `ValueError` with a clear message on nonsense."""
+        try:
+            frame = JogFrame(frame) if isinstance(frame, str) else frame
+        except ValueError:
+            names = ", ".join(f.value for f in JogFrame)
+            raise ValueError(f"jog frame {frame!r} is not one of {names}") from None
+        axes = _JOINTS if frame is JogFrame.JOINT else _CARTESIAN
+        if isinstance(axis, str):
+            key = axis.strip().upper()
+            if key not in axes:
+                raise ValueError(f"jog axis {axis!r} is not one of {', '.join(axes)}")
+            index = axes.index(key)
+        else:
+            index = int(axis)
+            if not 0 <= index <= 5:
+                raise ValueError(f"jog axis {axis} is outside 0–5")
+        if isinstance(direction, str):
+            sign = {"+": 1, "-": -1, "+1": 1, "-1": -1}.get(direction.strip())
+            if sign is None:
+                raise ValueError(f"jog direction {direction!r} is not + or -")
+        else:
+            sign = int(direction)
+            if sign not in (1, -1):
+                raise ValueError(f"jog direction {direction} is not +1 or -1")
+        return cls(frame, index, sign)
+
+    @property
+    def mode(self) -> JogMode:
+        return _MODES[self.frame]
+
+    @property
+    def axis_name(self) -> str:
+        return (_JOINTS if self.frame is JogFrame.JOINT else _CARTESIAN)[self.axis]
+
+    @property
+    def label(self) -> str:
+        return f"{self.frame.value} {self.axis_name}{'+' if self.direction > 0 else '-'}"
+
+
+class JogKeeper:
+    """Who jogs what, and whether a fresh heartbeat allows one more JOG. Thread-safe."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.actor: Actor | None = None
+        self.request: JogRequest | None = None
+        self.command_id = 0
+        self.fresh = False
+        self.tick_queued = False
+        self.last_heartbeat = 0.0
+        self.last_sent = 0.0
+        self.heartbeats = 0
+        self.renewals = 0
+
+    @property
+    def active(self) -> bool:
+        return self.request is not None
+
+    def owned_by(self, actor: Actor) -> bool:
+        held = self.actor
+        return (
+            held is not None
+            and self.request is not None
+            and (held.user, held.session_id) == (actor.user, actor.session_id)
+        )
+
+    def begin(self, actor: Actor, request: JogRequest, command_id: int, now: float) -> None:
+        with self.lock:
+            self.actor = actor
+            self.request = request
+            self.command_id = command_id
+            self.fresh = True
+            self.last_heartbeat = now
+            self.last_sent = now
+
+    def heartbeat(self, actor: Actor, now: float) -> tuple[bool, bool]:
+        """(jog is ours, a renewal must be queued)."""
+        with self.lock:
+            if not self.owned_by(actor):
+                return False, False
+            self.fresh = True
+            self.last_heartbeat = now
+            self.heartbeats += 1
+            queue = not self.tick_queued
+            if queue:
+                self.tick_queued = True
+            return True, queue
+
+    def take_renewal(self) -> JogRequest | None:
+        """In the worker: the request to send now, or None (no fresh heartbeat)."""
+        with self.lock:
+            self.tick_queued = False
+            if self.request is None or not self.fresh:
+                return None
+            self.fresh = False
+            self.renewals += 1
+            return self.request
+
+    def end(self) -> tuple[Actor | None, JogRequest | None]:
+        with self.lock:
+            actor, request = self.actor, self.request
+            self.actor = None
+            self.request = None
+            self.fresh = False
+            return actor, request
+
+    def view(self) -> tuple[bool, float]:
+        return self.request is not None, self.last_sent
+
+
+__all__ = ["JogKeeper", "JogRequest"]

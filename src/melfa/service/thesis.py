@@ -1,0 +1,272 @@
+"""The thesis's string control messages, driving the service (appendix 9.1, §4.3.3–4.3.5).
+
+Clients of the thesis (its rqt plugin, its web page, ``rostopic pub``) send strings on the
+``execute_instruction`` topic. `ThesisMessages.feed` takes those strings and keeps the
+thesis's state machine:
+
+====  ==========================  ===========================================================
+S0    idle                        expects a control message
+S1    single instruction          the next message is one statement → EXEC, back to S0
+S2    receiving program           lines until ``---LOAD PROGRAM END---`` → upload, S0
+S3    receiving points            lines until ``---LOAD POINTS END---`` → upload, S0
+S4    jogging                     ``---MOV TOOL ±X/Y/Z---[timestamp]`` step moves in the tool
+                                  frame; any other message leaves S4 (after the move running)
+====  ==========================  ===========================================================
+
+Jog rule (§4.3.5, appendix 9.2): a move message is carried out only if its timestamp (Unix
+seconds, optional, default: when it arrived) is later than the end of the last finished move;
+messages that piled up while the tool moved are dropped, never queued.
+
+``---REQUEST TOOL POSE---`` / ``---REQUEST JOINT STATE---`` publish `ThesisOutput` events on
+topics ``tool_pose`` "(x,y,z,roll,pitch,yaw)" and ``joint_state`` "(j1,j2,j3,j4,j5,j6)". The
+thesis's node (S7) sent metres and radians; so does this adapter unless ``si_units=False``.
+The PDF rendered ``---`` as an em dash, so ``—RUN PROGRAM—`` is accepted too.
+``---OPEN TOOL---`` / ``---CLOSE TOOL---`` (the thesis's spacebar, §6.9.2; its message
+names are not printed, so these are melfa's) open and close hand 1.
+
+A message that makes no sense in the current state raises `ThesisMessageError` and returns
+the machine to S0 (S7 did the same, printing the error).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import enum
+import math
+import re
+import time
+from collections.abc import Callable
+
+from melfa.service.errors import ThesisMessageError
+from melfa.service.events import Actor, JogFrame, ThesisOutput
+from melfa.service.service import RobotService, describe_error
+
+
+class ThesisState(enum.Enum):
+    S0 = "idle"
+    S1 = "single instruction"
+    S2 = "receiving program"
+    S3 = "receiving points"
+    S4 = "jogging"
+
+
+_DASH = r"(?:-{3}|[—–])"
+_CONTROL = re.compile(
+    rf"^{_DASH}\s*(?P<name>[A-Z][A-Z +\-]*?)\s*{_DASH}\s*(?P<stamp>\d+(?:\.\d+)?)?$"
+)
+
+MOVES: dict[str, tuple[int, int]] = {
+    f"MOV TOOL {sign}{axis}": (index, 1 if sign == "+" else -1)
+    for index, axis in enumerate("XYZ")
+    for sign in "+-"
+}
+"""Move messages → (tool axis 0–2, direction), in the thesis's order of checking."""
+
+SIMPLE = frozenset(
+    {
+        "SINGLE INSTRUCTION",
+        "LOAD PROGRAM BEGIN",
+        "LOAD PROGRAM END",
+        "LOAD POINTS BEGIN",
+        "LOAD POINTS END",
+        "RUN PROGRAM",
+        "DELETE",
+        "REQUEST TOOL POSE",
+        "REQUEST JOINT STATE",
+        "MOVE JOINT STATE",
+        "OPEN TOOL",
+        "CLOSE TOOL",
+    }
+)
+
+
+def parse_control(message: str) -> tuple[str, float | None] | None:
+    """``(name, timestamp)`` of a control message, None for an information message.
+
+    >>> parse_control("---MOV TOOL +X---1468360644")
+    ('MOV TOOL +X', 1468360644.0)
+    >>> parse_control("—LOAD PROGRAM BEGIN—")
+    ('LOAD PROGRAM BEGIN', None)
+    >>> parse_control("10 MOV P1") is None
+    True
+    """
+    match = _CONTROL.match(message.strip())
+    if match is None:
+        return None
+    name = " ".join(match["name"].split())
+    if name not in SIMPLE and name not in MOVES:
+        raise ThesisMessageError(f"unknown control message {message.strip()!r}")
+    stamp = match["stamp"]
+    return name, float(stamp) if stamp is not None else None
+
+
+def format_tuple(values: tuple[float, ...]) -> str:
+    """The thesis's "(a,b,c)" form."""
+    return "(" + ",".join(f"{v:.6g}" for v in values) + ")"
+
+
+class ThesisMessages:
+    """Feed thesis strings; it drives ``service`` on behalf of ``actor``."""
+
+    def __init__(
+        self,
+        service: RobotService,
+        actor: Actor,
+        *,
+        si_units: bool = True,
+        hand: int = 1,
+        wall_clock: Callable[[], float] = time.time,
+    ) -> None:
+        self.service = service
+        self.actor = actor
+        self.si_units = si_units
+        self.hand = hand
+        self._wall = wall_clock
+        self.state = ThesisState.S0
+        self._lines: list[str] = []
+        self._pending: dict[tuple[int, int], float] = {}
+        self._last_finished = -math.inf
+        self._task: asyncio.Task[None] | None = None
+        self.dropped = 0
+        """Move messages dropped by the timestamp rule."""
+        self.moves = 0
+        self.errors: list[BaseException] = []
+
+    async def feed(self, message: str) -> str | None:
+        """Handle one message; returns the published text for REQUEST messages."""
+        try:
+            control = parse_control(message)
+        except ThesisMessageError:
+            await self._reset()
+            raise
+        if control is None:
+            return await self._information(message)
+        name, stamp = control
+        if name in MOVES:
+            if self.state not in (ThesisState.S0, ThesisState.S4):
+                await self._reset()
+                raise ThesisMessageError(f"{name} while {self.state.value} ({self.state.name})")
+            self.state = ThesisState.S4
+            self._queue_move(MOVES[name], stamp)
+            return None
+        if name == "MOVE JOINT STATE" and self.state in (ThesisState.S0, ThesisState.S4):
+            self.state = ThesisState.S4
+            return None
+        if name in ("OPEN TOOL", "CLOSE TOOL") and self.state in (ThesisState.S0, ThesisState.S4):
+            await self._join_moves()
+            await self.service.hand(self.actor, name == "OPEN TOOL", self.hand)
+            return None
+        if self.state is ThesisState.S4:
+            await self._join_moves()
+            self.state = ThesisState.S0
+        if self.state is ThesisState.S2 and name == "LOAD PROGRAM END":
+            lines, self._lines, self.state = self._lines, [], ThesisState.S0
+            await self.service.upload_program(self.actor, lines)
+            return None
+        if self.state is ThesisState.S3 and name == "LOAD POINTS END":
+            lines, self._lines, self.state = self._lines, [], ThesisState.S0
+            await self.service.upload_points(self.actor, lines)
+            return None
+        if self.state is not ThesisState.S0:
+            state = self.state
+            await self._reset()
+            raise ThesisMessageError(f"{name} makes no sense while {state.value} ({state.name})")
+        return await self._command(name)
+
+    async def _command(self, name: str) -> str | None:
+        if name == "SINGLE INSTRUCTION":
+            self.state = ThesisState.S1
+        elif name == "LOAD PROGRAM BEGIN":
+            self._lines, self.state = [], ThesisState.S2
+        elif name == "LOAD POINTS BEGIN":
+            self._lines, self.state = [], ThesisState.S3
+        elif name == "RUN PROGRAM":
+            await self.service.run(self.actor)
+        elif name == "DELETE":
+            await self.service.delete(self.actor)
+        elif name == "REQUEST TOOL POSE":
+            pose = await self.service.read_pose(self.actor)
+            if self.si_units:
+                pose = (*(v / 1000 for v in pose[:3]), *(math.radians(v) for v in pose[3:]))
+            return self._publish("tool_pose", format_tuple(pose))
+        elif name == "REQUEST JOINT STATE":
+            joints = await self.service.read_joints(self.actor)
+            if self.si_units:
+                joints = tuple(math.radians(v) for v in joints)
+            return self._publish("joint_state", format_tuple(joints))
+        else:
+            raise ThesisMessageError(f"{name} makes no sense while idle (S0)")
+        return None
+
+    async def _information(self, message: str) -> str | None:
+        if self.state is ThesisState.S1:
+            self.state = ThesisState.S0
+            await self.service.exec(self.actor, message)
+            return None
+        if self.state in (ThesisState.S2, ThesisState.S3):
+            self._lines.append(message.rstrip("\r\n"))
+            return None
+        state = self.state
+        await self._reset()
+        raise ThesisMessageError(
+            f"{message.strip()[:40]!r} is not a control message, and nothing was announced "
+            f"while {state.value} ({state.name})"
+        )
+
+    def _publish(self, topic: str, text: str) -> str:
+        self.service.publish(ThesisOutput(actor=self.actor, topic=topic, text=text))
+        return text
+
+    # ------------------------------------------------------------------- jog (S4)
+
+    def _queue_move(self, move: tuple[int, int], stamp: float | None) -> None:
+        when = self._wall() if stamp is None else stamp
+        if when <= self._last_finished:
+            self.dropped += 1
+            return
+        if move in self._pending:
+            self.dropped += 1  # superseded by a newer request for the same move
+        self._pending[move] = max(self._pending.get(move, -math.inf), when)
+        if self._task is None or self._task.done():
+            self._task = asyncio.create_task(self._jog_loop(), name="thesis-jog")
+
+    async def _jog_loop(self) -> None:
+        """Appendix 9.2: while a requested move is newer than the last finished move, do
+        it (in the thesis's order), then note when it finished."""
+        while True:
+            due = [
+                m for m in MOVES.values() if self._pending.get(m, -math.inf) > self._last_finished
+            ]
+            stale = [m for m in self._pending if m not in due]
+            for move in stale:
+                del self._pending[move]
+                self.dropped += 1
+            if not due:
+                return
+            axis, direction = due[0]
+            del self._pending[due[0]]
+            try:
+                await self.service.jog_step(self.actor, JogFrame.TOOL, axis, direction, wait=True)
+                self.moves += 1
+            except Exception as exc:
+                self.errors.append(exc)
+                self._publish("execute_error", describe_error(exc))
+            self._last_finished = self._wall()
+
+    async def _join_moves(self) -> None:
+        if self._task is not None:
+            await self._task
+            self._task = None
+
+    async def _reset(self) -> None:
+        await self._join_moves()
+        self._lines = []
+        self._pending.clear()
+        self.state = ThesisState.S0
+
+    async def close(self) -> None:
+        """Wait for a move in progress; back to S0."""
+        await self._reset()
+
+
+__all__ = ["MOVES", "ThesisMessages", "ThesisState", "format_tuple", "parse_control"]
