@@ -272,3 +272,17 @@ def test_client_name_setting(controller: VirtualController, pty_server: PtyServe
     with Robot(SerialLink(pty_server.new_port(), LINK), RobotSettings(client_name="NARCUSR")) as r:
         r.connect()
         assert controller.client == "NARCUSR"
+
+
+def test_pipelined_upload_same_result(controller: VirtualController, pty_server: PtyServer) -> None:
+    lines = [f"{10 * i} MOV P{i % 7 + 1}" for i in range(1, 120)] + ["1200 END"]
+    with Robot(SerialLink(pty_server.new_port(), LINK), RobotSettings(emdat_window=2)) as r:
+        report = r.upload_program("\n".join(lines))
+        assert report.requests > 3
+        assert [text for _, text in sorted(stored(controller).items())] == lines
+        with pytest.raises(UploadRefused) as exc:
+            r.upload_program("\n".join([*lines[:4], "50 FOO(", *lines[5:]]))
+        assert exc.value.line == 5  # refused while the next chunk was already in flight
+        assert controller.edit is None
+        r.upload_program("10 END")  # pairing intact after the refusal
+        assert stored(controller) == {10: "10 END"}

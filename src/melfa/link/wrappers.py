@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 
 from melfa.link.base import Link
@@ -71,20 +72,25 @@ class PacedLink(_Wrapper):
 
     Writes return when the last character would have left the wire; received bytes are handed
     over when the last of them would have arrived. The two directions are independent
-    (RS-232 is full duplex). For benchmarks over an in-memory controller.
+    (RS-232 is full duplex). ``latency`` adds the controller's processing time between the
+    end of a request and the start of its reply (measured 0.1–0.15 s, prior-art.md §5).
+    For benchmarks over an in-memory controller.
     """
 
-    def __init__(self, inner: Link) -> None:
+    def __init__(self, inner: Link, latency: float = 0.0) -> None:
         super().__init__(inner, f"{inner.description}, paced")
         self.char_time = inner.settings.seconds_per_char
+        self.latency = latency
         self._tx_free = 0.0
         self._rx_free = 0.0
+        self._request_ends: deque[float] = deque()
         self._pace_lock = threading.Lock()
 
     def _write(self, data: bytes) -> None:
         with self._pace_lock:
             self._tx_free = max(time.monotonic(), self._tx_free) + len(data) * self.char_time
             until = self._tx_free
+            self._request_ends.extend([until] * max(1, data.count(b"\r")))
         _sleep_until(until)
         super()._write(data)
 
@@ -92,7 +98,17 @@ class PacedLink(_Wrapper):
         data = super()._read(timeout)
         if data:
             with self._pace_lock:
-                self._rx_free = max(time.monotonic(), self._rx_free) + len(data) * self.char_time
+                # Each reply starts after the end of *its* request plus the latency.
+                pieces = data.split(b"\r")
+                for index, piece in enumerate(pieces):
+                    ends_reply = index < len(pieces) - 1
+                    if not piece and not ends_reply:
+                        break
+                    asked = self._request_ends[0] if self._request_ends else 0.0
+                    start = max(time.monotonic(), self._rx_free, asked + self.latency)
+                    self._rx_free = start + (len(piece) + ends_reply) * self.char_time
+                    if ends_reply and self._request_ends:
+                        self._request_ends.popleft()
                 until = self._rx_free
             _sleep_until(until)
         return data

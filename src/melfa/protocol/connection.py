@@ -12,7 +12,7 @@ State table::
 
     IDLE            --send(r)-->          AWAITING_REPLY
     AWAITING_REPLY  --send(STOP)-->       AWAITING_REPLY   (one more outstanding)
-    AWAITING_REPLY  --send(other)-->      LocalProtocolError
+    AWAITING_REPLY  --send(other)-->      LocalProtocolError (unless within a pipelining window)
     AWAITING_REPLY  --last reply-->       IDLE
     any             --garbage/abandon-->  BROKEN
     BROKEN          --reset()-->          IDLE
@@ -70,11 +70,16 @@ class ClientConnection:
         """Requests sent and not yet answered, oldest first."""
         return tuple(self._outstanding)
 
-    def send(self, request: Request) -> bytes:
-        """Register ``request`` as sent and return its bytes."""
+    def send(self, request: Request, *, window: int = 1) -> bytes:
+        """Register ``request`` as sent and return its bytes.
+
+        ``window`` > 1 allows that many requests in flight (opt-in pipelining of a batch such
+        as EMDAT chunks; [GUESS] the controller buffers them, see `PIPELINE` in the robot
+        settings). STOP is always allowed through.
+        """
         if self._broken is not None:
             raise LocalProtocolError(f"connection is broken ({self._broken}); reset it first")
-        if self._outstanding and request.name not in OVERTAKING_COMMANDS:
+        if len(self._outstanding) >= max(window, 1) and request.name not in OVERTAKING_COMMANDS:
             raise LocalProtocolError(
                 f"cannot send {request.name or request.command!r} while "
                 f"{self._outstanding[0].name!r} awaits its reply"

@@ -49,6 +49,8 @@ def chunk_emdat(
     Raises `LocalProtocolError` for a line that is empty, contains VT/CR/LF, or cannot fit
     even alone, naming the line (1-based) and its size.
     """
+    if limit > REQUEST_LIMIT:
+        raise LocalProtocolError(f"EMDAT limit {limit} exceeds the request limit {REQUEST_LIMIT}")
     prefix = len(f"{robot};{slot};{EMDAT}")
     room = limit - prefix
     chunks: list[EmdatChunk] = []

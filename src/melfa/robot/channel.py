@@ -18,6 +18,7 @@ import contextlib
 import threading
 import time
 from collections import deque
+from collections.abc import Generator, Iterable
 from dataclasses import dataclass, field
 
 from melfa.link import Link, LinkError, LinkTimeout
@@ -50,11 +51,39 @@ class Channel:
 
     def request(self, request: Request, timeout: float | None = None) -> Reply:
         """Send ``request`` and return its reply (or raise the link/protocol error)."""
+        return self._await(self._submit(request, timeout))
+
+    def pipeline(
+        self, requests: Iterable[Request], window: int, timeout: float | None = None
+    ) -> Generator[Reply, None, None]:
+        """Send ``requests`` keeping up to ``window`` in flight; yield replies in order.
+
+        If the consumer stops early (a refusal), the replies still in flight are read and
+        dropped before the generator closes, so the pairing stays intact.
+        """
+        pending: deque[_Ticket] = deque()
+        source = iter(requests)
+        try:
+            while True:
+                while len(pending) < window:
+                    request = next(source, None)
+                    if request is None:
+                        break
+                    pending.append(self._submit(request, timeout, window=window))
+                if not pending:
+                    return
+                yield self._await(pending.popleft())
+        finally:
+            for ticket in pending:
+                with contextlib.suppress(Exception):
+                    self._await(ticket)
+
+    def _submit(self, request: Request, timeout: float | None, window: int = 1) -> _Ticket:
         limit = self.link.settings.timeout if timeout is None else timeout
         with self._send_lock:
             if self._conn.state is ClientState.BROKEN and not self._tickets:
                 self._resync()
-            data = self._conn.send(request)  # LocalProtocolError if out of turn
+            data = self._conn.send(request, window=window)  # LocalProtocolError if out of turn
             ticket = _Ticket(request, time.monotonic() + limit)
             with self._tickets_lock:
                 self._tickets.append(ticket)
@@ -64,7 +93,7 @@ class Channel:
                 self._fail_all(exc)
                 raise
             self.sent_bytes += len(data)
-        return self._await(ticket)
+        return ticket
 
     def _await(self, ticket: _Ticket) -> Reply:
         while not ticket.done.is_set():

@@ -543,14 +543,24 @@ class Robot:
                     self._call("PRTVEREMDAT")
                 if self.settings.clear_with_eclr if clear is None else clear:
                     self._call("ECLR")
-                for chunk in chunks:
-                    self._checkpoint(generation)
-                    reply = self._send(chunk.request.command, slot=chunk.request.slot)
-                    if not isinstance(reply, Ok):
-                        raise self._upload_refusal(reply, chunk, items)
-                    sent += len(chunk.request.to_bytes())
-                    if progress is not None:
-                        progress(sent, total)
+                replies = self.channel.pipeline(
+                    (c.request for c in chunks), self.settings.emdat_window
+                )
+                refused: tuple[Reply, EmdatChunk] | None = None
+                try:
+                    for chunk, reply in zip(chunks, replies, strict=True):
+                        self._note(reply)
+                        if not isinstance(reply, Ok):
+                            refused = (reply, chunk)
+                            break
+                        sent += len(chunk.request.to_bytes())
+                        if progress is not None:
+                            progress(sent, total)
+                        self._checkpoint(generation)
+                finally:
+                    replies.close()  # reads (and drops) replies still in flight
+                if refused is not None:
+                    raise self._upload_refusal(refused[0], refused[1], items)
                 self._checkpoint(generation)
                 self._call("SAVE", timeout=self.settings.save_timeout)
             except BaseException:

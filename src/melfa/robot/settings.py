@@ -59,6 +59,12 @@ class RobotSettings:
     """After a refusal, ask ``ERRORMES<n>`` for the controller's own text (one round trip)."""
     cycle_mode: bool = True
     """``RUN<prog>;1``: run once (cycle) rather than repeat [S7]."""
+    emdat_window: int = 1
+    """[GUESS] EMDAT requests in flight at once. 1 = strictly one request, one reply, as
+    every public driver does. 2 sends the next chunk while the controller still processes
+    the previous one, hiding its ~0.1 s latency per chunk (bench/bench_link.py); it relies
+    on the controller buffering a whole request received while busy. Safe on failure
+    either way: a refused chunk means NEW, so nothing is saved."""
     save_timeout: float = 10.0
     """[GUESS] SAVE writes program memory; allow it longer than the link's request timeout."""
 
@@ -67,5 +73,7 @@ class RobotSettings:
             raise ValueError(f"client name {self.client_name!r} must be ASCII without ';'")
         if not self.program or not self.program.isalnum():
             raise ValueError(f"program name {self.program!r} must be letters and digits")
+        if not 1 <= self.emdat_window <= 4:
+            raise ValueError(f"emdat_window {self.emdat_window} is not 1–4")
         if self.jog_step_mm <= 0 or self.jog_step_deg <= 0:
             raise ValueError("jog steps must be positive")
