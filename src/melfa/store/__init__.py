@@ -54,6 +54,7 @@ from melfa.store.models import (
     WorkspaceState,
 )
 from melfa.store.passwords import Passwords, generate_password
+from melfa.store.service_audit import ServiceAuditSink, from_service_event
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions, check_csrf
 from melfa.store.store import (
     DATA_ENV,
@@ -113,6 +114,7 @@ __all__ = [
     "SaveConflict",
     "SaveReason",
     "SaveResult",
+    "ServiceAuditSink",
     "Session",
     "SessionPolicy",
     "Sessions",
@@ -131,6 +133,7 @@ __all__ = [
     "default_data_dir",
     "enrol",
     "file_kind",
+    "from_service_event",
     "generate_password",
     "normalize_group",
     "normalize_username",

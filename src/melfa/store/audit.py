@@ -18,7 +18,7 @@ from melfa.store.db import Database
 from melfa.store.models import AuditEntry, AuditEvent, AuditPage
 from melfa.store.timeutil import from_text, to_text
 
-__all__ = ["MAX_PAGE", "AuditLog"]
+__all__ = ["MAX_PAGE", "AuditLog", "insert_event"]
 
 MAX_PAGE = 500
 
@@ -58,13 +58,13 @@ class AuditLog:
     def record(self, event: AuditEvent) -> int:
         """Append one event; returns its sequence id."""
         at = event.at if event.at is not None else self.db.clock()
-        return self.db.write(lambda conn: _insert(conn, dataclasses.replace(event, at=at)))
+        return self.db.write(lambda conn: insert_event(conn, dataclasses.replace(event, at=at)))
 
     async def record_async(self, event: AuditEvent) -> int:
         """`record` from the event loop."""
         at = event.at if event.at is not None else self.db.clock()
         return await self.db.write_async(
-            lambda conn: _insert(conn, dataclasses.replace(event, at=at))
+            lambda conn: insert_event(conn, dataclasses.replace(event, at=at))
         )
 
     def query(
@@ -111,7 +111,8 @@ class AuditLog:
         return AuditPage(entries, entries[-1].id if more and entries else None)
 
 
-def _insert(conn: sqlite3.Connection, event: AuditEvent) -> int:
+def insert_event(conn: sqlite3.Connection, event: AuditEvent) -> int:
+    """Append inside a caller's write (the service sink queues this on the writer)."""
     assert event.at is not None
     details = json.dumps(event.details, default=_jsonable, sort_keys=True)
     cur = conn.execute(

@@ -22,7 +22,7 @@ import asyncio
 import sqlite3
 import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import TypeVar
 
@@ -152,6 +152,17 @@ class Database:
         if threading.get_ident() == self._writer_ident:
             return self._guarded(fn)
         return self._writer.submit(self._guarded, fn).result()
+
+    def submit_write(self, fn: Callable[[sqlite3.Connection], T]) -> Future[T]:
+        """Queue a write and return at once (for callers on an event loop that must not wait)."""
+        self._check_open()
+        return self._writer.submit(self._guarded, fn)
+
+    def flush(self) -> None:
+        """Wait until every write queued so far is done."""
+        self._check_open()
+        if threading.get_ident() != self._writer_ident:
+            self._writer.submit(lambda: None).result()
 
     async def write_async(self, fn: Callable[[sqlite3.Connection], T]) -> T:
         """`write` for the event loop: awaits the writer thread without blocking the loop."""

@@ -16,6 +16,7 @@ import enum
 import re
 from dataclasses import dataclass
 
+from melfa.lang.diagnostics import Diagnostic
 from melfa.lang.numbering import renumber, strip
 from melfa.lang.points import format_points, parse_points
 from melfa.store.errors import TransferError, WrongExtension
@@ -90,7 +91,9 @@ def program_from_file(filename: str, data: bytes | str) -> str:
     name = _expect(filename, FileKind.PROGRAM)
     result = strip(decode_text(data))
     if not result.ok:
-        raise TransferError(name, "cannot remove the step numbers safely", result.diagnostics)
+        raise TransferError(
+            name, "cannot remove the step numbers safely", _errors(result.diagnostics)
+        )
     return result.text
 
 
@@ -99,7 +102,9 @@ def program_to_file(program: str, stem: str = "program") -> ExportedFile:
     result = renumber(program)
     filename = _safe_stem(stem) + FileKind.PROGRAM.value
     if not result.ok:
-        raise TransferError(filename, "cannot number the program safely", result.diagnostics)
+        raise TransferError(
+            filename, "cannot number the program safely", _errors(result.diagnostics)
+        )
     return ExportedFile(filename, result.text)
 
 
@@ -109,7 +114,7 @@ def points_from_file(filename: str, data: bytes | str) -> str:
     text = decode_text(data)
     parsed = parse_points(text)
     if parsed.has_errors:
-        raise TransferError(name, "the points file has errors", parsed.diagnostics)
+        raise TransferError(name, "the points file has errors", _errors(parsed.diagnostics))
     return text
 
 
@@ -118,8 +123,13 @@ def points_to_file(points: str, stem: str = "points") -> ExportedFile:
     filename = _safe_stem(stem) + FileKind.POINTS.value
     parsed = parse_points(points)
     if parsed.has_errors:
-        raise TransferError(filename, "the points have errors", parsed.diagnostics)
+        raise TransferError(filename, "the points have errors", _errors(parsed.diagnostics))
     return ExportedFile(filename, format_points(parsed.points))
+
+
+def _errors(diagnostics: tuple[Diagnostic, ...]) -> tuple[Diagnostic, ...]:
+    """The errors that made us refuse (infos and warnings are not the reason)."""
+    return tuple(d for d in diagnostics if d.is_error)
 
 
 def _safe_stem(stem: str) -> str:

@@ -1,0 +1,88 @@
+"""Many threads and an event loop share one store; writes stay serial and complete."""
+
+from __future__ import annotations
+
+import asyncio
+import threading
+from pathlib import Path
+
+from melfa.store import AsyncStore, SaveConflict, Store
+from tests.store.conftest import CHEAP, FakeClock
+
+
+def test_threads_saving_to_one_workspace_never_lose_a_save(store: Store) -> None:
+    ada = store.accounts.create_user("ada", "password1")
+    ws = store.workspaces.personal(ada)
+    outcomes: list[str] = []
+    lock = threading.Lock()
+
+    def tab(name: str) -> None:
+        for i in range(10):
+            while True:
+                base = store.workspaces.state(ws.id).revision
+                try:
+                    store.workspaces.save(ws.id, f"{name} {i}\n", "", base=base, author=ada)
+                except SaveConflict:
+                    continue  # reload and retry, as the browser would after asking
+                with lock:
+                    outcomes.append(f"{name} {i}")
+                break
+
+    threads = [threading.Thread(target=tab, args=(f"tab{n}",)) for n in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(outcomes) == 40
+    assert store.workspaces.state(ws.id).revision == 40
+    programs = {
+        r.number: store.workspaces.revision(ws.id, r.number).program
+        for r in store.workspaces.revisions(ws.id, limit=100)
+    }
+    assert sorted(p.strip() for p in programs.values()) == sorted(outcomes)
+
+
+def test_async_store_from_an_event_loop(db_path: Path, clock: FakeClock) -> None:
+    async def main() -> list[str]:
+        with Store(db_path, clock=clock, hasher=CHEAP) as store:
+            astore = AsyncStore(store)
+            await asyncio.gather(
+                *(
+                    astore.call(store.accounts.create_user, f"user{i}", "password1")
+                    for i in range(8)
+                )
+            )
+            user = await astore.call(store.accounts.authenticate, "user3", "password1")
+            assert user is not None
+            users = await astore.call(store.accounts.list_users)
+            return [u.username for u in users]
+
+    assert asyncio.run(main()) == [f"user{i}" for i in range(8)]
+
+
+def test_write_async_and_read_async(store: Store) -> None:
+    async def main() -> int:
+        await store.db.write_async(
+            lambda c: c.execute(
+                "INSERT INTO groups (name, created) VALUES (?, ?)", ("G9", "2025-01-01")
+            )
+        )
+        return await store.db.read_async(
+            lambda c: int(c.execute("SELECT count(*) FROM groups").fetchone()[0])
+        )
+
+    assert asyncio.run(main()) == 1
+
+
+def test_a_second_process_style_handle_sees_committed_writes(
+    db_path: Path, clock: FakeClock
+) -> None:
+    """The CLI and the server open the same file at once."""
+    with (
+        Store(db_path, clock=clock, hasher=CHEAP) as server,
+        Store(db_path, clock=clock, hasher=CHEAP) as cli,
+    ):
+        cli.accounts.create_user("ada", "password1")
+        assert server.accounts.authenticate("ada", "password1") is not None
+        server.accounts.set_password("ada", "password2")
+        assert cli.accounts.authenticate("ada", "password2") is not None
