@@ -75,7 +75,7 @@ def test_an_error_exits_1_and_reads_like_a_compiler(runner: CliRunner, tmp_path:
     assert first.startswith(f"{prog}:2:4: error: ")
     assert first.endswith("[L4220]")
     assert "MOVV" in first
-    assert "  = help: MOV" in out
+    assert "  = help: Write MOV instead of MOVV.\n" in out
     assert out.splitlines()[-1].startswith("1 error, ")
     assert "\x1b[" not in out  # plain when piped
     assert "| 20 MOVV" not in out  # no source excerpt when piped
@@ -238,7 +238,7 @@ def test_binary_file_is_a_clear_diagnostic_not_a_traceback(
     prog = write(tmp_path, "bin.MB4", b"ROBPRG\x00\x01\x02\xff\xfe")
     code, out, _ = run(runner, prog)
     assert code == 1
-    assert f"{prog}:1:7: error: this is not a text file" in out
+    assert f"{prog}:1:7: error: This is not a text file" in out
     assert "Traceback" not in out
 
 
@@ -370,3 +370,41 @@ def test_any_bytes_give_a_report_never_a_traceback(data: bytes, name: str) -> No
     assert result.exit_code in (0, 1)
     [entry] = json.loads(result.stdout)
     assert entry["file"] == str(path)
+
+
+# --- reachability of the points (melfa.kin.reach) ------------------------------------------
+
+FAR_POINTS = (
+    "DEF POS Pok=(400,0,450,180,0,180)(7,0)\n"
+    "DEF POS Pfar=(1200,0,450,180,0,180)(7,0)\n"
+    "DEF POS Pflag=(400,0,450,180,0,180)(3,0)\n"
+    "DEF JNT Jbad=(0,140,90,0,90,0)\n"
+)
+
+
+@pytest.mark.parametrize("as_option", [False, True])
+def test_unreachable_points_warn_on_their_lines(
+    runner: CliRunner, tmp_path: Path, as_option: bool
+) -> None:
+    prog = write(tmp_path, "far.MB4", "MOV Pok\nMOV Pfar\nMOV Pflag\nMOV Jbad\n")
+    pos = write(tmp_path, "far.POS", FAR_POINTS)
+    args = (prog, "--points", pos) if as_option else (prog, pos)
+    code, out, _ = run(runner, *args)
+    assert code == 0, out  # warnings only
+    assert f"{pos}:2:9: warning: Point Pfar is out of the RV-6S's reach (" in out
+    assert f"{pos}:3:9: warning: Point Pflag is reachable only with flags (7,0), not (3,0)\n" in out
+    assert f"{pos}:4:9: warning: Point Jbad has J2 = 140°, beyond its limit -92…135°\n" in out
+    assert "  = help: Change the flags to (7,0)" in out
+    assert out.splitlines()[-1] == "0 errors, 3 warnings in 2 files"
+
+
+def test_a_points_file_alone_gets_the_reach_warnings_in_json(
+    runner: CliRunner, tmp_path: Path
+) -> None:
+    pos = write(tmp_path, "far.pos", FAR_POINTS)
+    code, data = as_json(runner, pos)
+    assert code == 0
+    diagnostics = data[0]["diagnostics"]
+    assert isinstance(diagnostics, list)
+    found = [(d["line"], d["column"], d["end_column"], d["severity"]) for d in diagnostics]
+    assert found == [(2, 9, 13, "warning"), (3, 9, 14, "warning"), (4, 9, 13, "warning")]

@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import re
+
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from melfa.lang import Diagnostic, Severity, check
+from melfa.lang.numbering import number_lines, strip_numbers
 
 
 def rules(text: str, points: tuple[str, ...] = ()) -> list[tuple[int, str]]:
@@ -24,7 +29,8 @@ def test_points_missing_from_the_points_file_warn() -> None:
         (5, "undefined-point", Severity.WARNING)
     ]
     assert (found[0].column, found[0].end_column) == (8, 10)
-    assert "points file" in found[0].message
+    assert found[0].message == "Position Pb is not defined"  # short, spelled as written
+    assert found[0].suggestion == "Add Pb to the points file, or assign it before use (Pb = …)."
 
 
 def test_thesis_if_example_reports_at_least_three_of_four() -> None:
@@ -54,7 +60,7 @@ def test_wihle_suggests_while_without_structure_cascade() -> None:
 
 def test_def_int_is_an_error_on_its_line() -> None:
     found = check("DEF DOUBLE oPx\nDEF INT npesa\nDEF POS Ppila\n")
-    assert [(d.line, d.suggestion) for d in found] == [(2, "INTE")]
+    assert [(d.line, d.suggestion) for d in found] == [(2, "Write DEF INTE instead of DEF INT.")]
 
 
 # --------------------------------------------------------------------------- structure
@@ -163,7 +169,6 @@ def test_name_and_label_length() -> None:
 
 
 def test_numbering_rules() -> None:
-    assert rules("10 MOV P1\nMOV P2\n", ("P1", "P2")) == [(2, "missing-line-number")]
     assert rules("10 HLT\n\n20 HLT\n") == []  # blank lines are fine
     assert rules("10 HLT\n10 HLT\n") == [(2, "duplicate-line-number")]
     assert rules("20 HLT\n10 HLT\n") == [(2, "line-number-order")]
@@ -267,3 +272,298 @@ def test_never_raises_and_stays_inside_the_file(text: str) -> None:
 def test_sorted_by_position() -> None:
     found = check("HOPEN\nNEXT\nMOV (\nGOTO *X\n")
     assert [(d.line, d.column) for d in found] == sorted((d.line, d.column) for d in found)
+
+
+# ------------------------------------------------------- step numbers: the two forms
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        # Editor form (some lines unnumbered): numbered lines are fine, jumps must resolve.
+        ("MOV P1\n120 HLT\nGOTO 120\n", []),
+        ("10 MOV P1\nMOV P2\n", []),
+        ("MOV P1\n120 HLT\nGOTO 130\n", [(3, "undefined-line", Severity.ERROR)]),
+        ("20 HLT\nMOV P1\n10 HLT\n", [(3, "line-number-order", Severity.ERROR)]),
+        ("20 HLT\n' unnumbered\n10 HLT\n", [(3, "line-number-order", Severity.ERROR)]),
+        ("10 HLT\nHLT\n10 HLT\n", [(3, "duplicate-line-number", Severity.ERROR)]),
+        ("40000 HLT\nHLT\n", [(1, "line-number-range", Severity.ERROR)]),
+        # Controller form (every non-blank line numbered): the controller sorts the steps.
+        ("20 HLT\n10 HLT\n", [(2, "line-number-order", Severity.WARNING)]),
+        ("10 HLT\n\n20 GOTO 10\n", []),
+        # No numbers at all: a numeric jump cannot land anywhere.
+        ("HLT\nGOTO 10\n", [(2, "undefined-line", Severity.ERROR)]),
+    ],
+)  # fmt: skip
+def test_numbering_forms(text: str, expected: list[tuple[int, str, Severity]]) -> None:
+    assert [(d.line, d.rule, d.severity) for d in check(text, ["P1", "P2"])] == expected
+
+
+def test_editor_form_order_error_says_why() -> None:
+    [d] = check("20 HLT\nHLT\n10 HLT\n")
+    assert "upload" in d.message
+    assert d.suggestion is not None and "*label" in d.suggestion
+
+
+_STATEMENTS = ["MOV P1", "HOPEN 1", "M1 = M1 + 1", "DLY 0.5", "OVRD 50", "' note", "MVS P1, -50"]
+
+
+@st.composite
+def numbered_program(draw: st.DrawFn) -> str:
+    """A valid program numbered on every line, with jumps to step numbers."""
+    count = draw(st.integers(1, 12))
+    numbers = sorted(draw(st.sets(st.integers(1, 32767), min_size=count, max_size=count)))
+    lines = []
+    for number in numbers:
+        target = draw(st.sampled_from(numbers))
+        other = draw(st.sampled_from(numbers))
+        text = draw(
+            st.sampled_from(
+                [
+                    *_STATEMENTS,
+                    f"GOTO {target}",
+                    f"GOSUB {target}",
+                    f"IF M1 > 3 THEN {target}",
+                    f"IF M1 > 3 THEN {target} ELSE {other}",
+                    f"IF M1 > 3 THEN GOTO {target}",
+                    f"ON M1 GOTO {target}, {other}",
+                    f"DEF ACT 1, M_IN(1) = 1 GOSUB {target}",
+                ]
+            )
+        )
+        lines.append(f"{number} {text}")
+    return "\n".join(lines) + draw(st.sampled_from(["", "\n", "\r\n"]))
+
+
+@settings(max_examples=60, deadline=None)
+@given(numbered_program())
+def test_stripped_programs_have_no_errors(program: str) -> None:
+    assert [d for d in check(program, ["P1"]) if d.is_error] == []
+    stripped = strip_numbers(program)
+    assert [d for d in check(stripped, ["P1"]) if d.is_error] == []
+    assert [d for d in check(number_lines(stripped), ["P1"]) if d.is_error] == []
+
+
+def test_strip_keeps_a_jump_target_and_check_accepts_it() -> None:
+    stripped = strip_numbers("10 MOV P1\n20 HLT\n30 GOTO 20\n")
+    assert stripped == "MOV P1\n20 HLT\nGOTO 20\n"
+    assert check(stripped, ["P1"]) == []
+
+
+# ---------------------------------------------------------------- names as written
+
+
+def test_messages_spell_names_as_written() -> None:
+    [d] = check("MOV Pa\n", ["Pb"])
+    assert d.message == "Position Pa is not defined"
+    assert "Pa" in (d.suggestion or "") and "PA" not in (d.suggestion or "")
+    [d] = check("MCounter12 = 0\n")
+    assert d.message == "Name MCounter12 is longer than 8 characters"
+    [d] = check("M1 = 1\nCmsg$ = 5\n")
+    assert d.message.endswith("the string variable Cmsg$")
+    [d] = check("GOTO *myLabel\n")
+    assert d.message == "Label *myLabel is not defined in this program"
+    found = check("*LongLabel1\n*longlabel1\n")
+    assert [d.message for d in found if d.rule == "duplicate-label"] == [
+        "Label *longlabel1 is already defined on line 1"
+    ]
+    [d] = check("FOR Mi = 1 TO 2\nNEXT Mj\n")
+    assert d.message == "NEXT Mj does not match FOR Mi (line 1)"
+    assert d.suggestion == "Write NEXT Mi."
+
+
+def test_the_tree_keeps_upper_case_names_and_the_spelling() -> None:
+    from melfa.lang import ast as A  # noqa: N812
+    from melfa.lang import parse
+
+    stmt = parse("MOV pGoal\n").lines[0].statement
+    assert isinstance(stmt, A.Move) and isinstance(stmt.target, A.Name)
+    assert (stmt.target.name, stmt.target.text, stmt.target.written) == ("PGOAL", "pGoal", "pGoal")
+    assert stmt.target == A.Name("PGOAL", stmt.target.span)  # the spelling is not identity
+    line = parse("*Loop\n").lines[0]
+    assert (line.label, line.label_text) == ("LOOP", "Loop")
+
+
+# ------------------------------------------------------------------------- suggestions
+
+# Rules whose every finding has a clear fix, so it must come with a suggestion.
+NO_GENERAL_FIX = {
+    "syntax-error",
+    "invalid-statement",
+    "unknown-statement",
+    "expected-expression",
+    "internal-error",
+}
+BROKEN = [
+    "WIHLE M1 < 3\nWEND",
+    "GOTO *mylabel\nmylabel",
+    "IF A < B HOPEN 1",
+    "IF A < B M1 = 2",
+    "IF end < start THEN HOPEN",
+    "DEF INT npesa",
+    "DEF QQQ X",
+    "DEF IO MS = BTI, 900",
+    "DEF PLT 1, P1, P2",
+    "MOV",
+    "MVR P1, P2",
+    "SPD 10, 20",
+    "HLT 1",
+    "M1 = ",
+    "M1 = P1.Q",
+    "M1 = P1.FL",
+    "MOV P1 P2",
+    'PRINT #1, "abc',
+    "M1 = 3 @ 4",
+    "_COUNT = 1",
+    "M1 = END",
+    "INT = 3",
+    "FOR END = 1 TO 3\nNEXT",
+    "FOR M1 = 1 10\nNEXT",
+    "M1 = SIN(3",
+    "SERVO",
+    "CMP X",
+    "ON M1 *A",
+    "IF THEN *A",
+    "WAIT",
+    "WHILE\nWEND",
+    "SELECT\nEND SELECT",
+    "SELECT M1\nCASE\nEND SELECT",
+    "SELECT M1\nCASE IS 3\nEND SELECT",
+    "END IF",
+    "DEF ACT 1, M1 = 1 *A",
+    "DIM MA()",
+    'OPEN "COM1:" FOR READ AS #1',
+    "COM(1) GO",
+    "IF M1 THEN *A ELSE",
+    "M1 = ()",
+    "HOPEN 1 *A",
+    "NEXT\nWEND\nENDIF\nELSE\nEND SELECT\nCASE 1\nBREAK",
+    "FOR M1 = 1 TO 2\nWHILE M2\nSELECT M3\nIF M4 THEN",
+    "IF M1 THEN\nELSE\nELSE\nENDIF",
+    "SELECT M1\nCASE 1\nSELECT M2\nEND SELECT\nEND SELECT",
+    "".join(f"FOR M{i} = 1 TO 2\n" for i in range(17)) + "NEXT\n" * 17,
+    "IF M1 THEN\n" * 9 + "ENDIF\n" * 9,
+    "*A\nON M1 GOTO " + ",".join(["*A"] * 33),
+    "GOTO *LOPP\n*LOOP",
+    "GOTO 10",
+    "*A\n*a\n*ABCDEFGHI",
+    "MABCDEFGH = 1",
+    "M1 = 2 * P1\nM2 = 2 / P1",
+    'M1 = "x"\nC1$ = 1\nP1 = J1\nP2 = 5',
+    "20 HLT\n10 HLT\n10 HLT\n0 HLT",
+    "M1 = 1 '" + "x" * 130,
+    "OVRD 0\nJOVRD 101\nHOPEN 9\nHCLOSE -1\nERROR 100\nDLY 0.01\nDLY -1\nM_OUT(1) = 1 DLY 0",
+    "DEF PLT 9, P1, P2, P3, , 3, 3, 1\nMOV (PLT 0, 1)",
+    "DEF POS " + ", ".join(f"P{i}" for i in range(40)),
+    "DIM MA(1, 2, 3, 4)\nDIM MB(0)\nDIM MC(1000)\nDIM MD(M1)\nDIM ME(2.5)",
+    "MOV PX",
+    "FOR M1 = 1 TO 3\nNEXT M2",
+    "THEN M1 = 1",
+]
+
+
+def _all_findings() -> list[Diagnostic]:
+    return [d for text in BROKEN for d in check(text)]
+
+
+def test_every_suggestion_is_a_short_imperative_sentence() -> None:
+    found = [d for d in _all_findings() if d.suggestion is not None]
+    assert len(found) > 60
+    for d in found:
+        s = d.suggestion or ""
+        assert re.fullmatch(r"[A-Z][a-z]+ .*[.…]", s), (d.rule, s)
+        assert len(s) <= 100, (d.rule, s)
+
+
+def test_every_finding_with_a_clear_fix_has_a_suggestion() -> None:
+    found = _all_findings()
+    missing = [
+        (d.rule, d.message) for d in found if d.rule not in NO_GENERAL_FIX and not d.suggestion
+    ]
+    assert missing == []
+    rules = {d.rule for d in found}
+    assert len(rules) >= 45  # the corpus reaches most rules
+
+
+@pytest.mark.parametrize(
+    ("text", "suggestion"),
+    [
+        ("WIHLE M1 < 3\nWEND\n", "Write WHILE instead of WIHLE."),
+        ("GOTO *mylabel\nmylabel\n", "Write *mylabel to define the label."),
+        ("IF A < B HOPEN 1\n", "Add THEN after the condition: IF A < B THEN HOPEN …"),
+        ("IF A < B\n", "Add THEN after the condition: IF A < B THEN …"),
+        ("HOPEN\n", "Add a hand number (1 to 8) after HOPEN, e.g. HOPEN 1."),
+        ("GOTO *LOPP\n*LOOP\n", "Write *LOOP instead of *LOPP, or define *LOPP."),
+        ("M1 = 2 * P1\n", "Put the position first: P1 * 2."),
+        ("M1 = P1.FL\n", "Write .FL1 instead of .FL."),
+        ("FOR M1 = 1 10\nNEXT\n", "Write TO after the FOR start value."),
+    ],
+)
+def test_suggestions_say_what_to_write(text: str, suggestion: str) -> None:
+    assert suggestion in [d.suggestion for d in check(text, ["P1"])]
+
+
+def test_undefined_point_keeps_its_message_short() -> None:
+    [d] = check("MOV P9\n")
+    assert d.message == "Position P9 is not defined"
+    assert d.suggestion == "Add P9 to the points file, or assign it before use (P9 = …)."
+
+
+# ----------------------------------------------------------------- limits of §3, §4.6
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("OVRD 100\nOVRD 1\nJOVRD 50\nHOPEN 8\nHCLOSE 1\nERROR 9299\nDLY 0.05\n", []),
+        ("OVRD -5", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("HCLOSE 9", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("ERROR 9300", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("OVRD M1\nHOPEN M2\nDLY M3\n", []),  # not constants: not checked
+        ("DLY 0.01", [(1, "value-out-of-range", Severity.WARNING)]),
+        ("DLY 0", [(1, "value-out-of-range", Severity.WARNING)]),
+        ("DLY -1", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("M_OUT(17) = 1 DLY 0.01", [(1, "value-out-of-range", Severity.WARNING)]),
+        ("M_OUT(17) = 1 DLY 0.5", []),
+        ("DEF PLT 1, P1, P2, P3, , 3, 3, 1\nMOV (PLT 1, 5)\nMOV (PLT 8, 1)", []),
+        ("DEF PLT 9, P1, P2, P3, , 3, 3, 1", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("MOV (PLT 0, 5)", [(1, "value-out-of-range", Severity.ERROR)]),
+        ("DIM MA(999), MB(1, 2, 3)", []),
+        ("DIM MA(1, 2, 3, 4)", [(1, "dim-dimensions", Severity.ERROR)]),
+        ("DIM MA(0)", [(1, "dim-size", Severity.ERROR)]),
+        ("DIM MA(1000)", [(1, "dim-size", Severity.ERROR)]),
+        ("DIM MA(M1)", [(1, "dim-size", Severity.ERROR)]),
+        ("DIM MA(2.5)", [(1, "dim-size", Severity.ERROR)]),
+        ("_COUNT = 1", [(1, "name-starts-with-underscore", Severity.ERROR)]),
+        ("M_COUNT = 1\nMA_B = 2", []),
+    ],
+)  # fmt: skip
+def test_limits(text: str, expected: list[tuple[int, str, Severity]]) -> None:
+    found = check(text, ["P1", "P2", "P3"])
+    assert [(d.line, d.rule, d.severity) for d in found] == expected
+
+
+def test_value_out_of_range_points_at_the_value() -> None:
+    [d] = check("OVRD 150\n")
+    assert (d.column, d.end_column) == (6, 9)
+    assert d.message == "OVRD takes 1 to 100 (%), found 150"
+    assert d.suggestion == "Use a value from 1 to 100."
+
+
+def test_def_list_length() -> None:
+    head = "DEF INTE " + "".join(f"M{i:03d}, " for i in range(18))  # 117 characters
+    fits, long = head + "MLAST1", head + "MLAST12"
+    assert (len(fits), len(long)) == (123, 124)
+    assert rules(fits) == []
+    [d] = check(long)
+    assert (d.rule, d.column, d.end_column) == ("def-too-long", 124, 125)
+    assert d.suggestion == "Split the names over two DEF INTE lines."
+    assert check("10 " + long)[0].column == 127  # counted from DEF, not from the step number
+    assert rules("10 " + fits) == []
+
+
+def test_underscore_message() -> None:
+    [d] = check("_COUNT = 1\n")
+    assert (d.code, d.column, d.end_column) == ("L4310", 1, 2)
+    assert d.message == "A name cannot start with '_' (_COUNT)"
+    assert d.suggestion == "Start the name with a letter, e.g. MCOUNT; '_' may come later."

@@ -69,3 +69,26 @@ def test_only_the_case_of_keywords_changes(text: str) -> None:
         if a.kind in (TokenKind.IDENT, TokenKind.LABEL, TokenKind.STRING, TokenKind.ERROR):
             assert a.text == b.text
     assert normalize_case(out) == out  # idempotent
+
+
+def test_def_io_types_are_keywords() -> None:
+    text = "def io mSensor = bit, 900\ndef io mPort = byte, 10, &h0f\ndef io mW = word, 16"
+    assert normalize_case(text) == (
+        "DEF IO mSensor = BIT, 900\nDEF IO mPort = BYTE, 10, &H0F\nDEF IO mW = WORD, 16"
+    )
+    assert normalize_case("def io mI = integer, 32\ndef io mD = dword, 32") == (
+        "DEF IO mI = INTEGER, 32\nDEF IO mD = DWORD, 32"
+    )
+
+
+def test_def_io_still_parses_in_any_case() -> None:
+    from melfa.lang import ast as A  # noqa: N812
+    from melfa.lang import check, parse
+
+    for word in ("bit", "Byte", "WORD", "integer", "DWord"):
+        stmt = parse(f"DEF IO MX = {word}, 900, &H0F").lines[0].statement
+        assert isinstance(stmt, A.DefIO), word
+        assert stmt.io_type is A.IOType(word.upper())
+    assert check("DEF IO MX = BIT, 900\nMX = 1\n") == []
+    [d] = check("DEF IO MX = BITS, 900\n")
+    assert d.suggestion == "Write BIT instead of BITS."

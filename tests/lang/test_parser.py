@@ -246,7 +246,8 @@ def test_invalid_line_becomes_invalid_statement_with_its_text() -> None:
     broken = parse("DEF INT npesa").lines[0].statement
     assert isinstance(broken, A.InvalidStatement)
     assert broken.text == "DEF INT npesa"
-    assert broken.issue.suggestion == "INTE"
+    assert broken.issue.replacement == "INTE"
+    assert broken.issue.suggestion == "Write DEF INTE instead of DEF INT."
     assert broken.issue.span == A.Span(1, 5, 1, 8)
 
 
@@ -260,7 +261,8 @@ def test_invalid_line_becomes_invalid_statement_with_its_text() -> None:
 def test_typo_suggestions(typo: str, keyword: str) -> None:
     (issue,) = issues(f"{typo} 1")
     assert issue.message == f"Invalid statement. Did you mean {keyword} instead of {typo}?"
-    assert issue.suggestion == keyword
+    assert issue.replacement == keyword
+    assert issue.suggestion == f"Write {keyword} instead of {typo}."
 
 
 def test_no_suggestion_when_too_different() -> None:

@@ -7,6 +7,8 @@ Thin: read files, call `melfa.lang`, print. The file handling that needs care li
   UTF-16 with a BOM (Windows Notepad) is read too. Formatting writes the same encoding back.
 * A file with NUL bytes is not a program: `check` reports it as an error diagnostic on that
   file (exit 1), `fmt` refuses it (exit 2).
+* A points file is also checked against the robot: a point the RV-6S cannot reach gets a
+  warning on its line (`melfa.kin.reach`).
 * Usage mistakes (no such file, a directory, an unknown extension, bad options) are one red
   line on stderr and exit 2; errors in a program exit 1; warnings alone exit 0.
 """
@@ -33,7 +35,7 @@ from rich.text import Text
 from melfa.cli.app import app
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.format import FormatResult, LineNumbers, format_program
-from melfa.lang.points import parse_points
+from melfa.lang.points import PointDef, parse_points
 
 PROGRAM_SUFFIX = ".MB4"
 POINTS_SUFFIX = ".POS"
@@ -126,11 +128,11 @@ def read_source(path: Path, kind: FileKind | None = None) -> SourceFile:
                     line,
                     column + 1,
                     Severity.ERROR,
-                    f"this is not a text file (a NUL byte at line {line}, column {column}); "
+                    f"This is not a text file (a NUL byte at line {line}, column {column}); "
                     "programs and points files are plain text",
                     "file-binary",
-                    suggestion="read the program from the controller as text, "
-                    "or save it from the editor as plain text",
+                    suggestion="Read the program from the controller as text, "
+                    "or save it from the editor as plain text.",
                 )
             )
             return source
@@ -176,8 +178,18 @@ def _check_program(text: str, points: Sequence[str]) -> list[Diagnostic]:
     return check(text, points)
 
 
+def _reach(points: Sequence[PointDef], text: str) -> list[Diagnostic]:
+    """Warnings for points the RV-6S cannot take (`melfa.kin.reach`, loaded on first use)."""
+    if not points:
+        return []
+    from melfa.kin.reach import reach_diagnostics
+
+    return reach_diagnostics(points, text)
+
+
 def check_files(files: Sequence[SourceFile]) -> list[FileReport]:
-    """Check programs against the names of every points file given; points files on their own."""
+    """Check programs against the names of every points file given; points files on their
+    own, including whether the RV-6S can reach each point (warnings)."""
     names: list[str] = []
     reports: dict[int, FileReport] = {}
     for i, source in enumerate(files):
@@ -187,6 +199,7 @@ def check_files(files: Sequence[SourceFile]) -> list[FileReport]:
                 parsed = parse_points(source.text)
                 names.extend(parsed.names)
                 diagnostics.extend(parsed.diagnostics)
+                diagnostics.extend(_reach(parsed.points, source.text))
             reports[i] = FileReport(source.path, source, _by_position(diagnostics))
     for i, source in enumerate(files):
         if source.kind is FileKind.PROGRAM:

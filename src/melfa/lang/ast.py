@@ -29,7 +29,7 @@ computes it from the flat lines.
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple, TypeAlias
 
 
@@ -59,6 +59,8 @@ class ParseIssue:
     rule: str
     code: str | None = "L4220"
     suggestion: str | None = None
+    replacement: str | None = None
+    """The word to write instead, when the fix is one word (``WHILE`` for ``WIHLE``)."""
 
 
 # --------------------------------------------------------------------------- expressions
@@ -91,10 +93,19 @@ class String:
 
 @dataclass(frozen=True, slots=True)
 class Name:
-    """A variable (user or system). `name` is upper case (names are case-insensitive)."""
+    """A variable (user or system). `name` is upper case (names are case-insensitive).
+
+    `text` is the name as written (``Pa``), for messages; it takes no part in equality.
+    """
 
     name: str
     span: Span
+    text: str = field(default="", compare=False)
+
+    @property
+    def written(self) -> str:
+        """The spelling to show a student: as written, else the upper-case name."""
+        return self.text or self.name
 
 
 @dataclass(frozen=True, slots=True)
@@ -265,10 +276,18 @@ class LineRef:
 
 @dataclass(frozen=True, slots=True)
 class LabelRef:
-    """A jump to a label: ``GOTO *LOOP``; `name` is upper case without the ``*``."""
+    """A jump to a label: ``GOTO *LOOP``; `name` is upper case without the ``*``.
+
+    `text` is the label as written, without the ``*`` (no part in equality).
+    """
 
     name: str
     span: Span
+    text: str = field(default="", compare=False)
+
+    @property
+    def written(self) -> str:
+        return self.text or self.name
 
 
 JumpTarget: TypeAlias = LineRef | LabelRef
@@ -818,6 +837,7 @@ class Line:
     """One text line. `statement` is None for blank, comment-only and label-only lines.
 
     `comment` is the comment text (``' …`` or ``REM …``) when the line has one.
+    `label_text` is the label as written (no ``*``), for messages; no part in equality.
     """
 
     number: int | None
@@ -828,6 +848,7 @@ class Line:
     issues: tuple[ParseIssue, ...] = ()
     number_span: Span | None = None
     label_span: Span | None = None
+    label_text: str | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True, slots=True)

@@ -29,13 +29,14 @@ class BlockKind(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class BlockProblem:
-    """A structural mistake on line index `line` (rule name and controller code)."""
+    """A structural mistake on line index `line` (rule name, controller code, fix hint)."""
 
     line: int
     span: A.Span
     rule: str
     code: str
     message: str
+    suggestion: str | None = None
 
 
 @dataclass(slots=True)
@@ -70,6 +71,7 @@ class _Open:
     line: int
     span: A.Span
     counter: str | None = None
+    counter_text: str = ""  # the counter as written, for messages
     else_line: int | None = None
     cases: list[int] = field(default_factory=list)
     breaks: list[int] = field(default_factory=list)
@@ -94,8 +96,16 @@ class _Matcher:
         self.loop_depth = 0
         self.if_depth = 0
 
-    def problem(self, line: int, span: A.Span, rule: str, code: str, message: str) -> None:
-        self.out.problems.append(BlockProblem(line, span, rule, code, message))
+    def problem(
+        self,
+        line: int,
+        span: A.Span,
+        rule: str,
+        code: str,
+        message: str,
+        suggestion: str | None = None,
+    ) -> None:
+        self.out.problems.append(BlockProblem(line, span, rule, code, message, suggestion))
 
     def push(self, block: _Open) -> None:
         self.stack.append(block)
@@ -107,8 +117,8 @@ class _Matcher:
                     block.span,
                     "loop-nesting",
                     "L3240",
-                    f"FOR/WHILE nested more than {MAX_LOOP_DEPTH} deep; move the inner loops "
-                    "into a GOSUB",
+                    f"FOR/WHILE nested more than {MAX_LOOP_DEPTH} deep",
+                    "Move the inner loops into a subroutine (GOSUB).",
                 )
         elif block.kind is BlockKind.IF:
             self.if_depth += 1
@@ -118,7 +128,8 @@ class _Matcher:
                     block.span,
                     "if-nesting",
                     "L3253",
-                    f"Block IF nested more than {MAX_IF_DEPTH} deep; simplify the conditions",
+                    f"Block IF nested more than {MAX_IF_DEPTH} deep",
+                    "Combine conditions with AND, or move the inner blocks into a GOSUB.",
                 )
 
     def pop(self) -> _Open:
@@ -136,7 +147,8 @@ class _Matcher:
             block.span,
             rule,
             code,
-            f"{opener} on this line is never closed: add a matching {closer}",
+            f"{opener} on this line is never closed",
+            f"Add a matching {closer} where the block should end.",
         )
 
     def close(self, kind: BlockKind, line: int, span: A.Span) -> _Open | None:
@@ -154,7 +166,12 @@ class _Matcher:
             BlockKind.SELECT: "end-select-without-select",
         }[kind]
         self.problem(
-            line, span, rule, code, f"{closer} without {opener}: remove it or add {opener}"
+            line,
+            span,
+            rule,
+            code,
+            f"{closer} without {opener}",
+            f"Remove this {closer}, or add the {opener} it should close.",
         )
         return None
 
@@ -168,7 +185,10 @@ class _Matcher:
         out = self.out
         span = stmt.span
         if isinstance(stmt, A.For):
-            self.push(_Open(BlockKind.FOR, index, _keyword_span(span, 3), stmt.counter.name))
+            counter = stmt.counter
+            self.push(
+                _Open(BlockKind.FOR, index, _keyword_span(span, 3), counter.name, counter.written)
+            )
         elif isinstance(stmt, A.Next):
             self.next(index, stmt)
         elif isinstance(stmt, A.While):
@@ -184,13 +204,24 @@ class _Matcher:
                 self.push(_Open(BlockKind.IF, index, _keyword_span(span, 2)))
         elif isinstance(stmt, A.Else):
             top = self.stack[-1] if self.stack else None
-            if top is None or top.kind is not BlockKind.IF or top.else_line is not None:
+            if top is not None and top.kind is BlockKind.IF and top.else_line is not None:
                 self.problem(
                     index,
                     span,
                     "else-without-if",
                     "L3255",
-                    "ELSE without a block IF (IF … THEN at the end of a line) or a second ELSE",
+                    f"Second ELSE in the IF block of line {top.span.line}",
+                    "Remove one ELSE, or open a new IF … THEN block for it.",
+                )
+            elif top is None or top.kind is not BlockKind.IF:
+                self.problem(
+                    index,
+                    span,
+                    "else-without-if",
+                    "L3255",
+                    "ELSE without a block IF",
+                    "Start the block with IF condition THEN (nothing after THEN), "
+                    "or remove the ELSE.",
                 )
             else:
                 top.else_line = index
@@ -208,7 +239,8 @@ class _Matcher:
                     _keyword_span(span, 6),
                     "select-nested",
                     "L3254",
-                    "SELECT cannot be nested inside another SELECT; move it into a GOSUB",
+                    "SELECT cannot be nested inside another SELECT",
+                    "Move the inner SELECT into a subroutine (GOSUB).",
                 )
             self.push(_Open(BlockKind.SELECT, index, _keyword_span(span, 6)))
         elif isinstance(stmt, (A.Case, A.Default)):
@@ -221,6 +253,7 @@ class _Matcher:
                     "case-outside-select",
                     "L3254",
                     f"{word} outside a SELECT (or inside a loop/IF within it)",
+                    f"Move the {word} directly inside SELECT … END SELECT.",
                 )
             else:
                 top.cases.append(index)
@@ -236,7 +269,12 @@ class _Matcher:
             # BREAK leaves the innermost SELECT (or loop, in V programs).
             if not self.stack:
                 self.problem(
-                    index, span, "break-outside-block", "L3254", "BREAK outside SELECT or a loop"
+                    index,
+                    span,
+                    "break-outside-block",
+                    "L3254",
+                    "BREAK outside SELECT or a loop",
+                    "Remove the BREAK, or move it inside a SELECT or a loop.",
                 )
             else:
                 for block in reversed(self.stack):
@@ -250,6 +288,7 @@ class _Matcher:
                         "break-outside-block",
                         "L3254",
                         "BREAK outside SELECT or a loop",
+                        "Remove the BREAK, or move it inside a SELECT or a loop.",
                     )
 
     def resolve_breaks(self, block: _Open, end_index: int) -> None:
@@ -261,6 +300,7 @@ class _Matcher:
         closed: list[int] = []
         for k, name in enumerate(names):
             span = stmt.counters[k].span if stmt.counters else stmt.span
+            written = stmt.counters[k].written if stmt.counters else ""
             top = self.stack[-1] if self.stack else None
             if top is not None and top.kind is BlockKind.FOR and name not in (None, top.counter):
                 self.problem(
@@ -268,8 +308,8 @@ class _Matcher:
                     span,
                     "next-mismatch",
                     "L3230",
-                    f"NEXT {name} does not match FOR {top.counter} (line {top.span.line}); "
-                    f"write NEXT {top.counter}",
+                    f"NEXT {written} does not match FOR {top.counter_text} (line {top.span.line})",
+                    f"Write NEXT {top.counter_text}.",
                 )
                 self.pop()
                 closed.append(top.line)

@@ -7,30 +7,59 @@ the text. What it finds (rule names are documented in docs/diagnostics.md):
 * block structure: FOR/NEXT, WHILE/WEND, IF/ELSE/ENDIF, SELECT/CASE (via `blocks`);
 * jumps to labels or step numbers that do not exist, duplicate labels;
 * position and joint variables used but defined neither in the program nor in `points`;
-* controller limits: 127 characters a step, 8-character names and labels, step numbers
-  1-32767 (ascending, unique, all-or-none), nesting depths, ON GOTO targets, value ranges;
+* controller limits: 127 characters a step, 123 a DEF list, 8-character names and labels,
+  step numbers 1-32767 (ascending, unique), nesting depths, ON GOTO targets, DIM sizes, and
+  the ranges of constant arguments (OVRD, hands, pallets, DLY, ERROR);
 * type mistakes that are certain (``M1 * P1``, a string assigned to a number…).
+
+Step numbers come in two forms. A program numbered on every non-blank line is in
+*controller form*: the controller runs its steps in number order. A program where some lines
+have no number is in *editor form* (what `melfa.lang.numbering.strip_numbers` produces: it
+keeps the numbers that jumps name): the upload numbers it in text order with
+`melfa.lang.numbering.number_lines`, so the numbers written must already ascend (an error
+here, a warning in controller form), be unique, and every ``GOTO 120`` must name one of them.
+Unnumbered lines are never reported: numbering them is the upload's job.
+
+Every message names things as the student wrote them (``Pa``, not ``PA``), and every finding
+with a clear fix carries a `suggestion`: one short imperative sentence ("Write WHILE instead
+of WIHLE.").
 """
 
 from __future__ import annotations
 
 import enum
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.blocks import match_blocks
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
+from melfa.lang.typos import suggest
 
 MAX_LINE_LENGTH = 127  # characters a step, without the terminator [S2 p.141], L4210
+MAX_DEF_LENGTH = 123  # a DEF POS/JNT/INTE/FLOAT/DOUBLE/CHAR list, from DEF on [S1 DEF …]
 MAX_NAME_LENGTH = 8  # variable names and labels (IV) [S3 L4300], [S1 "* (Label)"]
 MAX_LINE_NUMBER = 32767  # [S3 L4420]
 MAX_ON_TARGETS = 32  # [S3 L3251]
+MAX_DIMENSIONS = 3  # DIM name(a, b, c) [S1 DIM]
+MAX_DIM_SIZE = 999  # DIM sizes are constants 1…999 [S1 DIM]
+MIN_DLY = 0.05  # seconds, the IV minimum [S1 DLY]
 
 E, W = Severity.ERROR, Severity.WARNING
 _MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
-_NO_NUMBERS_HINT = " (this program has no step numbers; jump to a *label)"
+_NO_NUMBERS_HINT = " (this program has no step numbers)"
+
+# Constant arguments with a range: (low, high, what) for the first argument [S1].
+_COMMAND_RANGES: dict[A.CommandKind, tuple[float, float, str]] = {
+    A.CommandKind.OVRD: (1, 100, "OVRD takes 1 to 100 (%)"),
+    A.CommandKind.JOVRD: (1, 100, "JOVRD takes 1 to 100 (%)"),
+    A.CommandKind.HOPEN: (1, 8, "Hand numbers are 1 to 8"),
+    A.CommandKind.HCLOSE: (1, 8, "Hand numbers are 1 to 8"),
+    A.CommandKind.ERROR: (9000, 9299, "User error numbers are 9000 to 9299"),
+}
+_PALLETS = (1, 8, "Pallet numbers are 1 to 8")
 
 
 # Which block family each structural word and each block rule belongs to.
@@ -183,7 +212,14 @@ class _Analyzer:
         broken = self.broken_structure()
         for problem in match_blocks(self.program).problems:
             if _RULE_FAMILY.get(problem.rule) not in broken:
-                self.add(problem.span, E, problem.message, problem.rule, problem.code)
+                self.add(
+                    problem.span,
+                    E,
+                    problem.message,
+                    problem.rule,
+                    problem.code,
+                    problem.suggestion,
+                )
         return self.out
 
     def broken_structure(self) -> set[str]:
@@ -195,7 +231,7 @@ class _Analyzer:
             if not isinstance(stmt, A.InvalidStatement):
                 continue
             words = stmt.text.upper().split()
-            for word in (words[0] if words else "", stmt.issue.suggestion or ""):
+            for word in (words[0] if words else "", stmt.issue.replacement or ""):
                 family = _WORD_FAMILY.get(word)
                 if family is not None:
                     broken.add(family)
@@ -209,56 +245,66 @@ class _Analyzer:
                 self.add(
                     span,
                     E,
-                    f"Line is {length} characters long; the controller allows "
-                    f"{MAX_LINE_LENGTH}. Split the statement or shorten names",
+                    f"Line is {length} characters long; the controller allows {MAX_LINE_LENGTH}",
                     "line-too-long",
                     "L4210",
+                    "Split the statement over two lines, or use shorter names.",
                 )
 
     def numbering(self) -> None:
         lines = self.program.lines
-        numbered = [line for line in lines if line.number is not None]
-        if not numbered:
+        if all(line.number is None for line in lines):
             return
+        # Editor form when a non-blank line has no number (the uploader's test, too).
+        editor = any(
+            line.number is None
+            and (line.statement is not None or line.label is not None or line.comment is not None)
+            for line in lines
+        )
         seen: dict[int, int] = {}
         previous: int | None = None
         for line in lines:
-            if line.number is None or line.number_span is None:
-                # Comment-only lines carry no behaviour; numbering tools number them.
-                if line.statement is not None or line.label is not None:
-                    self.add(
-                        A.Span(line.span.line, 1, line.span.line, 2),
-                        E,
-                        "This program numbers its lines, so every line needs a step number "
-                        "(or remove all of them: melfa fmt can renumber)",
-                        "missing-line-number",
-                    )
-                continue
             number, span = line.number, line.number_span
+            if number is None or span is None:
+                continue
             if not 1 <= number <= MAX_LINE_NUMBER:
                 self.add(
                     span,
                     E,
-                    f"Step number {number} is out of range: use 1 to {MAX_LINE_NUMBER}",
+                    f"Step number {number} is out of range",
                     "line-number-range",
                     "L4420",
+                    f"Use a step number from 1 to {MAX_LINE_NUMBER}.",
                 )
             if number in seen:
+                why = "" if editor else "; the controller keeps only the last one"
                 self.add(
                     span,
                     E,
-                    f"Step number {number} is used twice (also on line {seen[number]}); "
-                    "the controller keeps only the last one",
+                    f"Step number {number} is used twice (also on line {seen[number]}){why}",
                     "duplicate-line-number",
+                    suggestion="Give each line its own step number.",
                 )
             elif previous is not None and number < previous:
-                self.add(
-                    span,
-                    W,
-                    f"Step {number} comes after step {previous}: the controller runs steps in "
-                    "ascending order, not in text order",
-                    "line-number-order",
-                )
+                if editor:
+                    self.add(
+                        span,
+                        E,
+                        f"Step {number} comes after step {previous}: the upload numbers the "
+                        "lines in text order, so the numbers written must go up",
+                        "line-number-order",
+                        suggestion="Move the line to where its number belongs, or jump to a "
+                        "*label instead of a step number.",
+                    )
+                else:
+                    self.add(
+                        span,
+                        W,
+                        f"Step {number} comes after step {previous}: the controller runs steps "
+                        "in number order, not in text order",
+                        "line-number-order",
+                        suggestion="Move the line to where its number belongs.",
+                    )
             seen.setdefault(number, line.span.line)
             previous = number if previous is None else max(previous, number)
 
@@ -268,13 +314,15 @@ class _Analyzer:
             if line.label is None or line.label_span is None:
                 continue
             span = line.label_span
+            shown = line.label_text or line.label
             if line.label in found:
                 self.add(
                     span,
                     E,
-                    f"Label *{line.label} is already defined on line {found[line.label]}",
+                    f"Label *{shown} is already defined on line {found[line.label]}",
                     "duplicate-label",
                     "L4440",
+                    "Rename one of the two labels (labels ignore case).",
                 )
             else:
                 found[line.label] = span.line
@@ -282,9 +330,10 @@ class _Analyzer:
                 self.add(
                     span,
                     E,
-                    f"Label *{line.label} is longer than {MAX_NAME_LENGTH} characters",
+                    f"Label *{shown} is longer than {MAX_NAME_LENGTH} characters",
                     "label-too-long",
                     "L4300",
+                    f"Shorten it to {MAX_NAME_LENGTH} characters, e.g. *{shown[:MAX_NAME_LENGTH]}.",
                 )
         return set(found)
 
@@ -340,13 +389,7 @@ class _Analyzer:
                 elif cls is A.LabelRef:
                     assert isinstance(node, A.LabelRef)
                     if node.name not in labels:
-                        self.add(
-                            node.span,
-                            W,
-                            f"Label *{node.name} is not defined in this program",
-                            "undefined-label",
-                            "L3600",
-                        )
+                        self.undefined_label(node, labels)
                 elif cls is A.LineRef:
                     assert isinstance(node, A.LineRef)
                     if node.number not in numbers:
@@ -357,27 +400,42 @@ class _Analyzer:
                             f"Step {node.number} does not exist{why}",
                             "undefined-line",
                             "L4230",
+                            "Put a *label on the line to jump to, and jump to the label.",
                         )
-                elif cls is A.Binary:
-                    assert isinstance(node, A.Binary)
-                    self.binary(node)
-                elif cls is A.Assign:
-                    assert isinstance(node, A.Assign)
-                    self.assign(node)
-                elif cls is A.OnJump:
-                    assert isinstance(node, A.OnJump)
-                    if len(node.targets) > MAX_ON_TARGETS:
-                        self.add(
-                            node.targets[MAX_ON_TARGETS].span.to(node.targets[-1].span),
-                            E,
-                            f"ON … {node.kind.value} has {len(node.targets)} destinations; "
-                            f"the limit is {MAX_ON_TARGETS}",
-                            "too-many-targets",
-                            "L3251",
-                        )
-                elif cls is A.Command:
-                    assert isinstance(node, A.Command)
-                    self.command_ranges(node)
+                elif cls in _SPECIFIC:
+                    _SPECIFIC[cls](self, node)
+
+    def undefined_label(self, node: A.LabelRef, labels: set[str]) -> None:
+        guess = suggest(node.name, labels) if labels else None
+        shown = node.written
+        if guess is not None:
+            defined = next(
+                line.label_text or guess for line in self.program.lines if line.label == guess
+            )
+            hint = f"Write *{defined} instead of *{shown}, or define *{shown}."
+        else:
+            hint = f"Define the label with a line *{shown} where the jump should go."
+        self.add(
+            node.span,
+            W,
+            f"Label *{shown} is not defined in this program",
+            "undefined-label",
+            "L3600",
+            hint,
+        )
+
+    def on_jump(self, node: A.OnJump) -> None:
+        if len(node.targets) > MAX_ON_TARGETS:
+            self.add(
+                node.targets[MAX_ON_TARGETS].span.to(node.targets[-1].span),
+                E,
+                f"ON … {node.kind.value} has {len(node.targets)} destinations; "
+                f"the limit is {MAX_ON_TARGETS}",
+                "too-many-targets",
+                "L3251",
+                "Split the choice into two ON statements (the second for the values above "
+                f"{MAX_ON_TARGETS}).",
+            )
 
     def name(self, node: A.Name, long_names: set[str], warned_here: set[str]) -> None:
         name = node.name
@@ -386,9 +444,10 @@ class _Analyzer:
             self.add(
                 node.span,
                 E,
-                f"Name {name} is longer than {MAX_NAME_LENGTH} characters",
+                f"Name {node.written} is longer than {MAX_NAME_LENGTH} characters",
                 "name-too-long",
                 "L4300",
+                f"Shorten it to {MAX_NAME_LENGTH} characters.",
             )
         if name in self.defined or name in warned_here or (len(name) > 1 and name[1] == "_"):
             return
@@ -396,12 +455,14 @@ class _Analyzer:
         if vtype in _POSITIONAL:
             warned_here.add(name)
             kind = "Position" if vtype is VType.POS else "Joint position"
+            shown = node.written
             self.add(
                 node.span,
                 W,
-                f"{kind} {name} is not defined: add it to the points file or assign it in "
-                "the program",
+                f"{kind} {shown} is not defined",
                 "undefined-point",
+                suggestion=f"Add {shown} to the points file, or assign it before use "
+                f"({shown} = …).",
             )
 
     def vtype_of_name(self, name: str) -> VType | None:
@@ -459,13 +520,16 @@ class _Analyzer:
             return
         left, right = self.vtype(node.left), self.vtype(node.right)
         if left is VType.NUM and right in _POSITIONAL:
+            op = node.op.value
             self.add(
                 node.span,
                 E,
-                f"A number {node.op.value} a position is not allowed; put the position first "
-                f"(P {node.op.value} M)",
+                f"A number {op} a position is not allowed",
                 "type-mismatch",
                 "L4390",
+                f"Put the position first: {_shown(node.right)} {op} {_shown(node.left)}."
+                if op == "*"
+                else "Divide the position by the number instead (P / M).",
             )
 
     def assign(self, node: A.Assign) -> None:
@@ -475,39 +539,157 @@ class _Analyzer:
         else:
             tt = self.vtype_of_name(_target_name(target).name)
         vt = self.vtype(node.value)
+        if node.pulse is not None:
+            self.dly_range(node.pulse)
         if tt is None or vt is None or tt is vt:
             return
         if {tt, vt} == {VType.POS, VType.JNT}:
-            hint = "convert with JTOP() or PTOJ()"
+            hint = "Convert it with JTOP() or PTOJ()."
         elif tt is VType.STR:
-            hint = "convert with STR$()"
+            hint = "Convert it with STR$()."
         elif vt is VType.STR:
-            hint = "convert with VAL()"
+            hint = "Convert it with VAL()."
         else:
-            hint = "use a variable of the right type"
+            hint = "Assign it to a variable of the right type (P… position, M… number)."
         self.add(
             node.value.span,
             E,
-            f"Cannot assign a {vt.value} to the {tt.value} variable "
-            f"{_target_name(target).name}: {hint}",
+            f"Cannot assign a {vt.value} to the {tt.value} variable {_target_name(target).written}",
             "type-mismatch",
             "L4390",
+            hint,
         )
 
-    def command_ranges(self, node: A.Command) -> None:
-        if not node.args or not isinstance(node.args[0], A.Number):
+    def command(self, node: A.Command) -> None:
+        if not node.args:
             return
         arg = node.args[0]
-        value = arg.value
-        limits = {
-            A.CommandKind.OVRD: (1, 100, "OVRD takes 1 to 100 (%)"),
-            A.CommandKind.JOVRD: (1, 100, "JOVRD takes 1 to 100 (%)"),
-            A.CommandKind.HOPEN: (1, 8, "Hand numbers are 1 to 8"),
-            A.CommandKind.HCLOSE: (1, 8, "Hand numbers are 1 to 8"),
-            A.CommandKind.ERROR: (9000, 9299, "User errors are 9000 to 9299"),
-        }.get(node.kind)
-        if limits is not None and not limits[0] <= value <= limits[1]:
-            self.add(arg.span, E, f"{limits[2]}, found {arg.text}", "value-out-of-range")
+        if node.kind is A.CommandKind.DLY:
+            if arg is not None:
+                self.dly_range(arg)
+            return
+        limits = _COMMAND_RANGES.get(node.kind)
+        if limits is not None and arg is not None:
+            self.range(arg, limits)
+
+    def range(self, arg: A.Expr, limits: tuple[float, float, str]) -> None:
+        """value-out-of-range when `arg` is a constant outside [low, high]."""
+        value = _constant(arg)
+        low, high, what = limits
+        if value is not None and not low <= value <= high:
+            self.add(
+                arg.span,
+                E,
+                f"{what}, found {_number_text(value)}",
+                "value-out-of-range",
+                suggestion=f"Use a value from {low:g} to {high:g}.",
+            )
+
+    def dly_range(self, arg: A.Expr) -> None:
+        value = _constant(arg)
+        if value is not None and value < MIN_DLY:
+            self.add(
+                arg.span,
+                E if value < 0 else W,
+                f"DLY {_number_text(value)} is below the controller's minimum of {MIN_DLY} s",
+                "value-out-of-range",
+                suggestion=f"Wait at least {MIN_DLY} s, e.g. DLY {MIN_DLY}.",
+            )
+
+    def pallet(self, node: A.Pallet) -> None:
+        self.range(node.pallet, _PALLETS)
+
+    def def_plt(self, node: A.DefPlt) -> None:
+        self.range(node.number, _PALLETS)
+
+    def def_var(self, node: A.DefVar) -> None:
+        span = node.span
+        length = span.end_column - span.column
+        if span.end_line == span.line and length > MAX_DEF_LENGTH:
+            self.add(
+                A.Span(span.line, span.column + MAX_DEF_LENGTH, span.line, span.end_column),
+                E,
+                f"DEF {node.type.value} list is {length} characters long; the controller allows "
+                f"{MAX_DEF_LENGTH} from DEF on",
+                "def-too-long",
+                suggestion=f"Split the names over two DEF {node.type.value} lines.",
+            )
+
+    def dim(self, node: A.Dim) -> None:
+        for array in node.arrays:
+            sizes = array.sizes
+            shown = array.name.written
+            if len(sizes) > MAX_DIMENSIONS:
+                self.add(
+                    sizes[MAX_DIMENSIONS].span.to(sizes[-1].span),
+                    E,
+                    f"DIM {shown} has {len(sizes)} dimensions; the limit is {MAX_DIMENSIONS}",
+                    "dim-dimensions",
+                    "L4370",
+                    f"Use at most {MAX_DIMENSIONS} sizes, e.g. DIM {shown}(10, 10, 10).",
+                )
+            for size in sizes[:MAX_DIMENSIONS]:
+                value = _constant(size)
+                if value is None:
+                    self.add(
+                        size.span,
+                        E,
+                        f"DIM {shown}: array sizes must be constant numbers",
+                        "dim-size",
+                        "L4370",
+                        f"Write the size as a number from 1 to {MAX_DIM_SIZE}, e.g. "
+                        f"DIM {shown}(10).",
+                    )
+                elif value != int(value) or not 1 <= value <= MAX_DIM_SIZE:
+                    self.add(
+                        size.span,
+                        E,
+                        f"DIM {shown}: array size {_number_text(value)} is out of range",
+                        "dim-size",
+                        "L4370",
+                        f"Use a whole number from 1 to {MAX_DIM_SIZE}.",
+                    )
+
+
+def _constant(expr: A.Expr | None) -> int | float | None:
+    """The value of a literal number, signed or not (``-5``); None for anything else."""
+    sign = 1
+    while isinstance(expr, A.Unary) and expr.op is not A.UnaryOp.NOT:
+        if expr.op is A.UnaryOp.MINUS:
+            sign = -sign
+        expr = expr.operand
+    if isinstance(expr, A.Number):
+        return sign * expr.value
+    return None
+
+
+def _number_text(value: float) -> str:
+    return f"{value:g}"
+
+
+def _shown(expr: A.Expr) -> str:
+    """A short rendering of an operand for a suggestion (names as written)."""
+    if isinstance(expr, A.Name):
+        return expr.written
+    if isinstance(expr, A.Number):
+        return expr.text
+    if isinstance(expr, A.Index):
+        return f"{expr.name.written}(…)"
+    return "(…)"
+
+
+_Check = Callable[["_Analyzer", Any], None]
+# The node classes with checks of their own, for the walk in `statements`.
+_SPECIFIC: dict[type, _Check] = {
+    A.Binary: _Analyzer.binary,
+    A.Assign: _Analyzer.assign,
+    A.OnJump: _Analyzer.on_jump,
+    A.Command: _Analyzer.command,
+    A.Pallet: _Analyzer.pallet,
+    A.DefPlt: _Analyzer.def_plt,
+    A.DefVar: _Analyzer.def_var,
+    A.Dim: _Analyzer.dim,
+}
 
 
 def _target_name(target: A.AssignTarget) -> A.Name:

@@ -170,21 +170,21 @@ def _numbering_problems(lines: list[_Line]) -> list[Diagnostic]:
             out.append(
                 _diag(
                     tok,
-                    f"step {number} is numbered twice (first on line {seen[number]})",
+                    f"Step {number} is numbered twice (first on line {seen[number]})",
                     "numbering-duplicate",
                     None,
-                    suggestion="give each step its own number",
+                    suggestion="Give each step its own number.",
                 )
             )
         elif previous is not None and number < previous:
             out.append(
                 _diag(
                     tok,
-                    f"step {number} comes after step {previous} in the text; the controller "
+                    f"Step {number} comes after step {previous} in the text; the controller "
                     "runs steps in number order, so renumbering would change the program",
                     "numbering-order",
                     None,
-                    suggestion="move the line to where its number belongs",
+                    suggestion="Move the line to where its number belongs.",
                 )
             )
         seen.setdefault(number, index)
@@ -202,7 +202,7 @@ def _missing_target(ref: Reference, severity: Severity) -> Diagnostic:
         f"{ref.keyword} {ref.number}: there is no step {ref.number}",
         "numbering-missing-target",
         "L4230",
-        f"put a label (*NAME) on the line to jump to and write the jump as {ref.keyword} *NAME",
+        f"Put a label (*NAME) on the line to jump to, and write {ref.keyword} *NAME.",
     )
 
 
@@ -230,11 +230,11 @@ def renumber(text: str, start: int = 10, step: int = 10) -> NumberingResult:
         problems.append(
             _diag(
                 tok,
-                f"numbering from {start} in steps of {step} reaches {last}; step numbers stop "
+                f"Numbering from {start} in steps of {step} reaches {last}; step numbers stop "
                 f"at {MAX_LINE_NUMBER}",
                 "numbering-overflow",
                 "L4420",
-                suggestion="use a smaller step",
+                suggestion="Use a smaller step.",
             )
         )
     replacements: dict[int, str] = {}  # id of a token -> its new text

@@ -18,7 +18,7 @@ from typing import Final
 
 from melfa.lang import ast as A  # noqa: N812  (short alias: the parser builds many nodes)
 from melfa.lang.lexer import tokenize
-from melfa.lang.tokens import FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
+from melfa.lang.tokens import ELEMENTS, FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
 from melfa.lang.typos import suggest
 
 
@@ -119,6 +119,40 @@ _COMMANDS: dict[str, tuple[A.CommandKind, int, int, bool]] = {
 
 _ARC_KINDS = {k.value: k for k in A.ArcKind}
 
+# One example each, for "Add a value after OVRD, e.g. OVRD 50." (missing-argument).
+_COMMAND_EXAMPLES: dict[str, str] = {
+    "OVRD": "OVRD 50",
+    "JOVRD": "JOVRD 50",
+    "SPD": "SPD 100",
+    "CNT": "CNT 1",
+    "FINE": "FINE 100",
+    "LOADSET": "LOADSET 1, 1",
+    "TORQ": "TORQ 4, 10",
+    "JRC": "JRC 1",
+    "HOPEN": "HOPEN 1",
+    "HCLOSE": "HCLOSE 1",
+    "TOOL": "TOOL (0, 0, 100, 0, 0, 0)",
+    "BASE": "BASE P_NBASE",
+    "DLY": "DLY 0.5",
+    "ERROR": "ERROR 9100",
+    "CALLP": 'CALLP "P10"',
+    "XLOAD": 'XLOAD 2, "P1"',
+    "XRUN": 'XRUN 2, "P1"',
+    "XSTP": "XSTP 2",
+    "XRST": "XRST 2",
+    "XCLR": "XCLR 2",
+    "PRIORITY": "PRIORITY 1",
+    "GETM": "GETM 1",
+    "RELM": "RELM 1",
+    "CLR": "CLR 1",
+}
+_PLT_HINT = "Give the 8 values, e.g. DEF PLT 1, P1, P2, P3, , 4, 3, 1 (diagonal left out)."
+
+
+def _rename_hint(word: str) -> str:
+    """Reserved words cannot be names; IV numbers start with M, so offer M + the word."""
+    return f"Choose another name, e.g. M{word}."
+
 
 class _Fail(Exception):
     """Unwinds to the nearest recovery point; carries the issue already recorded."""
@@ -200,13 +234,14 @@ class _LineParser:
         rule: str = "syntax-error",
         suggestion: str | None = None,
         code: str | None = "L4220",
+        replacement: str | None = None,
     ) -> A.ParseIssue:
         span = self.tok_span(tok)
         if tok.kind in _END_KINDS and self.i > 0:
             # "missing …" at the end of a line: point at the last token written.
             prev = self.toks[self.i - 1]
             span = A.Span(prev.line, prev.column, prev.line, prev.end_column)
-        found = A.ParseIssue(span, message, rule, code, suggestion)
+        found = A.ParseIssue(span, message, rule, code, suggestion, replacement)
         self.issues.append(found)
         return found
 
@@ -217,35 +252,54 @@ class _LineParser:
         rule: str = "syntax-error",
         suggestion: str | None = None,
         code: str | None = "L4220",
+        replacement: str | None = None,
     ) -> _Fail:
         if tok.kind is K.ERROR:
+            replacement = None
             if tok.text.startswith('"'):
-                message, rule = (
-                    'String is not closed: add the closing " on this line',
-                    ("unclosed-string"),
-                )
+                message, rule = "String is not closed", "unclosed-string"
+                suggestion = 'Add the closing " before the end of the line.'
+            elif tok.text == "_" and (word := self.word_after(tok)):
+                message = f"A name cannot start with '_' (_{word})"
+                rule, code = "name-starts-with-underscore", "L4310"
+                suggestion = f"Start the name with a letter, e.g. M{word}; '_' may come later."
             else:
                 message = f"Character {tok.text!r} is not part of MELFA BASIC IV"
                 rule, code = "illegal-character", "L4310"
-        return _Fail(self.issue(tok, message, rule, suggestion, code))
+                suggestion = "Remove it, or move it into a string or a comment."
+        return _Fail(self.issue(tok, message, rule, suggestion, code, replacement))
+
+    def word_after(self, tok: Token) -> str:
+        """The word glued to the right of `tok` (no space between), or ""."""
+        for k in range(len(self.toks) - 1):
+            if self.toks[k] is tok:
+                nxt = self.toks[k + 1]
+                return nxt.text if nxt.kind in _WORD_KINDS and not nxt.prefix else ""
+        return ""
+
+    def missing(self, what: str, context: str) -> _Fail:
+        """`what` was expected at the current token (generic "Expected …" message)."""
+        tok = self.peek()
+        verb = "Add" if tok.kind in _END_KINDS else "Write"
+        return self.fail(
+            tok, f"Expected {what} {context}, found {_describe(tok)}", "syntax-error",
+            f"{verb} {what} {context}.",
+        )  # fmt: skip
 
     def expect_word(self, word: str, context: str) -> Token:
         if self.at_word(word):
             return self.advance()
-        tok = self.peek()
-        raise self.fail(tok, f"Expected {word} {context}, found {_describe(tok)}")
+        raise self.missing(word, context)
 
     def expect_kind(self, kind: TokenKind, what: str, context: str) -> Token:
         if self.toks[self.i].kind is kind:
             return self.advance()
-        tok = self.peek()
-        raise self.fail(tok, f"Expected {what} {context}, found {_describe(tok)}")
+        raise self.missing(what, context)
 
     def expect_op(self, op: str, context: str) -> Token:
         if self.at_op(op):
             return self.advance()
-        tok = self.peek()
-        raise self.fail(tok, f"Expected '{op}' {context}, found {_describe(tok)}")
+        raise self.missing(f"'{op}'", context)
 
     # --------------------------------------------------------------------- expressions
 
@@ -254,7 +308,11 @@ class _LineParser:
         kind = tok.kind
         self.depth += 1
         if self.depth > MAX_EXPR_DEPTH:
-            raise self.fail(tok, "Expression is nested too deeply; split it into steps")
+            raise self.fail(
+                tok,
+                "Expression is nested too deeply",
+                suggestion="Split it into steps with intermediate variables.",
+            )
         left: A.Expr
         if kind is K.OP and (tok.text == "-" or tok.text == "+"):
             self.i += 1
@@ -300,11 +358,15 @@ class _LineParser:
             try:
                 element = A.ElementKind(name)
             except ValueError:
+                guess = suggest(name, ELEMENTS) if len(name) > 1 else None
                 raise self.fail(
                     tok,
-                    f"Unknown element {tok.text}: use .X .Y .Z .A .B .C .L1 .L2 .FL1 .FL2 "
-                    "or .J1 to .J8",
+                    f"Unknown element {tok.text}",
                     "unknown-element",
+                    f"Write .{guess} instead of {tok.text}."
+                    if guess
+                    else "Use .X .Y .Z .A .B .C .L1 .L2 .FL1 .FL2 or .J1 to .J8.",
+                    replacement=f".{guess}" if guess else None,
                 ) from None
             s = base.span
             base = A.Element(base, element, A.Span(s.line, s.column, tok.line, tok.end_column))
@@ -343,7 +405,7 @@ class _LineParser:
             return A.String(tok.text[1:-1], self.tok_span(tok))
         if kind is K.IDENT:
             self.i += 1
-            name = A.Name(tok.text.upper(), self.tok_span(tok))
+            name = A.Name(tok.text.upper(), self.tok_span(tok), tok.text)
             if self.toks[self.i].kind is K.LPAREN:
                 self.i += 1
                 args = self.args(f"to close {tok.text}(")
@@ -362,10 +424,19 @@ class _LineParser:
                 tok,
                 f"{word} is a reserved word and cannot be used as a value here",
                 "reserved-word",
+                _rename_hint(word),
             )
         if kind is K.LPAREN:
             return self.paren()
-        raise self.fail(tok, f"Expected a value, found {_describe(tok)}", "expected-expression")
+        after = self.toks[self.i - 1].text if self.i > 0 else ""
+        raise self.fail(
+            tok,
+            f"Expected a value, found {_describe(tok)}",
+            "expected-expression",
+            f"Write a number, a variable or an expression after {after}."
+            if tok.kind in _END_KINDS and after
+            else None,
+        )
 
     def comma_list(self, close_context: str) -> tuple[list[A.Expr | None], int]:
         """After '(' : a list whose elements may be omitted, then ')'. Returns (items, commas)."""
@@ -397,7 +468,11 @@ class _LineParser:
         if commas == 0:
             inner = items[0]
             if inner is None:
-                raise self.fail(start, "Empty parentheses: write a value or a position constant")
+                raise self.fail(
+                    start,
+                    "Empty parentheses",
+                    suggestion="Write a value or a position constant inside them.",
+                )
             return inner
         flags: tuple[A.Expr | None, ...] | None = None
         if self.at_kind(K.LPAREN):
@@ -412,7 +487,7 @@ class _LineParser:
         tok = self.toks[self.i]
         if tok.kind is K.LABEL:
             self.i += 1
-            return A.LabelRef(tok.text[1:].upper(), self.tok_span(tok))
+            return A.LabelRef(tok.text[1:].upper(), self.tok_span(tok), tok.text[1:])
         if tok.kind is K.INTEGER:
             self.i += 1
             return A.LineRef(_to_int(tok.text), self.tok_span(tok))
@@ -421,9 +496,14 @@ class _LineParser:
                 tok,
                 f"Label needs to start with *: write *{tok.text}",
                 "label-without-star",
-                f"*{tok.text}",
+                f"Write *{tok.text} to jump to the label.",
+                replacement=f"*{tok.text}",
             )
-        raise self.fail(tok, f"Expected a line number or *label {context}, found {_describe(tok)}")
+        raise self.fail(
+            tok,
+            f"Expected a line number or *label {context}, found {_describe(tok)}",
+            suggestion=f"Write a *label or a step number {context}.".replace(" .", "."),
+        )
 
     # ---------------------------------------------------------------------- statements
 
@@ -456,8 +536,9 @@ class _LineParser:
                 kind = "a built-in function" if word in FUNCTIONS else "a reserved word"
                 raise self.fail(
                     tok,
-                    f"{word} is {kind} and cannot be assigned; choose another variable name",
+                    f"{word} is {kind} and cannot be assigned",
                     "reserved-word",
+                    _rename_hint(word),
                 )
             method = _DISPATCH.get(word)
             if method is not None:
@@ -472,7 +553,9 @@ class _LineParser:
             return self.assignment_or_typo(tok)
         if tok.kind is K.LABEL:
             raise self.fail(
-                tok, "A label must be the first thing on its line (after the step number)"
+                tok,
+                "A label must be the first thing on its line (after the step number)",
+                suggestion=f"Move {tok.text} to the start of the line, or write GOTO {tok.text}.",
             )
         raise self.fail(tok, f"Expected a statement, found {_describe(tok)}", "invalid-statement")
 
@@ -489,14 +572,16 @@ class _LineParser:
                     tok,
                     f"Invalid statement. Did you mean {guess} instead of {tok.text}?",
                     "unknown-statement",
-                    guess,
+                    f"Write {guess} instead of {tok.text}.",
+                    replacement=guess,
                 )
             if nxt.kind in _END_KINDS and word in self.labels:
                 raise self.fail(
                     tok,
                     f"Label needs to start with *: write *{tok.text}",
                     "label-without-star",
-                    f"*{tok.text}",
+                    f"Write *{tok.text} to define the label.",
+                    replacement=f"*{tok.text}",
                 )
             raise self.fail(
                 nxt if nxt.kind not in _END_KINDS else tok,
@@ -515,10 +600,11 @@ class _LineParser:
                     tok,
                     f"{tok.text.upper()} is a reserved word and cannot be a variable",
                     "reserved-word",
+                    _rename_hint(tok.text.upper()),
                 )
             raise self.fail(tok, f"Expected a variable, found {_describe(tok)}")
         self.i += 1
-        name = A.Name(tok.text.upper(), self.tok_span(tok))
+        name = A.Name(tok.text.upper(), self.tok_span(tok), tok.text)
         target: A.AssignTarget = name
         if self.at_kind(K.LPAREN):
             self.advance()
@@ -562,16 +648,22 @@ class _LineParser:
             what = "a value" if lo == 1 else f"{lo} values"
             if word in ("HOPEN", "HCLOSE"):
                 what = "a hand number (1 to 8)"
+            example = _COMMAND_EXAMPLES.get(word)
             raise self.fail(
                 self.peek(),
                 f"{word} needs {what}, found {_describe(self.peek())}",
                 "missing-argument",
+                f"Add {what} after {word}" + (f", e.g. {example}." if example else "."),
             )
         if len(args) > hi:
+            values = f"{hi} value{'s' if hi != 1 else ''}"
             raise self.fail(
                 tok,
-                f"{word} takes at most {hi} value{'s' if hi != 1 else ''}, found {len(args)}",
+                f"{word} takes at most {values}, found {len(args)}",
                 "too-many-arguments",
+                f"Remove the extra values: {word} takes {values}."
+                if hi
+                else f"Remove the values after {word}.",
             )
         return A.Command(kind, tuple(args), self.last_span(tok))
 
@@ -608,12 +700,19 @@ class _LineParser:
             target = self.assign_target()
             return self.assignment_rest(target, tok)
         raise self.fail(
-            tok, f"Expected an assignment, HLT or SKIP after WTH/WTHIF, found {_describe(tok)}"
+            tok,
+            f"Expected an assignment, HLT or SKIP after WTH/WTHIF, found {_describe(tok)}",
+            suggestion="Write what to do during the move, e.g. WTH M_OUT(17) = 1.",
         )
 
     def target_expr(self, word: str) -> A.Expr:
         if self.at_end():
-            raise self.fail(self.peek(), f"{word} needs a target position", "missing-argument")
+            raise self.fail(
+                self.peek(),
+                f"{word} needs a target position",
+                "missing-argument",
+                f"Add the position to move to, e.g. {word} P1.",
+            )
         return self.expr()
 
     def st_move(self, tok: Token) -> A.Statement:
@@ -644,6 +743,7 @@ class _LineParser:
                 f"{word} needs 3 positions (start, {'via' if word != 'MVR3' else 'end'}, …), "
                 f"found {len(points)}",
                 "missing-argument" if len(points) < 3 else "too-many-arguments",
+                f"Give {word} three positions, e.g. {word} P1, P2, P3.",
             )
         mtype, appended = self.move_tail()
         return A.ArcMove(_ARC_KINDS[word], tuple(points), mtype, appended, self.last_span(tok))
@@ -667,7 +767,9 @@ class _LineParser:
             self.advance()
             return False
         raise self.fail(
-            self.peek(), f"Expected ON or OFF after {word}, found {_describe(self.peek())}"
+            self.peek(),
+            f"Expected ON or OFF after {word}, found {_describe(self.peek())}",
+            suggestion=f"Write {word} ON or {word} OFF.",
         )
 
     def st_switch(self, tok: Token) -> A.Statement:
@@ -687,7 +789,9 @@ class _LineParser:
             return A.Cmp(A.CmpMode.OFF, None, self.last_span(tok))
         if mode_word not in ("JNT", "POS", "TOOL"):
             raise self.fail(
-                nxt, f"Expected JNT, POS, TOOL or OFF after CMP, found {_describe(nxt)}"
+                nxt,
+                f"Expected JNT, POS, TOOL or OFF after CMP, found {_describe(nxt)}",
+                suggestion="Write CMP JNT, CMP POS or CMP TOOL with a mask, or CMP OFF.",
             )
         self.advance()
         self.expect_kind(K.COMMA, "','", f"after CMP {mode_word}")
@@ -720,7 +824,11 @@ class _LineParser:
             kind = A.JumpKind.GOSUB
         else:
             nxt = self.peek()
-            raise self.fail(nxt, f"Expected GOTO or GOSUB after ON's value, found {_describe(nxt)}")
+            raise self.fail(
+                nxt,
+                f"Expected GOTO or GOSUB after ON's value, found {_describe(nxt)}",
+                suggestion="Write GOTO or GOSUB after the value, e.g. ON M1 GOTO *A, *B.",
+            )
         self.advance()
         targets = [self.target(f"after ON … {kind.value}")]
         while self.at_kind(K.COMMA):
@@ -743,8 +851,13 @@ class _LineParser:
         cond_start = self.toks[self.i]
         condition: A.Expr
         try:
-            if self.at_end():
-                raise self.fail(self.peek(), "IF needs a condition", "missing-argument")
+            if self.at_end() or self.at_word("THEN"):
+                raise self.fail(
+                    self.peek(),
+                    "IF needs a condition",
+                    "missing-argument",
+                    "Add a condition, e.g. IF M1 = 1 THEN *LOOP.",
+                )
             condition = self.expr()
         except _Fail as failure:
             self.depth = 0
@@ -771,18 +884,25 @@ class _LineParser:
             nxt = self.peek()
             found = _describe(nxt)
             message = f"Expected THEN after IF condition and instead found {found}"
+            cond_text = "".join(t.prefix + t.text for t in toks[toks.index(cond_start) : self.i])
+            rest = " …" if nxt.kind in _END_KINDS else f" {nxt.text} …"
+            hint = f"Add THEN after the condition: IF {cond_text.strip()} THEN{rest}"
             if not (
                 nxt.kind is K.KEYWORD and nxt.text.upper() in STATEMENT_KEYWORDS
             ) and nxt.kind not in (K.INTEGER, K.LABEL):
-                raise self.fail(nxt, message, "expected-then", "THEN")
+                raise self.fail(nxt, message, "expected-then", hint, replacement="THEN")
             # The branch is readable: report the missing THEN and parse on.
-            self.issue(nxt, message, "expected-then", "THEN")
+            self.issue(nxt, message, "expected-then", hint, replacement="THEN")
         then = self.branch(frozenset({"ELSE"}))
         else_: A.JumpTarget | A.Statement | None = None
         if self.at_word("ELSE"):
             self.advance()
             if self.at_end():
-                raise self.fail(self.peek(), "ELSE needs a line number, *label or statement")
+                raise self.fail(
+                    self.peek(),
+                    "ELSE needs a line number, *label or statement",
+                    suggestion="Add where to go after ELSE, e.g. ELSE *OTHER.",
+                )
             else_ = self.branch(frozenset())
         return A.If(condition, then, else_, self.last_span(tok))
 
@@ -796,12 +916,13 @@ class _LineParser:
         tok = self.toks[self.i]
         if tok.kind is K.IDENT:
             self.i += 1
-            return A.Name(tok.text.upper(), self.tok_span(tok))
+            return A.Name(tok.text.upper(), self.tok_span(tok), tok.text)
         if tok.kind is K.KEYWORD:
             raise self.fail(
                 tok,
                 f"{tok.text.upper()} is a reserved word and cannot be a variable name",
                 "reserved-word",
+                _rename_hint(tok.text.upper()),
             )
         raise self.fail(tok, f"Expected a variable name {context}, found {_describe(tok)}")
 
@@ -828,7 +949,12 @@ class _LineParser:
 
     def st_while(self, tok: Token) -> A.Statement:
         if self.at_end():
-            raise self.fail(self.peek(), "WHILE needs a condition", "missing-argument")
+            raise self.fail(
+                self.peek(),
+                "WHILE needs a condition",
+                "missing-argument",
+                "Add a condition, e.g. WHILE M1 < 10.",
+            )
         return A.While(self.expr(), self.last_span(tok))
 
     def st_wend(self, tok: Token) -> A.Statement:
@@ -836,7 +962,12 @@ class _LineParser:
 
     def st_select(self, tok: Token) -> A.Statement:
         if self.at_end():
-            raise self.fail(self.peek(), "SELECT needs a value to compare", "missing-argument")
+            raise self.fail(
+                self.peek(),
+                "SELECT needs a value to compare",
+                "missing-argument",
+                "Add the value to compare, e.g. SELECT M1.",
+            )
         return A.Select(self.expr(), self.last_span(tok))
 
     def st_case(self, tok: Token) -> A.Statement:
@@ -846,13 +977,17 @@ class _LineParser:
             entry = _BINARY.get(op_tok.text) if op_tok.kind is K.OP else None
             if entry is None or not entry[1].is_comparison:
                 raise self.fail(
-                    op_tok, f"Expected a comparison after CASE IS, found {_describe(op_tok)}"
+                    op_tok,
+                    f"Expected a comparison after CASE IS, found {_describe(op_tok)}",
+                    suggestion="Write a comparison after IS, e.g. CASE IS >= 3.",
                 )
             self.advance()
             value = self.expr()
             return A.Case(A.CaseKind.IS, value, None, entry[1], self.last_span(tok))
         if self.at_end():
-            raise self.fail(self.peek(), "CASE needs a value", "missing-argument")
+            raise self.fail(
+                self.peek(), "CASE needs a value", "missing-argument", "Add a value, e.g. CASE 1."
+            )
         value = self.expr()
         if self.at_word("TO"):
             self.advance()
@@ -875,13 +1010,19 @@ class _LineParser:
                 tok,
                 "Invalid statement. Did you mean ENDIF instead of END IF?",
                 "unknown-statement",
-                "ENDIF",
+                "Write ENDIF as one word.",
+                replacement="ENDIF",
             )
         return A.Command(A.CommandKind.END, (), self.last_span(tok))
 
     def st_wait(self, tok: Token) -> A.Statement:
         if self.at_end():
-            raise self.fail(self.peek(), "WAIT needs a condition", "missing-argument")
+            raise self.fail(
+                self.peek(),
+                "WAIT needs a condition",
+                "missing-argument",
+                "Add a condition, e.g. WAIT M_IN(1) = 1.",
+            )
         return A.Wait(self.expr(), self.last_span(tok))
 
     def st_fprm(self, tok: Token) -> A.Statement:
@@ -918,8 +1059,14 @@ class _LineParser:
             io_tok = self.peek()
             io_word = io_tok.text.upper() if io_tok.kind in _WORD_KINDS else ""
             if io_word not in _IO_TYPES:
+                guess = suggest(io_word, _IO_TYPES) if io_word else None
                 raise self.fail(
-                    io_tok, f"Expected BIT, BYTE, WORD or INTEGER, found {_describe(io_tok)}"
+                    io_tok,
+                    f"Expected BIT, BYTE, WORD, INTEGER or DWORD, found {_describe(io_tok)}",
+                    suggestion=f"Write {guess} instead of {io_tok.text}."
+                    if guess
+                    else "Write the I/O type, e.g. DEF IO MSENSOR = BIT, 900.",
+                    replacement=guess,
                 )
             self.advance()
             self.expect_kind(K.COMMA, "','", "before the bit number")
@@ -938,10 +1085,13 @@ class _LineParser:
                     "DEF PLT needs 8 values: number, start, end A, end B, [diagonal], "
                     f"count A, count B, direction (found {len(items)})",
                     "missing-argument" if len(items) < 8 else "too-many-arguments",
+                    _PLT_HINT,
                 )
             number, start, end_a, end_b, diag, count_a, count_b, direction = items
             if None in (number, start, end_a, end_b, count_a, count_b, direction):
-                raise self.fail(tok, "DEF PLT: only the diagonal point may be left out")
+                raise self.fail(
+                    tok, "DEF PLT: only the diagonal point may be left out", suggestion=_PLT_HINT
+                )
             assert number and start and end_a and end_b and count_a and count_b and direction
             return A.DefPlt(
                 number,
@@ -967,6 +1117,8 @@ class _LineParser:
                 raise self.fail(
                     self.peek(),
                     f"Expected GOTO or GOSUB in DEF ACT, found {_describe(self.peek())}",
+                    suggestion="Write GOTO or GOSUB before the target, "
+                    "e.g. DEF ACT 1, M_IN(1) = 1 GOSUB *STOP.",
                 )
             self.advance()
             target = self.target("in DEF ACT")
@@ -978,7 +1130,11 @@ class _LineParser:
                     self.advance()
                     mode = mtok.text.upper()
                 else:
-                    raise self.fail(mtok, f"Expected S or L, found {_describe(mtok)}")
+                    raise self.fail(
+                        mtok,
+                        f"Expected S or L, found {_describe(mtok)}",
+                        suggestion="Write S or L after the comma, or remove the comma.",
+                    )
             return A.DefAct(priority, condition, jkind, target, mode, self.last_span(tok))
         if word == "ARCH":
             self.advance()
@@ -986,7 +1142,7 @@ class _LineParser:
             return A.Command(A.CommandKind.DEF_ARCH, tuple(items), self.last_span(tok))
         if kind_tok.kind is K.IDENT and word.startswith("FN") and len(word) > 2:
             self.advance()
-            fname = A.Name(word, self.tok_span(kind_tok))
+            fname = A.Name(word, self.tok_span(kind_tok), kind_tok.text)
             params: list[A.Name] = []
             if self.at_kind(K.LPAREN):
                 self.advance()
@@ -1005,13 +1161,15 @@ class _LineParser:
                 kind_tok,
                 f"Unknown DEF type {kind_tok.text}. Did you mean DEF {guess}?",
                 "unknown-def-type",
-                guess,
+                f"Write DEF {guess} instead of DEF {kind_tok.text}.",
+                replacement=guess,
             )
         raise self.fail(
             kind_tok,
             "Expected a DEF type (INTE, FLOAT, DOUBLE, CHAR, POS, JNT, IO, PLT, ACT, ARCH or "
             f"FNname), found {_describe(kind_tok)}",
             "unknown-def-type",
+            "Write the type after DEF, e.g. DEF INTE MCOUNT.",
         )
 
     def st_dim(self, tok: Token) -> A.Statement:
@@ -1019,10 +1177,14 @@ class _LineParser:
         while True:
             start = self.peek()
             name = self.name("after DIM")
-            self.expect_kind(K.LPAREN, "'('", f"after DIM {name.name}")
-            sizes = self.args(f"to close DIM {name.name}(")
+            self.expect_kind(K.LPAREN, "'('", f"after DIM {name.written}")
+            sizes = self.args(f"to close DIM {name.written}(")
             if not sizes:
-                raise self.fail(start, f"DIM {name.name}() needs 1 to 3 sizes")
+                raise self.fail(
+                    start,
+                    f"DIM {name.written}() needs 1 to 3 sizes",
+                    suggestion=f"Write the size in the parentheses, e.g. DIM {name.written}(10).",
+                )
             arrays.append(A.DimArray(name, sizes, self.last_span(start)))
             if not self.at_kind(K.COMMA):
                 break
@@ -1050,7 +1212,11 @@ class _LineParser:
             mtok = self.peek()
             mword = mtok.text.upper() if mtok.kind in _WORD_KINDS else ""
             if mword not in ("INPUT", "OUTPUT", "APPEND"):
-                raise self.fail(mtok, f"Expected INPUT, OUTPUT or APPEND, found {_describe(mtok)}")
+                raise self.fail(
+                    mtok,
+                    f"Expected INPUT, OUTPUT or APPEND, found {_describe(mtok)}",
+                    suggestion="Write FOR INPUT, FOR OUTPUT or FOR APPEND.",
+                )
             self.advance()
             mode = A.FileMode(mword)
         self.expect_word("AS", "in OPEN … AS #n")
@@ -1101,7 +1267,11 @@ class _LineParser:
         stok = self.peek()
         sword = stok.text.upper() if stok.kind in _WORD_KINDS else ""
         if sword not in ("ON", "OFF", "STOP"):
-            raise self.fail(stok, f"Expected ON, OFF or STOP after COM, found {_describe(stok)}")
+            raise self.fail(
+                stok,
+                f"Expected ON, OFF or STOP after COM, found {_describe(stok)}",
+                suggestion="Write COM ON, COM OFF or COM STOP.",
+            )
         self.advance()
         return A.ComControl(port, A.ComState(sword), self.last_span(tok))
 
@@ -1208,7 +1378,7 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
     end_tok = tokens[j]
     lineno = end_tok.line
     span = A.Span(lineno, 1, lineno, end_tok.column)
-    number = label = comment = None
+    number = label = label_text = comment = None
     number_span = label_span = None
     k = i
     if k < j and tokens[k].kind is K.LINE_NUMBER:
@@ -1218,7 +1388,8 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
         k += 1
     if k < j and tokens[k].kind is K.LABEL:
         tok = tokens[k]
-        label = tok.text[1:].upper()
+        label_text = tok.text[1:]
+        label = label_text.upper()
         label_span = A.Span(lineno, tok.column, lineno, tok.end_column)
         k += 1
     stop = j
@@ -1227,7 +1398,7 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
         comment = text[1:] if text.startswith("'") else text[3:]
         stop -= 1
     if stop == k:
-        return A.Line(number, label, None, span, comment, (), number_span, label_span)
+        return A.Line(number, label, None, span, comment, (), number_span, label_span, label_text)
     parser = _LineParser([*tokens[k:stop], end_tok], labels)
     statement = parser.statement()
     if not parser.at_end() and not isinstance(statement, A.InvalidStatement) and not parser.issues:
@@ -1237,9 +1408,18 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
             f"Unexpected {_describe(extra)} after the end of the statement "
             "(one statement per line)",
             "unexpected-token",
+            "Put each statement on a line of its own, or remove the extra text.",
         )
     return A.Line(
-        number, label, statement, span, comment, tuple(parser.issues), number_span, label_span
+        number,
+        label,
+        statement,
+        span,
+        comment,
+        tuple(parser.issues),
+        number_span,
+        label_span,
+        label_text,
     )
 
 

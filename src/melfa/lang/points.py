@@ -146,8 +146,8 @@ _NAME = re.compile(r"[A-Za-z0-9_]+\Z")
 _DEF = re.compile(r"(\s*)DEF(\s+)(\S+)(\s+)", re.IGNORECASE)
 _REM = re.compile(r"\s*REM(\s|\Z)", re.IGNORECASE)
 
-_SUGGEST_POS = "write it as DEF POS Pname=(x,y,z,a,b,c)(7,0)"
-_SUGGEST_JNT = "write it as DEF JNT Jname=(j1,j2,j3,j4,j5,j6)"
+_SUGGEST_POS = "Write it as DEF POS Pname=(x,y,z,a,b,c)(7,0)."
+_SUGGEST_JNT = "Write it as DEF JNT Jname=(j1,j2,j3,j4,j5,j6)."
 
 
 class _LineError(Exception):
@@ -210,7 +210,7 @@ def _read_group(text: str, pos: int, lineno: int, what: str) -> _Group:
                 lineno,
                 pos,
                 pos + 1,
-                f"expected '(' to start the {what}",
+                f"Expected '(' to start the {what}",
                 "points-syntax",
                 code="L4220",
             )
@@ -222,7 +222,7 @@ def _read_group(text: str, pos: int, lineno: int, what: str) -> _Group:
                 lineno,
                 pos,
                 len(text),
-                f"the {what} has no closing ')'",
+                f"The {what} has no closing ')'",
                 "points-syntax",
                 code="L4220",
             )
@@ -249,7 +249,7 @@ def _read_number(item: str, col: int, lineno: int, index: int, kind: PointKind) 
                 f"{label} is not a number: {item!r}",
                 "points-number",
                 code="L3860",
-                suggestion="write numbers like 417.61 or -93.07 (mm and degrees)",
+                suggestion="Write numbers like 417.61 or -93.07 (mm and degrees).",
             )
         )
     return float(item)
@@ -275,10 +275,10 @@ def _read_flag(item: str, col: int, lineno: int, which: str) -> int | None:
             lineno,
             col,
             col + len(item),
-            f"structure flag {which} must be a whole number (or &H…), got {item!r}",
+            f"Structure flag {which} must be a whole number (or &H…), got {item!r}",
             "points-flags",
             code="L3860",
-            suggestion="FL1 is 0..7 (7 = RIGHT/ABOVE/NONFLIP); FL2 is 0 or &H… turns",
+            suggestion="Write FL1 as 0 to 7 (7 = right, above, non-flip) and FL2 as 0 or &H….",
         )
     )
 
@@ -314,9 +314,9 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                 f"{name} is {what}, so its name must start with {want}",
                 "points-name",
                 code="L4390",
-                suggestion=f"rename it {want}{name[1:]}"
+                suggestion=f"Rename it {want}{name[1:]}."
                 if len(name) < MAX_NAME_LENGTH
-                else f"rename it to start with {want}",
+                else f"Rename it to start with {want}.",
             )
         )
     if len(name) > MAX_NAME_LENGTH:
@@ -329,7 +329,7 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                 f"{MAX_NAME_LENGTH}",
                 "points-name",
                 code="L4300",
-                suggestion=f"shorten it, e.g. {name[:MAX_NAME_LENGTH]}",
+                suggestion=f"Shorten it, e.g. {name[:MAX_NAME_LENGTH]}.",
             )
         )
     if "_" in name:
@@ -343,7 +343,7 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                     "variable shared by every program",
                     "points-name",
                     severity=Severity.WARNING,
-                    suggestion="drop the '_' unless the point really is global",
+                    suggestion="Drop the '_' unless the point really is global.",
                 )
             )
         else:
@@ -355,7 +355,7 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                     f"{name}: MELFA BASIC IV names use only letters and digits",
                     "points-name",
                     code="L4310",
-                    suggestion=f"rename it {name.replace('_', '')}",
+                    suggestion=f"Rename it {name.replace('_', '')}.",
                 )
             )
 
@@ -377,7 +377,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     "DEF JNT lines do",
                     "points-syntax",
                     code="L4220",
-                    suggestion="move variable declarations into the program",
+                    suggestion="Move variable declarations into the program.",
                 )
             )
         kind = PointKind(word)
@@ -390,7 +390,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 lineno,
                 start,
                 len(text),
-                "expected a point: Name=(…)",
+                "Expected a point: Name=(…)",
                 "points-syntax",
                 code="L4220",
                 suggestion=_SUGGEST_POS,
@@ -405,7 +405,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 lineno,
                 eq,
                 eq + 1,
-                "the point has no name before '='",
+                "The point has no name before '='",
                 "points-syntax",
                 code="L4220",
                 suggestion=_SUGGEST_POS,
@@ -419,10 +419,10 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     lineno,
                     name_col,
                     name_col + len(name),
-                    f"cannot tell whether {name} is an XYZ position (P…) or a joint position (J…)",
+                    f"Cannot tell whether {name} is an XYZ position (P…) or a joint position (J…)",
                     "points-name",
                     code="L4390",
-                    suggestion="start the name with P or J, or write DEF POS / DEF JNT",
+                    suggestion="Start the name with P or J, or write DEF POS or DEF JNT before it.",
                 )
             )
     _check_name(name, name_col, lineno, kind, out)
@@ -441,7 +441,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 f"or 8 with additional axes",
                 "points-count",
                 code="L3860",
-                suggestion="leave an element empty (e.g. 400,,300) rather than dropping it",
+                suggestion="Leave an element empty (e.g. 400,,300) rather than dropping it.",
             )
         )
     values = tuple(
@@ -462,7 +462,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     f"{name} is a joint position; joint positions have no structure flags",
                     "points-flags",
                     code="L3860",
-                    suggestion="remove the flags, or make it an XYZ position (DEF POS P…)",
+                    suggestion="Remove the flags, or make it an XYZ position (DEF POS P…).",
                 )
             )
         flags = _read_group(text, values_group.end, lineno, "structure flags (FL1,FL2)")
@@ -472,10 +472,10 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     lineno,
                     flags.start,
                     flags.end,
-                    f"structure flags are two numbers (FL1,FL2), found {len(flags.items)}",
+                    f"Structure flags are two numbers (FL1,FL2), found {len(flags.items)}",
                     "points-flags",
                     code="L3860",
-                    suggestion="write (7,0) for a hand-down pose of a vertical arm",
+                    suggestion="Write two flags, e.g. (7,0) for a hand-down pose.",
                 )
             )
         (i1, c1), (i2, c2) = flags.items
@@ -489,7 +489,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     lineno,
                     start,
                     len(text),
-                    f"unexpected text after the flags: {trailing.strip()!r}",
+                    f"Unexpected text after the flags: {trailing.strip()!r}",
                     "points-syntax",
                     code="L4220",
                 )
@@ -538,7 +538,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 f"{name} has no structure flags; the controller uses ({DEFAULT_FL1},{DEFAULT_FL2})",
                 "points-flags-default",
                 severity=Severity.INFO,
-                suggestion=f"append ({DEFAULT_FL1},{DEFAULT_FL2}) to say so",
+                suggestion=f"Append ({DEFAULT_FL1},{DEFAULT_FL2}) to say so.",
             )
         )
     if any(d.is_error and d.line == lineno for d in out):
@@ -590,7 +590,7 @@ def parse_points(text: str) -> PointsFile:
                     f"{name} is already defined on line {first_line[key]}",
                     "points-duplicate",
                     code="L4350",
-                    suggestion="rename one of them; names ignore case",
+                    suggestion="Rename one of them (names ignore case).",
                 )
             )
             continue

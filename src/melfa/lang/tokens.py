@@ -74,8 +74,10 @@ SECONDARY_KEYWORDS: frozenset[str] = _words(
     """
     THEN TO STEP IS TYPE WTH WTHIF AND OR NOT XOR MOD
     INTE FLOAT DOUBLE CHAR POS JNT IO PLT ARCH AS OFF ERR OUTPUT APPEND
+    BIT BYTE WORD INTEGER DWORD
     """
 )
+"""`BIT`…`DWORD` are the DEF IO types (`DEF IO MSENSOR = BIT, 900`) [S1 DEF IO]; DWORD is V's."""
 
 #: Built-in functions (COSIMIR list plus SETJNT/SETPOS); lexed as keywords.
 FUNCTIONS: frozenset[str] = _words(
