@@ -2,6 +2,7 @@
 
 import os
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 # Property tests: modest and repeatable in CI (2 cores, shared), thorough on request.
@@ -18,3 +19,14 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _default_profile))
 
 # Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
 from tests.fixtures_sim import sim_pty_path, sim_tcp_url  # noqa: E402, F401
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """`--robot URL` reruns tests/robot against real hardware instead of the simulator."""
+    parser.addoption(
+        "--robot",
+        action="store",
+        default=None,
+        help="run tests/robot against this robot (device path, tcp://, pyserial URL); "
+        "default: the simulator over a pty (also settable with $MELFA_TEST_ROBOT)",
+    )

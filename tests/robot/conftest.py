@@ -18,16 +18,6 @@ from melfa.sim import PtyServer, SimConfig, VirtualController
 HARDWARE_ENV = "MELFA_TEST_ROBOT"
 
 
-def pytest_addoption(parser: pytest.Parser) -> None:
-    parser.addoption(
-        "--robot",
-        action="store",
-        default=None,
-        help="run tests/robot against this robot (device path, tcp://, pyserial URL); "
-        f"default: the simulator over a pty (also settable with ${HARDWARE_ENV})",
-    )
-
-
 @pytest.fixture(scope="session")
 def hardware(request: pytest.FixtureRequest) -> str | None:
     spec: str | None = request.config.getoption("--robot", default=None)
