@@ -24,6 +24,9 @@ from melfa.sim import (
 )
 from melfa.sim.session import MAX_LINE_BYTES
 
+TIMEOUT_S = 20.0
+"""Generous: only a failing test waits this long; a loaded machine must not fail one."""
+
 
 def _read_reply(port: serial.Serial) -> bytes:
     data = b""
@@ -34,8 +37,20 @@ def _read_reply(port: serial.Serial) -> bytes:
     return data
 
 
+def _recv_reply(sock: socket.socket) -> bytes:
+    """One whole reply from TCP (a reply may arrive in several segments)."""
+    data = b""
+    while not data.endswith(b"\r"):
+        chunk = sock.recv(4096)
+        assert chunk, f"connection closed after {data!r}"
+        data += chunk
+    return data
+
+
 def test_pyserial_8e2_client_on_a_fresh_pty(sim_pty_path: str) -> None:
-    with serial.Serial(sim_pty_path, 9600, bytesize=8, parity="E", stopbits=2, timeout=5) as port:
+    with serial.Serial(
+        sim_pty_path, 9600, bytesize=8, parity="E", stopbits=2, timeout=TIMEOUT_S
+    ) as port:
         port.write(b"1;1;OPEN=NARCUSR\r")
         assert _read_reply(port).startswith(b"QoK3F;3F;")
         port.write(b"1;1;CNTLON\r1;1;SRVON\r")  # two requests in one write
@@ -51,19 +66,19 @@ def test_each_port_is_fresh_and_disconnect_ends_the_session() -> None:
     sim = VirtualController()
     with PtyServer(sim) as server:
         first = server.new_port()
-        with serial.Serial(first, 9600, parity="E", stopbits=2, timeout=5) as port:
+        with serial.Serial(first, 9600, parity="E", stopbits=2, timeout=TIMEOUT_S) as port:
             port.write(b"1;1;OPEN=X\r")
             assert _read_reply(port).startswith(b"QoK")
-        assert server.wait_closed(first, timeout=5)
+        assert server.wait_closed(first, timeout=TIMEOUT_S)
         assert not sim.is_open
         second = server.new_port()
-        with serial.Serial(second, 9600, parity="E", stopbits=2, timeout=5) as port:
+        with serial.Serial(second, 9600, parity="E", stopbits=2, timeout=TIMEOUT_S) as port:
             port.write(b"1;1;STATE\r")
             assert _read_reply(port) == b"QeR6010\r"
 
 
 def test_serial_link_over_the_pty(sim_pty_path: str) -> None:
-    with SerialLink(sim_pty_path, LinkSettings()) as link:
+    with SerialLink(sim_pty_path, LinkSettings(timeout=TIMEOUT_S)) as link:
         assert isinstance(link.exchange(Request("OPEN=NARCUSR")), Ok)
         assert link.exchange(Request("SRVON")) == Refused(6020)
 
@@ -72,24 +87,24 @@ def test_paced_pty_reply_arrives() -> None:
     sim = VirtualController()
     with PtyServer(sim, pacing=Pacing.for_baud(9600, latency=0.01)) as server:
         path = server.new_port()
-        with serial.Serial(path, 9600, parity="E", stopbits=2, timeout=5) as port:
+        with serial.Serial(path, 9600, parity="E", stopbits=2, timeout=TIMEOUT_S) as port:
             port.write(b"1;1;OPEN=X\r")
             assert _read_reply(port).startswith(b"QoK3F")
 
 
 def test_tcp_server_serves_one_client_at_a_time(sim_tcp_url: str) -> None:
     host, port = parse_tcp_url(sim_tcp_url)
-    with socket.create_connection((host, port), timeout=5) as first:
+    with socket.create_connection((host, port), timeout=TIMEOUT_S) as first:
         first.sendall(b"1;1;OPEN=X\r")
-        assert first.recv(4096).startswith(b"QoK3F")
-        with socket.create_connection((host, port), timeout=5) as second:
+        assert _recv_reply(first).startswith(b"QoK3F")
+        with socket.create_connection((host, port), timeout=TIMEOUT_S) as second:
             assert second.recv(16) == b""  # refused: closed at once
         first.sendall(b"1;1;STATE\r")
-        assert first.recv(4096).startswith(b"QoK")
+        assert _recv_reply(first).startswith(b"QoK")
 
 
 def test_tcp_link(sim_tcp_url: str) -> None:
-    with TcpLink(sim_tcp_url, LinkSettings()) as link:
+    with TcpLink(sim_tcp_url, LinkSettings(timeout=TIMEOUT_S)) as link:
         assert isinstance(link.exchange(Request("OPEN=X")), Ok)
         assert isinstance(link.exchange(Request("JPOSF")), Ok)
 

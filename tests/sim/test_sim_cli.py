@@ -19,7 +19,7 @@ RUN = [sys.executable, "-m", "melfa", "sim"]
 
 def _first_line_with(proc: subprocess.Popen[str], needle: str) -> str:
     assert proc.stdout is not None
-    deadline = time.monotonic() + 20
+    deadline = time.monotonic() + 60  # generous: a loaded machine starts Python slowly
     while time.monotonic() < deadline:
         line = proc.stdout.readline()
         if needle in line:
@@ -29,7 +29,7 @@ def _first_line_with(proc: subprocess.Popen[str], needle: str) -> str:
 
 def _stop(proc: subprocess.Popen[str]) -> str:
     proc.send_signal(signal.SIGINT)
-    out, _ = proc.communicate(timeout=20)
+    out, _ = proc.communicate(timeout=60)
     return out
 
 
@@ -41,7 +41,7 @@ def test_pty_mode_serves_a_pyserial_client_and_prints_the_next_path() -> None:
     try:
         line = _first_line_with(proc, "listening on")
         path = line.split("listening on ")[1].split()[0]
-        with serial.Serial(path, 9600, parity="E", stopbits=2, timeout=10) as port:
+        with serial.Serial(path, 9600, parity="E", stopbits=2, timeout=30) as port:
             port.write(b"1;1;OPEN=CLI\r")
             reply = port.read_until(b"\r")
             assert reply.startswith(b"QoK3F;3F;")
