@@ -7,8 +7,11 @@
 - `SimConfig`: every [GUESS] of protocol.md that changes what a client sees.
 - `ProgramRunner` / `StatementExecutor`: the hooks the interpreter (`melfa.sim.interp`) fills.
 
-What it does not do: I/O signals, parameters beyond a few read-only ones, variables through
-VAL/HOT, file transfer (FOPEN…), procedural mode, more than one mechanism.
+I/O signals: one `IOState` per controller (`VirtualController.io`), shared by RUN and EXEC;
+`set_input` drives inputs from outside, `IN`/`OUT` read them over the protocol.
+
+What it does not do: parameters beyond a few read-only ones, variables through VAL/HOT,
+file transfer (FOPEN…), procedural mode, more than one mechanism.
 """
 
 from melfa.sim.config import SimConfig

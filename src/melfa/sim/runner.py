@@ -46,9 +46,9 @@ class RunnerError:
 class ProgramRunner(Protocol):
     """What the controller calls on a slot's program.
 
-    The controller calls `advance(now)` before answering every request (and the servers
-    call it in between), with `now` in seconds from its injected clock; the runner moves the
-    shared `SimulatedArm` and never reads a clock of its own.
+    The controller calls `advance(now)` before answering every request, with `now` in
+    seconds from its injected clock, so calls may be far apart; the runner moves the shared
+    `SimulatedArm` and never reads a clock of its own.
     """
 
     def load(self, text: str, positions: Mapping[str, str]) -> None:
