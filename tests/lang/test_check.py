@@ -567,3 +567,52 @@ def test_underscore_message() -> None:
     assert (d.code, d.column, d.end_column) == ("L4310", 1, 2)
     assert d.message == "A name cannot start with '_' (_COUNT)"
     assert d.suggestion == "Start the name with a letter, e.g. MCOUNT; '_' may come later."
+
+
+@pytest.mark.parametrize(
+    ("text", "suggestion"),
+    [
+        ("MOV M1", "Move to a position variable or constant, e.g. MOV P1."),
+        ('MVS "x"', "Move to a position variable or constant, e.g. MVS P1."),
+        ("MVS P1.Z", "Change the element in a copy of the position and move to the copy."),
+        ("MVR P1, 5, P2", "Use positions, e.g. MVR P1, P2, P3."),
+    ],
+)
+def test_move_to_a_number_is_a_type_mismatch(text: str, suggestion: str) -> None:
+    [d] = check(text, ["P1", "P2"])
+    assert (d.rule, d.code, d.suggestion) == ("type-mismatch", "L4390", suggestion)
+
+
+@pytest.mark.parametrize(
+    "text", ["MOV P1\nMOV J1\nMOV (PLT 1, 2)\nMOV P1 * M1\nMOV (1,2,3,4,5,6)\nMOV P_CURR\n"]
+)
+def test_moves_to_positions_are_fine(text: str) -> None:
+    assert check(text, ["P1", "J1"]) == []
+
+
+def test_a_broken_end_if_does_not_hide_an_unclosed_select() -> None:
+    found = rules("SELECT M1\nCASE 1\nIF M1 THEN\nEND IF\n")
+    assert found == [(1, "select-without-end"), (4, "unknown-statement")]
+
+
+def test_an_undefined_point_is_reported_once() -> None:
+    found = check("MOV Pa\nMVS Pa, -50\nMOV Pb\nMOV Pa\n")
+    assert [(d.line, d.message) for d in found] == [
+        (1, "Position Pa is not defined"),
+        (3, "Position Pb is not defined"),
+    ]
+
+
+@pytest.mark.parametrize(
+    ("text", "message", "suggestion"),
+    [
+        ("IF M1 = THEN *A\n*A", "Expected a value before THEN", "Write a value after =."),
+        ("IF M1 THEN M2 = ELSE M2 = 3", "Expected a value before ELSE", "Write a value after =."),
+        ("FOR M1 = TO 3\nNEXT", "Expected a value before TO", "Write a value after =."),
+        ("M1 = 1 + * 2", "Expected a value, found *",
+         "Write a number, a variable or an expression after +."),
+    ],
+)  # fmt: skip
+def test_a_missing_value_is_not_a_reserved_word(text: str, message: str, suggestion: str) -> None:
+    [d] = check(text)
+    assert (d.rule, d.message, d.suggestion) == ("expected-expression", message, suggestion)

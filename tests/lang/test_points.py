@@ -287,3 +287,12 @@ def test_any_text_gives_points_and_diagnostics_never_an_exception(text: str) -> 
     for d in f.diagnostics:
         assert 1 <= d.line <= len(lines)
         assert d.end_column >= d.column
+
+
+def test_a_misnamed_point_gets_a_rename_it_can_use() -> None:
+    [d] = parse_points("DEF POS Home=(1,2,3,4,5,6)(7,0)").diagnostics
+    assert d.suggestion == "Rename it PHome."
+    [d] = parse_points("DEF JNT Pa=(1,2,3,4,5,6)").diagnostics
+    assert d.suggestion == "Rename it JPa."
+    [d] = parse_points("DEF POS Homeward=(1,2,3,4,5,6)(7,0)").diagnostics
+    assert d.suggestion == "Rename it Pomeward."  # 8 characters already: swap the first

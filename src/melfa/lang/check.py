@@ -185,6 +185,7 @@ class _Analyzer:
         self.out: list[Diagnostic] = []
         self.declared: dict[str, VType] = {}
         self.defined: set[str] = set(self.points)
+        self.undefined: set[str] = set()  # points already warned about (once per name)
 
     def add(
         self,
@@ -230,11 +231,13 @@ class _Analyzer:
             stmt = line.statement
             if not isinstance(stmt, A.InvalidStatement):
                 continue
+            # The word the student meant: the suggested replacement (END IF → ENDIF), else
+            # the first word written (a FOR line with a mistake further on).
             words = stmt.text.upper().split()
-            for word in (words[0] if words else "", stmt.issue.replacement or ""):
-                family = _WORD_FAMILY.get(word)
-                if family is not None:
-                    broken.add(family)
+            word = stmt.issue.replacement or (words[0] if words else "")
+            family = _WORD_FAMILY.get(word.upper())
+            if family is not None:
+                broken.add(family)
         return broken
 
     def line_limits(self) -> None:
@@ -449,11 +452,16 @@ class _Analyzer:
                 "L4300",
                 f"Shorten it to {MAX_NAME_LENGTH} characters.",
             )
-        if name in self.defined or name in warned_here or (len(name) > 1 and name[1] == "_"):
+        if (
+            name in self.defined
+            or name in warned_here
+            or name in self.undefined
+            or (len(name) > 1 and name[1] == "_")
+        ):
             return
         vtype = self.vtype_of_name(name)
         if vtype in _POSITIONAL:
-            warned_here.add(name)
+            self.undefined.add(name)
             kind = "Position" if vtype is VType.POS else "Joint position"
             shown = node.written
             self.add(
@@ -559,6 +567,31 @@ class _Analyzer:
             "L4390",
             hint,
         )
+
+    def move(self, node: A.Move | A.ArcMove | A.ArchMove) -> None:
+        """A move target that is certainly a number or a string (``MVS P1.Z``)."""
+        if isinstance(node, A.Move):
+            targets: tuple[A.Expr | None, ...] = (node.target,)
+            word = node.kind.value
+        elif isinstance(node, A.ArcMove):
+            targets, word = node.points, node.kind.value
+        else:
+            targets, word = (node.target,), "MVA"
+        for target in targets:
+            vt = self.vtype(target) if target is not None else None
+            if target is not None and vt in (VType.NUM, VType.STR):
+                self.add(
+                    target.span,
+                    E,
+                    f"{word} needs a position to move to, found a {vt.value}",
+                    "type-mismatch",
+                    "L4390",
+                    "Change the element in a copy of the position and move to the copy."
+                    if isinstance(target, A.Element)
+                    else f"Use positions, e.g. {word} P1, P2, P3."
+                    if isinstance(node, A.ArcMove)
+                    else f"Move to a position variable or constant, e.g. {word} P1.",
+                )
 
     def command(self, node: A.Command) -> None:
         if not node.args:
@@ -685,6 +718,9 @@ _SPECIFIC: dict[type, _Check] = {
     A.Assign: _Analyzer.assign,
     A.OnJump: _Analyzer.on_jump,
     A.Command: _Analyzer.command,
+    A.Move: _Analyzer.move,
+    A.ArcMove: _Analyzer.move,
+    A.ArchMove: _Analyzer.move,
     A.Pallet: _Analyzer.pallet,
     A.DefPlt: _Analyzer.def_plt,
     A.DefVar: _Analyzer.def_var,

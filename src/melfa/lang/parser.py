@@ -146,6 +146,12 @@ _COMMAND_EXAMPLES: dict[str, str] = {
     "RELM": "RELM 1",
     "CLR": "CLR 1",
 }
+# Words that continue a statement: finding one where a value should be means the value is
+# missing (``IF M1 = THEN``), not that a reserved word was used as a name.
+_CLAUSE_WORDS = frozenset(
+    {"THEN", "ELSE", "TO", "STEP", "IS", "TYPE", "WTH", "WTHIF", "AND", "OR", "XOR", "MOD"}
+    | {"AS", "GOTO", "GOSUB", "DLY"}
+)
 _PLT_HINT = "Give the 8 values, e.g. DEF PLT 1, P1, P2, P3, , 4, 3, 1 (diagonal left out)."
 
 
@@ -413,6 +419,7 @@ class _LineParser:
                     return A.Call(name.name, args, True, self.last_span(tok))
                 return A.Index(name, args, self.last_span(tok))
             return name
+        after = self.toks[self.i - 1].text if self.i > 0 else ""
         if kind is K.KEYWORD:
             word = tok.text.upper()
             if word in FUNCTIONS:
@@ -420,6 +427,13 @@ class _LineParser:
                 self.expect_kind(K.LPAREN, "'('", f"after the function {word}")
                 args = self.args(f"to close {word}(")
                 return A.Call(word, args, False, self.last_span(tok))
+            if word in _CLAUSE_WORDS and after:
+                raise self.fail(
+                    tok,
+                    f"Expected a value before {word}",
+                    "expected-expression",
+                    f"Write a value after {after}.",
+                )
             raise self.fail(
                 tok,
                 f"{word} is a reserved word and cannot be used as a value here",
@@ -428,14 +442,11 @@ class _LineParser:
             )
         if kind is K.LPAREN:
             return self.paren()
-        after = self.toks[self.i - 1].text if self.i > 0 else ""
         raise self.fail(
             tok,
             f"Expected a value, found {_describe(tok)}",
             "expected-expression",
-            f"Write a number, a variable or an expression after {after}."
-            if tok.kind in _END_KINDS and after
-            else None,
+            f"Write a number, a variable or an expression after {after}." if after else None,
         )
 
     def comma_list(self, close_context: str) -> tuple[list[A.Expr | None], int]:
@@ -494,7 +505,7 @@ class _LineParser:
         if tok.kind is K.IDENT:
             raise self.fail(
                 tok,
-                f"Label needs to start with *: write *{tok.text}",
+                f"Label needs to start with * ({tok.text})",
                 "label-without-star",
                 f"Write *{tok.text} to jump to the label.",
                 replacement=f"*{tok.text}",
@@ -578,7 +589,7 @@ class _LineParser:
             if nxt.kind in _END_KINDS and word in self.labels:
                 raise self.fail(
                     tok,
-                    f"Label needs to start with *: write *{tok.text}",
+                    f"Label needs to start with * ({tok.text})",
                     "label-without-star",
                     f"Write *{tok.text} to define the label.",
                     replacement=f"*{tok.text}",
@@ -661,7 +672,7 @@ class _LineParser:
                 tok,
                 f"{word} takes at most {values}, found {len(args)}",
                 "too-many-arguments",
-                f"Remove the extra values: {word} takes {values}."
+                f"Remove the extra values: {word} takes at most {values}."
                 if hi
                 else f"Remove the values after {word}.",
             )

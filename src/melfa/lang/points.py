@@ -314,9 +314,9 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                 f"{name} is {what}, so its name must start with {want}",
                 "points-name",
                 code="L4390",
-                suggestion=f"Rename it {want}{name[1:]}."
+                suggestion=f"Rename it {want}{name}."
                 if len(name) < MAX_NAME_LENGTH
-                else f"Rename it to start with {want}.",
+                else f"Rename it {want}{name[1:]}.",
             )
         )
     if len(name) > MAX_NAME_LENGTH:
