@@ -11,8 +11,15 @@ from typer.testing import CliRunner
 import melfa.cli.users_commands  # noqa: F401  (registers the commands)
 from melfa.cli.app import app
 from melfa.store import Store
+from tests.store.conftest import CHEAP
 
 runner = CliRunner()
+
+
+@pytest.fixture(autouse=True)
+def cheap_hashes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Real Argon2 with tiny parameters: these tests are about the CLI, not hash cost."""
+    monkeypatch.setattr("melfa.store.passwords.PasswordHasher", lambda: CHEAP)
 
 
 @pytest.fixture

@@ -12,8 +12,16 @@ from typer.testing import CliRunner
 import melfa.cli.users_commands  # noqa: F401  (registers the commands)
 from melfa.cli.app import app
 from melfa.store import Role, Store
+from tests.store.conftest import CHEAP
 
 runner = CliRunner()
+
+
+@pytest.fixture(autouse=True)
+def cheap_hashes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Real Argon2 with tiny parameters: these tests are about the CLI, not hash cost."""
+    monkeypatch.setattr("melfa.store.passwords.PasswordHasher", lambda: CHEAP)
+
 
 GOOD = """username,name,group,role,password
 ana,Ana Pérez,G1,,
@@ -139,3 +147,18 @@ def test_missing_file_is_a_usage_error(tmp_path: Path, data: Path) -> None:
     code, _, err = run(data, str(tmp_path / "nope.csv"))
     assert code == 2
     assert "cannot read" in err
+
+
+def test_a_refusal_halfway_rolls_back_every_row(tmp_path: Path, data: Path) -> None:
+    with Store.open_dir(data) as store:
+        store.accounts.create_user("root", "password1", role=Role.ADMIN)
+    students = tmp_path / "s.csv"
+    students.write_text("username,name,group,role\nana,Ana,G1,\nroot,Root,,student\n")
+    out = tmp_path / "passwords.csv"
+    code, _, err = run(data, str(students), "--out", str(out), "--update")
+    assert code == 1
+    assert "line 3: cannot make 'root' a student: it is the last enabled admin" in err
+    assert not out.exists()
+    with Store.open_dir(data) as store:
+        assert [u.username for u in store.accounts.list_users()] == ["root"]
+        assert store.accounts.find_group("G1") is None
