@@ -77,3 +77,16 @@ def test_failing_migration_leaves_nothing_behind(db_path: Path) -> None:
 def test_missing_directory_is_a_clear_error(tmp_path: Path) -> None:
     with pytest.raises(DatabaseError, match="no such directory"):
         Database(tmp_path / "nope" / "melfa.sqlite3")
+
+
+def test_database_file_is_private(db_path: Path) -> None:
+    import stat
+
+    Database(db_path).close()
+    assert stat.S_IMODE(db_path.stat().st_mode) == 0o600
+
+
+def test_a_file_that_is_not_a_database_is_a_clear_error(db_path: Path) -> None:
+    db_path.write_bytes(b"this is not sqlite" * 100)
+    with pytest.raises(DatabaseError, match=r"melfa\.sqlite3"):
+        Database(db_path)

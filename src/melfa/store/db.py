@@ -19,6 +19,7 @@ thread's future is awaited directly, so the event loop never blocks on the disk.
 from __future__ import annotations
 
 import asyncio
+import os
 import sqlite3
 import threading
 from collections.abc import Callable
@@ -80,12 +81,15 @@ class Database:
         if not self.path.parent.is_dir():
             raise DatabaseError(f"{self.path.parent}: no such directory")
         try:
+            # Password hashes and session data: readable by the owner only. SQLite gives the
+            # -wal and -shm files the same permissions as the database file.
+            os.close(os.open(self.path, os.O_RDWR | os.O_CREAT, 0o600))
             conn = sqlite3.connect(self.path, isolation_level=None, timeout=BUSY_TIMEOUT_S)
             _configure(conn)
             conn.execute("PRAGMA journal_mode = WAL")
             # FULL: a committed save survives a power cut, not only a process crash.
             conn.execute("PRAGMA synchronous = FULL")
-        except sqlite3.Error as err:
+        except (OSError, sqlite3.Error) as err:
             raise DatabaseError(f"{self.path}: cannot open the database: {err}") from err
         return conn
 
