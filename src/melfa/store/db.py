@@ -103,12 +103,14 @@ class Database:
         if self._closed:
             return
         self._closed = True
-        self._writer.submit(self._close_writer).result()
-        self._writer.shutdown()
+        # Readers first: the last connection to close checkpoints and removes the WAL file,
+        # and only the writer may.
         with self._readers_lock:
             for conn in self._readers:
                 conn.close()
             self._readers.clear()
+        self._writer.submit(self._close_writer).result()
+        self._writer.shutdown()
 
     def __enter__(self) -> Database:
         return self
