@@ -90,6 +90,9 @@ class JogKeeper:
         self.last_sent = 0.0
         self.heartbeats = 0
         self.renewals = 0
+        self.starting = False
+        """The first JOG (with the override ceiling) is still on its way: the heartbeat
+        clock starts when it is answered, not before."""
 
     @property
     def active(self) -> bool:
@@ -106,6 +109,7 @@ class JogKeeper:
     def begin(self, actor: Actor, request: JogRequest, command_id: int, now: float) -> None:
         with self.lock:
             self.actor = actor
+            self.starting = True
             self.request = request
             self.command_id = command_id
             self.fresh = True
@@ -135,8 +139,14 @@ class JogKeeper:
             self.renewals += 1
             return self.request
 
+    def started(self, now: float) -> None:
+        with self.lock:
+            self.starting = False
+            self.last_heartbeat = max(self.last_heartbeat, now)
+
     def end(self) -> tuple[Actor | None, JogRequest | None]:
         with self.lock:
+            self.starting = False
             actor, request = self.actor, self.request
             self.actor = None
             self.request = None

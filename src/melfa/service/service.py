@@ -452,6 +452,7 @@ class RobotService:
                 self._end_jog(f"jog refused: {exc}", actor)
             self._finish(actor, command_id, "jog", request.label, True, exc)
             raise
+        self._jog.started(self._clock())
         self._finish(actor, command_id, "jog", request.label, True, None)
         return method if method is not None else JogMethod.JOG
 
@@ -676,8 +677,10 @@ class RobotService:
     async def _housekeep(self) -> None:
         while True:
             await asyncio.sleep(HOUSEKEEPING_S)
-            if self._jog.active and (
-                self._clock() - self._jog.last_heartbeat > self.config.jog_heartbeat_timeout_s
+            if (
+                self._jog.active
+                and not self._jog.starting
+                and self._clock() - self._jog.last_heartbeat > self.config.jog_heartbeat_timeout_s
             ):
                 self._end_jog("heartbeat lost", SERVICE_ACTOR, send_stop=True)
             self._lease_changed(self._lease.expire())
