@@ -17,6 +17,8 @@ from melfa.cli import robot_commands as _robot_commands  # noqa: F401  # isort: 
 from melfa.cli import sim_commands as _sim_commands  # noqa: F401  # isort: skip
 from melfa.cli import users_commands as _users_commands  # noqa: F401  # isort: skip
 from melfa.cli import serve_commands as _serve_commands  # noqa: F401  # isort: skip
+from melfa.cli import ros_commands as _ros_commands  # noqa: F401  # isort: skip
+from melfa.cli import desktop_commands as _desktop_commands  # noqa: F401  # isort: skip
 
 
 def main() -> None:

@@ -1,0 +1,1 @@
+"""`melfa desktop`: the small Qt client (being built)."""

@@ -1,0 +1,1 @@
+"""`melfa ros`: the robot as a ROS 1 node (being built)."""
