@@ -1,1 +1,105 @@
-"""`melfa serve`: the web IDE (being built)."""
+"""`melfa serve`: the web IDE and its API, with the in-process virtual controller unless a
+robot is given.
+
+The command is thin: it opens the store (creating the first admin and printing its
+password once), builds the app (`melfa.web.create_app`) and runs it under uvicorn. Ctrl+C
+shuts down cleanly: the service stops polling, ends the lease and closes the link.
+"""
+
+from __future__ import annotations
+
+import ipaddress
+import os
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+from rich.markup import escape
+
+from melfa.cli.app import app
+from melfa.link import ROBOT_ENV
+from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
+
+EXIT_USAGE = 2
+
+_out = Console(highlight=False, soft_wrap=True, emoji=False)
+_err = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
+
+
+def _is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+@app.command()
+def serve(
+    robot: Annotated[
+        str | None,
+        typer.Option(
+            "--robot",
+            "-r",
+            help="Robot: a serial device, tcp://host:port, a pyserial URL, or sim "
+            f"(default ${ROBOT_ENV}, else the in-process virtual controller).",
+        ),
+    ] = None,
+    host: Annotated[
+        str, typer.Option("--host", help="Address to listen on (localhost unless told).")
+    ] = "127.0.0.1",
+    port: Annotated[int, typer.Option("--port", "-p", help="TCP port.", min=0, max=65535)] = 8080,
+    data: Annotated[
+        Path | None,
+        typer.Option(
+            "--data",
+            help=f"Data directory holding melfa.sqlite3 (default ${DATA_ENV}, else ./data).",
+            file_okay=False,
+        ),
+    ] = None,
+) -> None:
+    """Serve the web IDE and its API (docs at /docs)."""
+    import uvicorn
+
+    from melfa.web import WebSettings, create_app
+    from melfa.web.logs import configure
+
+    spec = (robot or os.environ.get(ROBOT_ENV) or "sim").strip() or "sim"
+    data_dir = data or Path(os.environ.get(DATA_ENV) or "data")
+    configure()
+    try:
+        store = Store.open_dir(data_dir)
+        generated = store.accounts.ensure_admin()
+    except StoreError as exc:
+        _err.print(f"[bold red]error:[/] {escape(str(exc))}")
+        raise typer.Exit(EXIT_USAGE) from None
+    if generated is not None:
+        _out.print(
+            f"Created the first account: [bold]{ADMIN_USERNAME}[/] with password "
+            f"[bold]{escape(generated)}[/] (shown only this once; "
+            f"set ${ADMIN_PASSWORD_ENV} to choose it)"
+        )
+    if not _is_loopback(host):
+        _err.print(
+            f"[bold yellow]warning:[/] listening on {escape(host)}: anyone who can reach "
+            "this address can try to sign in and, once signed in, move the robot"
+        )
+    robot_text = "virtual controller (in process)" if spec == "sim" else spec
+    shown = f"[{host}]" if ":" in host else host
+    _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
+    settings = WebSettings(data_dir=data_dir, robot=spec)
+    web_app = create_app(settings, store=store)
+    config = uvicorn.Config(
+        web_app,
+        host=host,
+        port=port,
+        log_level="warning",
+        access_log=False,
+        timeout_graceful_shutdown=3,
+    )
+    try:
+        uvicorn.Server(config).run()
+    finally:
+        store.close()

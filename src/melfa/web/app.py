@@ -1,0 +1,117 @@
+"""The app factory: `create_app(settings)` builds the FastAPI app; its lifespan opens the
+store and starts the robot service (unless given ready-made ones, as tests do) and closes
+them again: the service stops polling, ends the lease and closes the link."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import AsyncIterator
+
+from fastapi import FastAPI
+from fastapi.routing import APIRoute
+from fastapi.staticfiles import StaticFiles
+
+from melfa import __version__
+from melfa.service import RobotService
+from melfa.store import ServiceAuditSink, Store
+from melfa.web import errors
+from melfa.web.config import WebSettings
+from melfa.web.context import WebContext
+from melfa.web.logs import RequestLog
+from melfa.web.routes import (
+    audit,
+    check,
+    health,
+    lease,
+    pages,
+    robot,
+    session,
+    users,
+    workspaces,
+)
+from melfa.web.routes.pages import STATIC
+from melfa.web.ws import router as ws_router
+
+TAGS = [
+    {"name": "session", "description": "Sign in and out."},
+    {"name": "workspaces", "description": "Program and points, saved with every revision."},
+    {"name": "check", "description": "Diagnostics and step numbering."},
+    {"name": "robot", "description": "Robot operations (lease, audit)."},
+    {"name": "lease", "description": "Who may move the robot."},
+    {"name": "audit", "description": "What moved the robot, and who asked."},
+    {"name": "users", "description": "Accounts (admins)."},
+    {"name": "health", "description": "Is everything up."},
+]
+
+
+def operation_id(route: APIRoute) -> str:
+    """Readable OpenAPI ids: ``tag-name`` (``robot-run``, ``workspaces-save_workspace``)."""
+    tag = route.tags[0] if route.tags else "default"
+    return f"{tag}-{route.name}"
+
+
+def create_app(
+    settings: WebSettings | None = None,
+    *,
+    store: Store | None = None,
+    service: RobotService | None = None,
+) -> FastAPI:
+    """The web app. A given ``store`` / ``service`` is used as is and left open (the
+    caller owns it; a given service must already be started); otherwise the lifespan
+    opens ``settings.data_dir`` and starts a service for ``settings.robot``."""
+    config = settings or WebSettings()
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        own_store = store is None
+        the_store = store if store is not None else Store.open_dir(config.data_dir)
+        the_service = service
+        try:
+            if the_service is None:
+                the_service = RobotService.from_spec(
+                    config.robot,
+                    config=config.service_config,
+                    audit=ServiceAuditSink(the_store.audit),
+                )
+                await the_service.start()
+            app.state.web = WebContext(config, the_store, the_service)
+            yield
+        finally:
+            if service is None and the_service is not None:
+                await the_service.close()
+            if own_store:
+                the_store.close()
+
+    app = FastAPI(
+        title="melfa",
+        version=__version__,
+        description="Program and drive a Mitsubishi RV-6S: accounts, workspaces, checking, "
+        "robot operations and live state. Errors share one shape (docs/api.md).",
+        openapi_tags=TAGS,
+        generate_unique_id_function=operation_id,
+        docs_url=None,
+        redoc_url=None,
+        lifespan=lifespan,
+    )
+    errors.install(app)
+    app.add_middleware(RequestLog)
+    for router in (
+        session.router,
+        workspaces.router,
+        check.router,
+        robot.router,
+        lease.router,
+        audit.router,
+        users.router,
+        health.router,
+    ):
+        app.include_router(router)
+    app.include_router(session.pages)
+    app.include_router(audit.pages)
+    app.include_router(pages.router)
+    app.include_router(ws_router)
+    app.mount("/static", StaticFiles(directory=STATIC), name="static")
+    return app
+
+
+__all__ = ["create_app", "operation_id"]

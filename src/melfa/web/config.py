@@ -1,0 +1,46 @@
+"""Settings of the web server, in one checked object (the FastAPI template's core/config)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from melfa.service import ServiceConfig
+
+SESSION_COOKIE = "melfa_session"
+"""HttpOnly cookie holding the session token."""
+CSRF_COOKIE = "melfa_csrf"
+"""Readable cookie holding the session's CSRF token (double submit: send it back as
+the `X-CSRF-Token` header on every state-changing request)."""
+CSRF_HEADER = "X-CSRF-Token"
+SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
+
+
+@dataclass(frozen=True)
+class WebSettings:
+    """What `create_app` needs; `melfa serve` fills it from its options."""
+
+    data_dir: Path = Path("data")
+    """Holds melfa.sqlite3 (accounts, sessions, workspaces, audit)."""
+    robot: str = "sim"
+    """A ``--robot`` spec; ``sim`` is the in-process virtual controller (real time)."""
+    allowed_origins: tuple[str, ...] = ()
+    """Extra browser origins allowed to open the WebSocket (the page's own always is)."""
+    snapshot_hz: float = 20.0
+    """Most state snapshots per second sent to one WebSocket (newest wins)."""
+    secure_cookies: bool | None = None
+    """Mark cookies Secure: None decides per request (https → Secure)."""
+    service_config: ServiceConfig = field(default_factory=ServiceConfig)
+
+    def __post_init__(self) -> None:
+        if not 0.5 <= self.snapshot_hz <= 200:
+            raise ValueError("snapshot_hz must be 0.5–200 per second")
+
+
+__all__ = [
+    "CSRF_COOKIE",
+    "CSRF_HEADER",
+    "SAFE_METHODS",
+    "SESSION_COOKIE",
+    "WebSettings",
+]

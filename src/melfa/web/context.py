@@ -1,0 +1,56 @@
+"""What every request can reach: the store, the robot service, the settings and the
+registry of open WebSockets (`app.state.web`)."""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import ParamSpec, TypeVar
+
+from melfa.service import Actor, RobotService
+from melfa.store import Store
+from melfa.web.config import WebSettings
+
+P = ParamSpec("P")
+T = TypeVar("T")
+
+
+@dataclass
+class Sockets:
+    """Open WebSockets per actor (user + web session): the lease ends with the last one."""
+
+    counts: dict[tuple[str, str], int] = field(default_factory=dict)
+
+    def add(self, actor: Actor) -> None:
+        key = (actor.user, actor.session_id)
+        self.counts[key] = self.counts.get(key, 0) + 1
+
+    def remove(self, actor: Actor) -> int:
+        """Forget one socket of ``actor``; how many it still has open."""
+        key = (actor.user, actor.session_id)
+        left = self.counts.get(key, 1) - 1
+        if left <= 0:
+            self.counts.pop(key, None)
+            return 0
+        self.counts[key] = left
+        return left
+
+    @property
+    def total(self) -> int:
+        return sum(self.counts.values())
+
+
+@dataclass
+class WebContext:
+    settings: WebSettings
+    store: Store
+    service: RobotService
+    sockets: Sockets = field(default_factory=Sockets)
+
+    async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        """Run a store call off the event loop (reads, Argon2 and queued writes)."""
+        return await asyncio.to_thread(fn, *args, **kwargs)
+
+
+__all__ = ["Sockets", "WebContext"]

@@ -1,0 +1,108 @@
+"""From the store's and the service's values to the API's models (one place)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.service import Actor, StateSnapshot, event_to_dict
+from melfa.store import Revision, RevisionInfo, User, WorkspaceState
+from melfa.web.models import (
+    ActorOut,
+    DiagnosticOut,
+    FileDiagnostics,
+    RevisionInfoOut,
+    RevisionOut,
+    StateOut,
+    UserOut,
+    WorkspaceOut,
+)
+
+
+def user_out(user: User) -> UserOut:
+    return UserOut(
+        username=user.username,
+        display_name=user.display_name,
+        role=user.role.value,
+        group=user.group,
+        created=user.created,
+        last_login=user.last_login,
+        disabled=user.disabled,
+    )
+
+
+def workspace_out(state: WorkspaceState) -> WorkspaceOut:
+    ws = state.workspace
+    return WorkspaceOut(
+        id=ws.id,
+        kind=ws.kind.value,
+        owner=ws.owner,
+        revision=state.revision,
+        program=state.program,
+        points=state.points,
+    )
+
+
+def revision_out(rev: Revision) -> RevisionOut:
+    return RevisionOut(
+        number=rev.number,
+        author=rev.author,
+        created=rev.created,
+        reason=rev.reason.value,
+        restored_from=rev.restored_from,
+        program=rev.program,
+        points=rev.points,
+    )
+
+
+def revision_info_out(info: RevisionInfo) -> RevisionInfoOut:
+    return RevisionInfoOut(
+        number=info.number,
+        author=info.author,
+        created=info.created,
+        reason=info.reason.value,
+        restored_from=info.restored_from,
+        program_chars=info.program_chars,
+        points_chars=info.points_chars,
+    )
+
+
+def diagnostics_out(diagnostics: list[Diagnostic]) -> FileDiagnostics:
+    return FileDiagnostics(
+        diagnostics=[DiagnosticOut.model_validate(d.to_json()) for d in diagnostics],
+        errors=sum(1 for d in diagnostics if d.severity is Severity.ERROR),
+        warnings=sum(1 for d in diagnostics if d.severity is Severity.WARNING),
+    )
+
+
+def actor_out(actor: Actor | None) -> ActorOut | None:
+    return None if actor is None else ActorOut(user=actor.user, role=actor.role.value)
+
+
+def actor_dict(actor: Actor | None) -> dict[str, str] | None:
+    return None if actor is None else {"user": actor.user, "role": actor.role.value}
+
+
+def state_dict(snapshot: StateSnapshot) -> dict[str, Any]:
+    """A snapshot as JSON (the ``state`` WebSocket message without its ``type``)."""
+    out = event_to_dict(snapshot)
+    for key in ("name", "actor"):
+        out.pop(key, None)
+    return out
+
+
+def state_out(snapshot: StateSnapshot) -> StateOut:
+    return StateOut.model_validate(state_dict(snapshot))
+
+
+__all__ = [
+    "actor_dict",
+    "actor_out",
+    "diagnostics_out",
+    "revision_info_out",
+    "revision_out",
+    "state_dict",
+    "state_out",
+    "user_out",
+    "workspace_out",
+]

@@ -1,0 +1,104 @@
+"""Dependencies declared once (the FastAPI template's api/deps.py): the context, the
+signed-in session with CSRF checked on every state-changing request, the service `Actor`,
+and role gates."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import Depends, Request, WebSocket
+
+from melfa.service import Actor
+from melfa.service import Role as ServiceRole
+from melfa.store import Role, Session, check_csrf
+from melfa.web.config import CSRF_HEADER, SAFE_METHODS, SESSION_COOKIE
+from melfa.web.context import WebContext
+from melfa.web.errors import ApiError
+
+
+def get_context(request: Request) -> WebContext:
+    context: WebContext = request.app.state.web
+    return context
+
+
+def ws_context(websocket: WebSocket) -> WebContext:
+    context: WebContext = websocket.app.state.web
+    return context
+
+
+ContextDep = Annotated[WebContext, Depends(get_context)]
+
+
+async def find_session(context: WebContext, token: str | None) -> Session | None:
+    """The live session for a cookie token, or None."""
+    if not token:
+        return None
+    return await context.db(context.store.sessions.lookup, token)
+
+
+async def get_session(request: Request, context: ContextDep) -> Session:
+    """The signed-in session; 401 without one, 403 when a state-changing request lacks the
+    session's CSRF token in `X-CSRF-Token` (double submit)."""
+    session = await find_session(context, request.cookies.get(SESSION_COOKIE))
+    if session is None:
+        raise ApiError(401, "not-signed-in", "sign in first (POST /api/session)")
+    request.state.user = session.user.username
+    if request.method not in SAFE_METHODS and not check_csrf(
+        session, request.headers.get(CSRF_HEADER)
+    ):
+        raise ApiError(
+            403,
+            "csrf-token-missing",
+            f"this request changes something, so it needs the {CSRF_HEADER} header with "
+            "the session's CSRF token (from the login reply or the melfa_csrf cookie)",
+        )
+    return session
+
+
+SessionDep = Annotated[Session, Depends(get_session)]
+
+
+def service_role(role: Role) -> ServiceRole:
+    """Admins and instructors are instructors to the robot (they may take over)."""
+    return ServiceRole.STUDENT if role is Role.STUDENT else ServiceRole.INSTRUCTOR
+
+
+def actor_of(session: Session) -> Actor:
+    """The service's view of a web session (the session id is a hash: safe to show)."""
+    return Actor(session.user.username, service_role(session.user.role), session.id[:16])
+
+
+def get_actor(session: SessionDep) -> Actor:
+    return actor_of(session)
+
+
+ActorDep = Annotated[Actor, Depends(get_actor)]
+
+
+def require_staff(session: SessionDep) -> Session:
+    if not session.user.role.is_staff:
+        raise ApiError(403, "forbidden", "only instructors and admins may do this")
+    return session
+
+
+def require_admin(session: SessionDep) -> Session:
+    if session.user.role is not Role.ADMIN:
+        raise ApiError(403, "forbidden", "only admins may manage accounts")
+    return session
+
+
+StaffDep = Annotated[Session, Depends(require_staff)]
+AdminDep = Annotated[Session, Depends(require_admin)]
+
+__all__ = [
+    "ActorDep",
+    "AdminDep",
+    "ContextDep",
+    "SessionDep",
+    "StaffDep",
+    "actor_of",
+    "find_session",
+    "get_context",
+    "service_role",
+    "ws_context",
+]

@@ -1,0 +1,340 @@
+"""Request and response bodies of the API. Inputs and outputs are separate models, and no
+output model has a password hash in it (the store's public types have none)."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Annotated, Any, Literal
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, FiniteFloat
+
+from melfa.store import MAX_TEXT_CHARS
+
+
+def _encodable(text: str) -> str:
+    """JSON may carry lone surrogates (``"\\ud800"``); nothing downstream can store them."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("contains characters that are not valid Unicode") from None
+    return text
+
+
+Text = Annotated[str, AfterValidator(_encodable)]
+LongText = Annotated[str, Field(max_length=MAX_TEXT_CHARS), AfterValidator(_encodable)]
+ShortText = Annotated[str, Field(max_length=200), AfterValidator(_encodable)]
+RoleName = Literal["admin", "instructor", "student"]
+
+
+class Input(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+# --- session & users -----------------------------------------------------------------------
+
+
+class LoginIn(Input):
+    username: ShortText
+    password: Annotated[str, Field(max_length=1024), AfterValidator(_encodable)]
+
+
+class UserOut(BaseModel):
+    username: str
+    display_name: str
+    role: RoleName
+    group: str | None
+    created: datetime
+    last_login: datetime | None
+    disabled: bool
+
+
+class SessionOut(BaseModel):
+    user: UserOut
+    csrf_token: str = Field(description="Send back as the X-CSRF-Token header.")
+    expires: datetime
+
+
+class UserCreateIn(Input):
+    username: ShortText
+    password: ShortText | None = Field(None, description="Generated (and returned) if absent.")
+    role: RoleName = "student"
+    group: ShortText | None = None
+    display_name: ShortText = ""
+
+
+class UserCreatedOut(BaseModel):
+    user: UserOut
+    password: str | None = Field(None, description="The generated password, shown once.")
+
+
+class PasswordIn(Input):
+    password: ShortText | None = Field(None, description="Generated (and returned) if absent.")
+
+
+class PasswordOut(BaseModel):
+    password: str | None = Field(None, description="The generated password, shown once.")
+
+
+class UserList(BaseModel):
+    users: list[UserOut]
+
+
+# --- workspaces ----------------------------------------------------------------------------
+
+
+class WorkspaceInfo(BaseModel):
+    id: int
+    kind: Literal["personal", "group"]
+    owner: str
+
+
+class WorkspaceList(BaseModel):
+    default_id: int = Field(description="The group's workspace if the user has a group.")
+    workspaces: list[WorkspaceInfo]
+
+
+class WorkspaceOut(WorkspaceInfo):
+    revision: int = Field(description="Send back as `base` with the next save (0: never saved).")
+    program: str
+    points: str
+
+
+class SaveIn(Input):
+    base: Annotated[int, Field(ge=0, le=2**62)]
+    program: LongText
+    points: LongText
+    reason: Literal["autosave", "save"] = "autosave"
+
+
+class RevisionInfoOut(BaseModel):
+    number: int
+    author: str | None
+    created: datetime
+    reason: Literal["autosave", "save", "import", "restore"]
+    restored_from: int | None
+    program_chars: int
+    points_chars: int
+
+
+class RevisionOut(BaseModel):
+    number: int
+    author: str | None
+    created: datetime
+    reason: Literal["autosave", "save", "import", "restore"]
+    restored_from: int | None
+    program: str
+    points: str
+
+
+class SaveOut(BaseModel):
+    revision: RevisionOut
+    created: bool = Field(description="False when the content was already stored.")
+
+
+class RevisionList(BaseModel):
+    revisions: list[RevisionInfoOut]
+    next_before: int | None
+
+
+class RestoreIn(Input):
+    base: Annotated[int, Field(ge=0, le=2**62)] | None = None
+
+
+# --- checking ------------------------------------------------------------------------------
+
+
+class DiagnosticOut(BaseModel):
+    """The shape of `melfa check --format json`."""
+
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+    severity: Literal["error", "warning", "info"]
+    code: str | None
+    message: str
+    suggestion: str | None
+
+
+class CheckIn(Input):
+    program: LongText = ""
+    points: LongText | None = Field(None, description="Points text; else the workspace's.")
+    workspace_id: Annotated[int, Field(ge=1, le=2**62)] | None = None
+
+
+class FileDiagnostics(BaseModel):
+    diagnostics: list[DiagnosticOut]
+    errors: int
+    warnings: int
+
+
+class CheckOut(BaseModel):
+    program: FileDiagnostics
+    points: FileDiagnostics
+
+
+class NumberIn(Input):
+    program: LongText
+    start: Annotated[int, Field(ge=1, le=32767)] = 10
+    step: Annotated[int, Field(ge=1, le=1000)] = 10
+
+
+class StripIn(Input):
+    program: LongText
+
+
+class NumberOut(BaseModel):
+    ok: bool = Field(description="False: `text` is the input unchanged; see diagnostics.")
+    text: str
+    diagnostics: list[DiagnosticOut]
+
+
+# --- robot ---------------------------------------------------------------------------------
+
+
+class ActorOut(BaseModel):
+    user: str
+    role: str
+
+
+class SourceIn(Input):
+    """Text from the request, else from the workspace (``workspace_id``, else the default)."""
+
+    program: LongText | None = None
+    points: LongText | None = None
+    workspace_id: Annotated[int, Field(ge=1, le=2**62)] | None = None
+    check: bool = Field(True, description="Refuse a program with errors before sending it.")
+
+
+class UploadOut(BaseModel):
+    items: int
+    requests: int
+    bytes_sent: int
+    seconds: float
+
+
+class ExecIn(Input):
+    statement: Annotated[str, Field(min_length=1, max_length=240), AfterValidator(_encodable)]
+
+
+class HandIn(Input):
+    hand: Annotated[int, Field(ge=1, le=8)] = 1
+    action: Literal["open", "close", "toggle"]
+
+
+class HandOut(BaseModel):
+    hand: int
+    open: bool
+
+
+Six = Annotated[list[FiniteFloat], Field(min_length=6, max_length=6)]
+
+
+class MoveIn(Input):
+    """Exactly one of ``point`` (a name in the points), ``pose`` (X,Y,Z,A,B,C) or ``joints``."""
+
+    point: Annotated[str, Field(max_length=16), AfterValidator(_encodable)] | None = None
+    points: LongText | None = Field(
+        None, description="Where to find ``point``; else the workspace's."
+    )
+    workspace_id: Annotated[int, Field(ge=1, le=2**62)] | None = None
+    pose: Six | None = None
+    joints: Six | None = None
+    linear: bool = False
+    flags: Annotated[list[Annotated[int, Field(ge=0, le=7)]], Field(min_length=2, max_length=2)] = [
+        7,
+        0,
+    ]
+
+
+class ServoIn(Input):
+    on: bool
+
+
+class OverrideIn(Input):
+    percent: Annotated[int, Field(ge=1, le=100)]
+
+
+class OverrideOut(BaseModel):
+    percent: int
+
+
+class JogStepIn(Input):
+    frame: Literal["tool", "xyz", "joint"]
+    axis: Annotated[int, Field(ge=0, le=5)]
+    direction: Literal[-1, 1]
+
+
+class ValuesOut(BaseModel):
+    names: list[str]
+    values: list[float]
+
+
+class AlarmOut(BaseModel):
+    number: int
+    text: str
+
+
+class StateOut(BaseModel):
+    """The service's latest `StateSnapshot` (also the WebSocket ``state`` message)."""
+
+    seq: int
+    at: datetime
+    link: str
+    joints: list[float] | None
+    pose: list[float] | None
+    pose_measured: bool
+    flags: list[int] | None
+    servo: bool | None
+    running: bool | None
+    moving: bool | None
+    program: str
+    line: int | None
+    override: int | None
+    speed: float | None
+    alarm: AlarmOut | None
+    hands: list[bool | None]
+    busy: str | None
+    jogging: bool
+    lease_holder: str | None
+
+
+class LeaseOut(BaseModel):
+    holder: ActorOut | None
+    you: bool = Field(description="Whether this session holds it.")
+
+
+class Ok(BaseModel):
+    ok: bool = True
+
+
+# --- audit & health ------------------------------------------------------------------------
+
+
+class AuditEntryOut(BaseModel):
+    id: int
+    at: datetime
+    actor: str | None
+    role: str | None
+    action: str
+    details: dict[str, Any]
+    result: str
+
+
+class AuditPageOut(BaseModel):
+    entries: list[AuditEntryOut]
+    next_before: int | None
+
+
+class RobotHealth(BaseModel):
+    link: str
+    robot: str
+    subscribers: int
+
+
+class HealthOut(BaseModel):
+    status: Literal["ok", "degraded"]
+    version: str
+    web: Literal["ok"]
+    store: str
+    robot: RobotHealth

@@ -1,0 +1,309 @@
+"""Every robot operation of the service over REST. Each call names its `Actor` (from the
+session); the service checks the lease, audits, and answers only after the controller
+did. Its refusals map to 4xx in the one error shape (423 ``lease-required``, 409
+``controller-refused`` with the controller's number, 503 ``link-down``...)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Awaitable, Callable
+from typing import TypeVar
+
+from fastapi import APIRouter
+
+from melfa.lang.points import PointKind, parse_points, upload_lines
+from melfa.protocol import JOINT_NAMES, POSE_NAMES
+from melfa.service import Actor
+from melfa.web.context import WebContext
+from melfa.web.convert import state_out
+from melfa.web.deps import ActorDep, ContextDep, SessionDep
+from melfa.web.errors import ERROR_RESPONSES, ApiError
+from melfa.web.logs import robot_log
+from melfa.web.models import (
+    ExecIn,
+    HandIn,
+    HandOut,
+    JogStepIn,
+    MoveIn,
+    Ok,
+    OverrideIn,
+    OverrideOut,
+    ServoIn,
+    SourceIn,
+    StateOut,
+    UploadOut,
+    ValuesOut,
+)
+from melfa.web.routes.check import check_texts
+from melfa.web.routes.workspaces import default_workspace, open_workspace
+
+router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
+
+T = TypeVar("T")
+
+
+async def operate(actor: Actor, name: str, call: Callable[[], Awaitable[T]]) -> T:
+    """Run one service call: a log line either way; the service's argument checks
+    (`ValueError`) become 422 ``invalid-value``."""
+    started = time.perf_counter()
+    outcome = "ok"
+    try:
+        return await call()
+    except ValueError as exc:
+        outcome = f"refused: {exc}"
+        raise ApiError(422, "invalid-value", str(exc)) from None
+    except Exception as exc:
+        outcome = f"failed: {type(exc).__name__}: {exc}"
+        raise
+    finally:
+        robot_log.info(
+            "robot %s by %s: %s",
+            name,
+            actor.user,
+            outcome,
+            extra={
+                "fields": {
+                    "operation": name,
+                    "user": actor.user,
+                    "session": actor.session_id,
+                    "outcome": outcome,
+                    "ms": round((time.perf_counter() - started) * 1000, 2),
+                }
+            },
+        )
+
+
+async def _sources(
+    context: WebContext, session: SessionDep, body: SourceIn
+) -> tuple[str | None, str | None]:
+    """Program and points from the body, the rest from the workspace."""
+    program, points = body.program, body.points
+    if program is None or points is None:
+        user = session.user
+        if body.workspace_id is not None:
+            ws = await open_workspace(context, user, body.workspace_id)
+        else:
+            ws = await default_workspace(context, user)
+        state = await context.db(context.store.workspaces.state, ws.id)
+        program = state.program if program is None else program
+        points = state.points if points is None else points
+    return program, points
+
+
+def _points_for_upload(points: str) -> list[str]:
+    parsed = parse_points(points)
+    errors = [d for d in parsed.diagnostics if d.is_error]
+    if errors:
+        first = errors[0]
+        raise ApiError(
+            422,
+            "points-have-errors",
+            f"points line {first.line}: {first.message}",
+            where={"source": "points", "line": first.line, "column": first.column},
+            detail={"diagnostics": [d.to_json() for d in errors]},
+        )
+    return upload_lines(parsed.points)
+
+
+async def _checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
+    if not check:
+        return
+    program_diags, _ = await context.db(check_texts, program, points)
+    errors = [d for d in program_diags if d.is_error]
+    if errors:
+        first = errors[0]
+        raise ApiError(
+            422,
+            "program-has-errors",
+            f"line {first.line}: {first.message} (fix it, or send check=false)",
+            where={"source": "program", "line": first.line, "column": first.column},
+            detail={"diagnostics": [d.to_json() for d in errors]},
+        )
+
+
+def _upload_out(report: object) -> UploadOut:
+    return UploadOut.model_validate(report, from_attributes=True)
+
+
+@router.post("/project", response_model=UploadOut, summary="Load program and points")
+async def load_project(
+    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+) -> UploadOut:
+    """Program and points into the controller in one session (from the body, else the
+    workspace). A program with errors is refused before anything is sent."""
+    program, points = await _sources(context, session, body)
+    assert program is not None and points is not None
+    lines = _points_for_upload(points)
+    await _checked_program(context, program, points, body.check)
+    service = context.service
+    report = await operate(
+        actor, "load_project", lambda: service.load_project(actor, program, lines)
+    )
+    return _upload_out(report)
+
+
+@router.post("/program", response_model=UploadOut, summary="Upload the program only")
+async def upload_program(
+    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+) -> UploadOut:
+    program, points = await _sources(context, session, body)
+    assert program is not None and points is not None
+    await _checked_program(context, program, points, body.check)
+    service = context.service
+    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
+    return _upload_out(report)
+
+
+@router.post("/points", response_model=UploadOut, summary="Upload the points only")
+async def upload_points(
+    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+) -> UploadOut:
+    _, points = await _sources(context, session, body)
+    assert points is not None
+    lines = _points_for_upload(points)
+    if not lines:
+        raise ApiError(422, "no-points", "there are no points to upload")
+    service = context.service
+    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, lines))
+    return _upload_out(report)
+
+
+@router.delete("/program", response_model=Ok, summary="Delete the program")
+async def delete_program(actor: ActorDep, context: ContextDep) -> Ok:
+    await operate(actor, "delete", lambda: context.service.delete(actor))
+    return Ok()
+
+
+@router.post("/run", response_model=Ok, summary="Run the program")
+async def run(actor: ActorDep, context: ContextDep) -> Ok:
+    await operate(actor, "run", lambda: context.service.run(actor))
+    return Ok()
+
+
+@router.post("/stop", response_model=Ok, summary="Stop everything (anyone)")
+async def stop(actor: ActorDep, context: ContextDep) -> Ok:
+    """Overtakes every queued command; allowed to every signed-in user."""
+    await operate(actor, "stop", lambda: context.service.stop(actor))
+    return Ok()
+
+
+@router.post("/reset-program", response_model=Ok, summary="Back to the first line")
+async def reset_program(actor: ActorDep, context: ContextDep) -> Ok:
+    await operate(actor, "reset_program", lambda: context.service.reset_program(actor))
+    return Ok()
+
+
+@router.post("/reset-alarm", response_model=Ok, summary="Reset the alarm")
+async def reset_alarm(actor: ActorDep, context: ContextDep) -> Ok:
+    await operate(actor, "reset_alarm", lambda: context.service.reset_alarm(actor))
+    return Ok()
+
+
+@router.post("/exec", response_model=Ok, summary="Execute one statement")
+async def exec_statement(body: ExecIn, actor: ActorDep, context: ContextDep) -> Ok:
+    if any(c in body.statement for c in "\r\n"):
+        raise ApiError(422, "invalid-value", "one statement only: no line breaks")
+    await operate(actor, "exec", lambda: context.service.exec(actor, body.statement))
+    return Ok()
+
+
+@router.post("/hand", response_model=HandOut, summary="Open, close or toggle a hand")
+async def hand(body: HandIn, actor: ActorDep, context: ContextDep) -> HandOut:
+    service = context.service
+    if body.action == "toggle":
+        is_open = await operate(actor, "hand", lambda: service.hand_toggle(actor, body.hand))
+    else:
+        is_open = body.action == "open"
+        await operate(actor, "hand", lambda: service.hand(actor, is_open, body.hand))
+    return HandOut(hand=body.hand, open=is_open)
+
+
+@router.post("/move", response_model=Ok, summary="Move to a point or a pose")
+async def move(body: MoveIn, session: SessionDep, actor: ActorDep, context: ContextDep) -> Ok:
+    """``point``: a name from the workspace's points (its values are sent, so what moves
+    is what the student sees); ``pose``: X, Y, Z, A, B, C; ``joints``: J1…J6."""
+    given = [x for x in (body.point, body.pose, body.joints) if x is not None]
+    if len(given) != 1:
+        raise ApiError(422, "invalid-value", "give exactly one of point, pose or joints")
+    service = context.service
+    flags = (body.flags[0], body.flags[1])
+    if body.point is not None:
+        source = SourceIn(
+            program="", points=body.points, workspace_id=body.workspace_id, check=False
+        )
+        _, points = await _sources(context, session, source)
+        point = parse_points(points or "").get(body.point.strip())
+        if point is None:
+            raise ApiError(
+                404,
+                "unknown-point",
+                f"no point {body.point!r} in the workspace's points",
+                where={"field": "point"},
+            )
+        values = point.values[:6]
+        if any(v is None for v in values):
+            raise ApiError(422, "invalid-value", f"point {point.name} has omitted elements")
+        target = [float(v) for v in values if v is not None]
+        joints = point.kind is PointKind.JNT
+        if not joints:
+            flags = (point.fl1 or 0, point.fl2 or 0)
+        await operate(
+            actor,
+            "move_to",
+            lambda: service.move_to(actor, target, linear=body.linear, joints=joints, flags=flags),
+        )
+        return Ok()
+    values6 = body.pose if body.pose is not None else body.joints
+    assert values6 is not None
+    await operate(
+        actor,
+        "move_to",
+        lambda: service.move_to(
+            actor, values6, linear=body.linear, joints=body.joints is not None, flags=flags
+        ),
+    )
+    return Ok()
+
+
+@router.post("/servo", response_model=Ok, summary="Servo on or off")
+async def servo(body: ServoIn, actor: ActorDep, context: ContextDep) -> Ok:
+    await operate(actor, "servo", lambda: context.service.servo(actor, body.on))
+    return Ok()
+
+
+@router.post("/override", response_model=OverrideOut, summary="Set the speed override")
+async def override(body: OverrideIn, actor: ActorDep, context: ContextDep) -> OverrideOut:
+    value = await operate(actor, "override", lambda: context.service.override(actor, body.percent))
+    return OverrideOut(percent=value)
+
+
+@router.post("/jog-step", response_model=Ok, summary="One jog increment")
+async def jog_step(body: JogStepIn, actor: ActorDep, context: ContextDep) -> Ok:
+    """For hold-to-move use the WebSocket (``jog_start`` / ``jog_heartbeat``)."""
+    service = context.service
+    await operate(
+        actor,
+        "jog_step",
+        lambda: service.jog_step(actor, body.frame, body.axis, body.direction),
+    )
+    return Ok()
+
+
+@router.get("/state", response_model=StateOut, summary="Latest state (no round trip)")
+async def get_state(session: SessionDep, context: ContextDep) -> StateOut:
+    return state_out(context.service.state)
+
+
+@router.get("/joints", response_model=ValuesOut, summary="Read the joints now")
+async def read_joints(actor: ActorDep, context: ContextDep) -> ValuesOut:
+    values = await operate(actor, "read_joints", lambda: context.service.read_joints(actor))
+    return ValuesOut(names=list(JOINT_NAMES)[: len(values)], values=list(values))
+
+
+@router.get("/pose", response_model=ValuesOut, summary="Read the pose now")
+async def read_pose(actor: ActorDep, context: ContextDep) -> ValuesOut:
+    values = await operate(actor, "read_pose", lambda: context.service.read_pose(actor))
+    return ValuesOut(names=list(POSE_NAMES)[: len(values)], values=list(values))
+
+
+__all__ = ["operate", "router"]

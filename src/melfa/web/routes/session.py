@@ -1,0 +1,148 @@
+"""Sign in and out: `POST /api/session` (JSON) and the `/login` form share one path.
+
+Cookies: the session token is HttpOnly, SameSite=Strict, and Secure when the page came
+over https; the CSRF token is a readable cookie and is also in the reply body. Failed
+logins are rate limited per username and per address (the store's `login_allowed`).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+from fastapi import APIRouter, Form, Request, Response
+from fastapi.responses import HTMLResponse, RedirectResponse
+
+from melfa.store import NewSession
+from melfa.web.config import CSRF_COOKIE, SESSION_COOKIE
+from melfa.web.context import WebContext
+from melfa.web.convert import user_out
+from melfa.web.deps import ContextDep, SessionDep
+from melfa.web.errors import ERROR_RESPONSES, ApiError
+from melfa.web.models import LoginIn, Ok, SessionOut
+
+router = APIRouter(prefix="/api/session", tags=["session"], responses=ERROR_RESPONSES)
+pages = APIRouter(include_in_schema=False)
+
+LOGIN_PAGE = Path(__file__).resolve().parent.parent / "static" / "login.html"
+
+
+def client_addr(request: Request) -> str:
+    return request.client.host if request.client is not None else "unknown"
+
+
+async def sign_in(context: WebContext, username: str, password: str, addr: str) -> NewSession:
+    """A new session, or `ApiError` 429 (too many failures) / 401 (wrong name or password)."""
+    store = context.store
+    limit = await context.db(store.login_allowed, username, addr)
+    if not limit:
+        seconds = limit.retry_after.total_seconds() if limit.retry_after else 60.0
+        retry = max(1, math.ceil(seconds))
+        raise ApiError(
+            429,
+            "too-many-logins",
+            f"{limit.reason}; try again in {retry} s",
+            headers={"Retry-After": str(retry)},
+        )
+    user = await context.db(store.accounts.authenticate, username, password)
+    await context.db(store.logins.record, username, addr, user is not None)
+    if user is None:
+        raise ApiError(401, "wrong-login", "wrong username or password")
+    return await context.db(store.sessions.create, user, addr)
+
+
+def set_cookies(request: Request, response: Response, new: NewSession) -> None:
+    secure = request.app.state.web.settings.secure_cookies
+    if secure is None:
+        secure = request.url.scheme == "https"
+    age = int((new.session.expires - new.session.created).total_seconds())
+    common = {"max_age": age, "path": "/", "secure": secure, "samesite": "strict"}
+    response.set_cookie(SESSION_COOKIE, new.token, httponly=True, **common)
+    response.set_cookie(CSRF_COOKIE, new.session.csrf_token, httponly=False, **common)
+
+
+def clear_cookies(response: Response) -> None:
+    response.delete_cookie(SESSION_COOKIE, path="/")
+    response.delete_cookie(CSRF_COOKIE, path="/")
+
+
+def check_origin(request: Request) -> None:
+    """Login forms only from our own pages (no login CSRF from another site)."""
+    origin = request.headers.get("origin")
+    if origin is None or origin == "null":
+        return
+    host = request.headers.get("host", "")
+    allowed = request.app.state.web.settings.allowed_origins
+    if origin.split("://", 1)[-1] != host and origin not in allowed:
+        raise ApiError(403, "bad-origin", f"sign-in from {origin} is not allowed")
+
+
+@router.post("", response_model=SessionOut, summary="Sign in")
+async def login(
+    body: LoginIn, request: Request, response: Response, context: ContextDep
+) -> SessionOut:
+    check_origin(request)
+    new = await sign_in(context, body.username, body.password, client_addr(request))
+    set_cookies(request, response, new)
+    session = new.session
+    return SessionOut(
+        user=user_out(session.user), csrf_token=session.csrf_token, expires=session.expires
+    )
+
+
+@router.get("", response_model=SessionOut, summary="Who is signed in")
+async def whoami(session: SessionDep) -> SessionOut:
+    return SessionOut(
+        user=user_out(session.user), csrf_token=session.csrf_token, expires=session.expires
+    )
+
+
+@router.delete("", response_model=Ok, summary="Sign out")
+async def logout(
+    request: Request, response: Response, session: SessionDep, context: ContextDep
+) -> Ok:
+    await context.db(context.store.sessions.revoke_id, session.id)
+    clear_cookies(response)
+    return Ok()
+
+
+def _login_page(message: str = "", status: int = 200) -> HTMLResponse:
+    import html
+
+    page = LOGIN_PAGE.read_text(encoding="utf-8")
+    note = f'<p class="error" role="alert">{html.escape(message)}</p>' if message else ""
+    return HTMLResponse(page.replace("<!--message-->", note), status_code=status)
+
+
+def _next(target: str | None) -> str:
+    """Only local paths: never redirect off the site."""
+    if target and target.startswith("/") and not target.startswith("//"):
+        return target
+    return "/"
+
+
+@pages.get("/login")
+async def login_page() -> HTMLResponse:
+    return _login_page()
+
+
+@pages.post("/login", response_model=None)
+async def login_form(
+    request: Request,
+    context: ContextDep,
+    username: Annotated[str, Form(max_length=200)] = "",
+    password: Annotated[str, Form(max_length=1024)] = "",
+    next: Annotated[str, Form(max_length=500)] = "/",
+) -> Response:
+    try:
+        check_origin(request)
+        new = await sign_in(context, username, password, client_addr(request))
+    except ApiError as exc:
+        return _login_page(exc.message, exc.status)
+    response = RedirectResponse(_next(next), status_code=303)
+    set_cookies(request, response, new)
+    return response
+
+
+__all__ = ["clear_cookies", "client_addr", "pages", "router", "set_cookies", "sign_in"]

@@ -1,0 +1,182 @@
+"""The signed-in user's workspaces: read, autosave with a base revision (409 on conflict,
+with what is stored now), history and restore, `.MB4`/`.POS` import and export."""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from fastapi import APIRouter, File, Form, Query, UploadFile
+from fastapi.responses import PlainTextResponse
+
+from melfa.store import FileKind, SaveReason, User, Workspace
+from melfa.web.context import WebContext
+from melfa.web.convert import revision_info_out, revision_out, workspace_out
+from melfa.web.deps import ContextDep, SessionDep
+from melfa.web.errors import ERROR_RESPONSES, ApiError
+from melfa.web.models import (
+    RestoreIn,
+    RevisionList,
+    RevisionOut,
+    SaveIn,
+    SaveOut,
+    WorkspaceInfo,
+    WorkspaceList,
+    WorkspaceOut,
+)
+
+router = APIRouter(prefix="/api/workspaces", tags=["workspaces"], responses=ERROR_RESPONSES)
+
+MAX_UPLOAD_BYTES = 2 * 1024 * 1024
+
+
+async def open_workspace(context: WebContext, user: User, workspace_id: int) -> Workspace:
+    """The workspace if ``user`` may open it; 404 / 403 otherwise."""
+    if not 1 <= workspace_id <= 2**62:
+        raise ApiError(404, "not-found", f"no workspace {workspace_id}")
+    store = context.store
+    workspace = await context.db(store.workspaces.get, workspace_id)
+    store.workspaces.check_access(user, workspace)
+    return workspace
+
+
+async def default_workspace(context: WebContext, user: User) -> Workspace:
+    """The group's workspace when the user is in a group (the thesis's lab groups),
+    else their own."""
+    store = context.store
+    if user.group is not None:
+        return await context.db(store.workspaces.group, user.group)
+    return await context.db(store.workspaces.personal, user)
+
+
+def _info(ws: Workspace) -> WorkspaceInfo:
+    return WorkspaceInfo(id=ws.id, kind=ws.kind.value, owner=ws.owner)
+
+
+@router.get("", response_model=WorkspaceList, summary="Workspaces I may open")
+async def list_workspaces(session: SessionDep, context: ContextDep) -> WorkspaceList:
+    user = session.user
+    available = await context.db(context.store.workspaces.available_to, user)
+    default = await default_workspace(context, user)
+    return WorkspaceList(default_id=default.id, workspaces=[_info(w) for w in available])
+
+
+@router.get("/{workspace_id}", response_model=WorkspaceOut, summary="Program and points")
+async def get_workspace(
+    workspace_id: int, session: SessionDep, context: ContextDep
+) -> WorkspaceOut:
+    ws = await open_workspace(context, session.user, workspace_id)
+    return workspace_out(await context.db(context.store.workspaces.state, ws.id))
+
+
+@router.put("/{workspace_id}", response_model=SaveOut, summary="Save (autosave)")
+async def save_workspace(
+    workspace_id: int, body: SaveIn, session: SessionDep, context: ContextDep
+) -> SaveOut:
+    """Store program and points on top of revision ``base``; 409 ``save-conflict`` with the
+    current revision in ``error.detail.current`` when someone saved meanwhile."""
+    ws = await open_workspace(context, session.user, workspace_id)
+    result = await context.db(
+        context.store.workspaces.save,
+        ws.id,
+        body.program,
+        body.points,
+        base=body.base,
+        author=session.user,
+        reason=SaveReason(body.reason),
+    )
+    return SaveOut(revision=revision_out(result.revision), created=result.created)
+
+
+@router.get("/{workspace_id}/revisions", response_model=RevisionList, summary="History")
+async def list_revisions(
+    workspace_id: int,
+    session: SessionDep,
+    context: ContextDep,
+    limit: Annotated[int, Query(ge=1, le=1000)] = 100,
+    before: Annotated[int | None, Query(ge=1, le=2**62)] = None,
+) -> RevisionList:
+    ws = await open_workspace(context, session.user, workspace_id)
+    infos = await context.db(
+        context.store.workspaces.revisions, ws.id, limit=limit + 1, before=before
+    )
+    page = infos[:limit]
+    more = len(infos) > limit
+    return RevisionList(
+        revisions=[revision_info_out(i) for i in page],
+        next_before=page[-1].number if more and page else None,
+    )
+
+
+@router.get(
+    "/{workspace_id}/revisions/{number}", response_model=RevisionOut, summary="One revision"
+)
+async def get_revision(
+    workspace_id: int, number: int, session: SessionDep, context: ContextDep
+) -> RevisionOut:
+    ws = await open_workspace(context, session.user, workspace_id)
+    return revision_out(await context.db(context.store.workspaces.revision, ws.id, number))
+
+
+@router.post(
+    "/{workspace_id}/revisions/{number}/restore",
+    response_model=SaveOut,
+    summary="Make an old revision current",
+)
+async def restore_revision(
+    workspace_id: int, number: int, body: RestoreIn, session: SessionDep, context: ContextDep
+) -> SaveOut:
+    ws = await open_workspace(context, session.user, workspace_id)
+    result = await context.db(
+        context.store.workspaces.restore, ws.id, number, author=session.user, base=body.base
+    )
+    return SaveOut(revision=revision_out(result.revision), created=result.created)
+
+
+@router.post("/{workspace_id}/import", response_model=SaveOut, summary="Import .MB4 or .POS")
+async def import_file(
+    workspace_id: int,
+    session: SessionDep,
+    context: ContextDep,
+    file: Annotated[UploadFile, File(description="A .MB4 program or a .POS points file")],
+    base: Annotated[int, Form(ge=0, le=2**62)],
+) -> SaveOut:
+    """Replaces the program (`.MB4`, step numbers stripped) or the points (`.POS`); the
+    other half stays. A wrong extension is 422 ``wrong-extension``."""
+    ws = await open_workspace(context, session.user, workspace_id)
+    filename = file.filename or ""
+    data = await file.read(MAX_UPLOAD_BYTES + 1)
+    if len(data) > MAX_UPLOAD_BYTES:
+        raise ApiError(413, "too-large", f"{filename}: files above 2 MiB are not accepted")
+    result = await context.db(
+        context.store.workspaces.import_file,
+        ws.id,
+        filename,
+        data,
+        base=base,
+        author=session.user,
+    )
+    return SaveOut(revision=revision_out(result.revision), created=result.created)
+
+
+@router.get(
+    "/{workspace_id}/export/{kind}",
+    response_class=PlainTextResponse,
+    summary="Export .MB4 (numbered) or .POS",
+    responses={200: {"content": {"text/plain": {}}, "description": "The file"}},
+)
+async def export_file(
+    workspace_id: int,
+    kind: Literal["program", "points"],
+    session: SessionDep,
+    context: ContextDep,
+) -> PlainTextResponse:
+    ws = await open_workspace(context, session.user, workspace_id)
+    file_kind = FileKind.PROGRAM if kind == "program" else FileKind.POINTS
+    exported = await context.db(context.store.workspaces.export_file, ws.id, file_kind)
+    return PlainTextResponse(
+        exported.text.replace("\n", "\r\n"),
+        headers={"Content-Disposition": f'attachment; filename="{exported.filename}"'},
+    )
+
+
+__all__ = ["default_workspace", "open_workspace", "router"]

@@ -1,0 +1,275 @@
+"""`/api/ws`: one WebSocket per browser tab for live state, events and the jog dead-man.
+
+Server → client (JSON objects with a ``type``): ``hello``, ``state`` (throttled per socket
+to `WebSettings.snapshot_hz`, newest wins), ``link``, ``progress``, ``result``, ``lease``,
+``jog``, ``ack``, ``error``, ``pong``. Client → server: ``ping``, ``jog_start``,
+``jog_heartbeat``, ``jog_release``, ``hand_toggle``, ``stop``. docs/api.md has every field.
+
+Each socket has its own subscription (the service's bus never waits for a reader) and its
+own sender task, so a slow browser only delays itself. When a socket closes, a jog it
+started is released; when the actor's last socket closes, the service ends its lease.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+import logging
+import time
+from typing import Any
+
+from fastapi import APIRouter, WebSocket, WebSocketDisconnect
+
+from melfa.service import (
+    Actor,
+    AuditEvent,
+    CommandResult,
+    Event,
+    JogChanged,
+    LeaseChanged,
+    LinkStatusChanged,
+    ServiceClosed,
+    StateSnapshot,
+    Subscription,
+    UploadProgress,
+    event_to_dict,
+)
+from melfa.web.config import SESSION_COOKIE
+from melfa.web.context import WebContext
+from melfa.web.convert import actor_dict, state_dict
+from melfa.web.deps import actor_of, find_session
+from melfa.web.errors import ApiError, from_robot
+
+router = APIRouter()
+_log = logging.getLogger("melfa.web.ws")
+
+PROTOCOL_VERSION = 1
+POLICY_VIOLATION = 1008
+GOING_AWAY = 1001
+MAX_MESSAGE_CHARS = 4096
+
+
+def message_of(event: Event) -> dict[str, Any] | None:
+    """The WebSocket message for a service event (None: not sent to browsers)."""
+    if isinstance(event, StateSnapshot):
+        return {"type": "state", **state_dict(event)}
+    if isinstance(event, AuditEvent) or not isinstance(
+        event, LinkStatusChanged | UploadProgress | CommandResult | LeaseChanged | JogChanged
+    ):
+        return None
+    out = event_to_dict(event)
+    out.pop("name", None)
+    out["type"] = event.name
+    out["actor"] = actor_dict(event.actor)
+    if isinstance(event, LeaseChanged):
+        out["holder"] = actor_dict(event.holder)
+        out["previous"] = actor_dict(event.previous)
+    return out
+
+
+def origin_allowed(websocket: WebSocket, allowed: tuple[str, ...]) -> bool:
+    """Browsers always send Origin: it must be this site (or configured). Non-browser
+    clients without Origin still need the session cookie."""
+    origin = websocket.headers.get("origin")
+    if origin is None:
+        return True
+    host = websocket.headers.get("host", "")
+    return origin.split("://", 1)[-1] == host or origin in allowed
+
+
+class Connection:
+    """One open socket: its sender (throttled snapshots) and its receiver (commands)."""
+
+    def __init__(self, websocket: WebSocket, context: WebContext, actor: Actor) -> None:
+        self.websocket = websocket
+        self.context = context
+        self.actor = actor
+        self.interval = 1.0 / context.settings.snapshot_hz
+        self.jogging = False
+        self.sent_states = 0
+
+    async def send(self, message: dict[str, Any]) -> None:
+        await self.websocket.send_text(json.dumps(message, default=str))
+
+    async def error(self, error: ApiError, request_id: Any = None) -> None:
+        body = error.body()
+        await self.send({"type": "error", "id": request_id, **body})
+
+    async def pump(self, sub: Subscription) -> None:
+        """Events to the browser; at most one snapshot per interval, always the newest."""
+        pending: StateSnapshot | None = None
+        last = -1e9
+        while True:
+            timeout = None if pending is None else max(0.0, last + self.interval - time.monotonic())
+            try:
+                event = await asyncio.wait_for(sub.get(), timeout)
+            except TimeoutError:
+                assert pending is not None
+                await self.send({"type": "state", **state_dict(pending)})
+                self.sent_states += 1
+                last, pending = time.monotonic(), None
+                continue
+            except ServiceClosed:
+                return
+            if isinstance(event, StateSnapshot):
+                if pending is None and time.monotonic() - last >= self.interval:
+                    await self.send({"type": "state", **state_dict(event)})
+                    self.sent_states += 1
+                    last = time.monotonic()
+                else:
+                    pending = event
+                continue
+            message = message_of(event)
+            if message is not None:
+                await self.send(message)
+
+    async def receive(self) -> None:
+        while True:
+            text = await self.websocket.receive_text()
+            request_id: Any = None
+            try:
+                if len(text) > MAX_MESSAGE_CHARS:
+                    raise ApiError(413, "too-large", "WebSocket messages are at most 4096 chars")
+                try:
+                    message = json.loads(text)
+                except ValueError:
+                    raise ApiError(400, "bad-message", "messages are JSON objects") from None
+                if not isinstance(message, dict):
+                    raise ApiError(400, "bad-message", "messages are JSON objects")
+                request_id = message.get("id")
+                await self.handle(message, request_id)
+            except ApiError as exc:
+                await self.error(exc, request_id)
+            except Exception as exc:
+                mapped = from_robot(exc)
+                if mapped is None and isinstance(exc, ValueError | TypeError):
+                    mapped = ApiError(422, "invalid-value", str(exc))
+                if mapped is None:
+                    _log.exception("WebSocket message failed: %r", text[:200])
+                    mapped = ApiError(500, "internal-error", "the server failed; it was logged")
+                await self.error(mapped, request_id)
+
+    async def handle(self, message: dict[str, Any], request_id: Any) -> None:
+        kind = message.get("type")
+        service = self.context.service
+        actor = self.actor
+        if kind == "ping":
+            await self.send({"type": "pong", "id": request_id})
+        elif kind == "jog_heartbeat":
+            alive = service.jog_heartbeat(actor)
+            if not alive and self.jogging:
+                self.jogging = False
+                await self.send({"type": "ack", "id": request_id, "op": kind, "jogging": False})
+        elif kind == "jog_start":
+            frame = message.get("frame", "joint")
+            axis = message.get("axis")
+            direction = message.get("direction")
+            if not isinstance(axis, int | str) or not isinstance(direction, int | str):
+                raise ApiError(422, "invalid-value", "jog_start needs axis and direction")
+            if not isinstance(frame, str):
+                raise ApiError(422, "invalid-value", "jog frame is tool, xyz or joint")
+            self.jogging = True
+            try:
+                method = await service.jog_start(actor, frame, axis, direction)
+            except BaseException:
+                self.jogging = False
+                raise
+            await self.send({"type": "ack", "id": request_id, "op": kind, "method": method.value})
+        elif kind == "jog_release":
+            self.jogging = False
+            await service.jog_release(actor)
+            await self.send({"type": "ack", "id": request_id, "op": kind})
+        elif kind == "hand_toggle":
+            hand = message.get("hand", 1)
+            if not isinstance(hand, int) or isinstance(hand, bool) or not 1 <= hand <= 8:
+                raise ApiError(422, "invalid-value", "hand is a number 1–8")
+            is_open = await service.hand_toggle(actor, hand)
+            await self.send(
+                {"type": "ack", "id": request_id, "op": kind, "hand": hand, "open": is_open}
+            )
+        elif kind == "stop":
+            await service.stop(actor)
+            await self.send({"type": "ack", "id": request_id, "op": kind})
+        else:
+            raise ApiError(400, "unknown-message", f"unknown message type {kind!r}")
+
+
+@router.websocket("/api/ws")
+async def live(websocket: WebSocket) -> None:
+    context: WebContext = websocket.app.state.web
+    if not origin_allowed(websocket, context.settings.allowed_origins):
+        await websocket.close(code=POLICY_VIOLATION, reason="origin not allowed")
+        return
+    session = await find_session(context, websocket.cookies.get(SESSION_COOKIE))
+    if session is None:
+        await websocket.close(code=POLICY_VIOLATION, reason="sign in first")
+        return
+    service = context.service
+    try:
+        sub = service.subscribe()
+    except ServiceClosed:
+        await websocket.close(code=GOING_AWAY, reason="server shutting down")
+        return
+    await websocket.accept()
+    actor = actor_of(session)
+    context.sockets.add(actor)
+    connection = Connection(websocket, context, actor)
+    holder = service.lease_holder
+    _log.info(
+        "websocket open for %s",
+        actor.user,
+        extra={"fields": {"user": actor.user, "session": actor.session_id}},
+    )
+    await connection.send(
+        {
+            "type": "hello",
+            "protocol": PROTOCOL_VERSION,
+            "user": session.user.username,
+            "role": session.user.role.value,
+            "robot_role": actor.role.value,
+            "session": actor.session_id,
+            "robot": context.settings.robot,
+            "link": service.link_status.value,
+            "lease_holder": actor_dict(holder),
+            "snapshot_hz": context.settings.snapshot_hz,
+        }
+    )
+    pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
+    receive = asyncio.create_task(connection.receive(), name=f"ws-recv-{actor.user}")
+    try:
+        done, _ = await asyncio.wait({pump, receive}, return_when=asyncio.FIRST_COMPLETED)
+        for task in done:
+            exc = task.exception()
+            if exc is not None and not isinstance(exc, WebSocketDisconnect | RuntimeError):
+                _log.warning("websocket of %s ended: %r", actor.user, exc)
+    finally:
+        for task in (pump, receive):
+            task.cancel()
+        for task in (pump, receive):
+            with contextlib.suppress(BaseException):
+                await task
+        sub.close()
+        await _goodbye(context, connection)
+        with contextlib.suppress(Exception):
+            await websocket.close(code=GOING_AWAY)
+
+
+async def _goodbye(context: WebContext, connection: Connection) -> None:
+    """The dead-man: a jog started here stops; the actor's last socket ends its lease."""
+    service = context.service
+    actor = connection.actor
+    left = context.sockets.remove(actor)
+    with contextlib.suppress(Exception):
+        if connection.jogging:
+            await service.jog_release(actor)
+        if left == 0 and not service.closed:
+            await service.disconnect(actor)
+    _log.info(
+        "websocket closed for %s",
+        actor.user,
+        extra={"fields": {"user": actor.user, "session": actor.session_id, "left": left}},
+    )
+
+
+__all__ = ["Connection", "message_of", "origin_allowed", "router"]
