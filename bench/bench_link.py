@@ -1,28 +1,39 @@
 """Upload and polling speed on a simulated 9600-baud 8E2 line, against two yardsticks.
 
-Run: ``.venv/bin/python bench/bench_link.py [--latency 0.1] [--lines 200] [--points 20]``
+Run: ``.venv/bin/python bench/bench_link.py [--latencies 0,0.12] [--lines 200] [--points 20]``
 
 Everything runs in one process on the same link: the virtual controller in memory behind
 `melfa.link.PacedLink`, which delays every byte by 12 bits / 9600 baud = 1.25 ms each way
-(and, with ``--latency``, adds controller processing time before each reply; the S21
-traces show 0.1–0.15 s, prior-art.md §5). Measured in one run:
+and adds a controller processing time before each reply. One run prints the whole table
+twice: with **zero latency** (the wire alone) and with the **realistic 0.12 s** (prior-art.md
+§5 measured 100–150 ms per reply on a CRn-5xx), so the README can quote both. Measured:
 
 1. **Line-rate minimum**: the program and point lines, one separator each, sent once:
    ``bytes × 12 / 9600``. Nothing can upload faster over this line.
-2. **melfa**: `Robot.load_project` (one session, program + points in one LOAD…SAVE) and,
-   for comparison, `upload_program` + `upload_points` (two LOAD…SAVE sessions), without the
+2. **melfa**: `Robot.load_project` with default settings (one session; one LOAD…SAVE holding
+   program + points; the old program is deleted *inside* that edit by ``ECLR``, which clears
+   steps and positions [DOC S1 §5.2; TRACE S21], so a failed upload leaves the old program
+   in place). Because the thesis deletes with separate commands, a like-for-like row times
+   `Robot.delete` (RSTPRG, FDEL1 in the same session) followed by `load_project`. For
+   comparison: `upload_program` + `upload_points` (two LOAD…SAVE sessions), without the
    PRTVER handshakes, and with two EMDAT requests in flight (``emdat_window=2``, a [GUESS]
-   about the controller's input buffering, off by default).
-3. **Thesis replay** (protocol.md §4.2, S7 ``execute_node.cpp``/``melfa.cpp``): for the
-   program and then again for the points, a new connection running "connect for load"
-   (OPEN=NARCUSR, PARRLNG, PDIRTOP, PPOSF, PARMEXTL, KEYWDptest), then NEW, LOAD=1,
-   PRTVERLISTL, PRTVEREMDAT, ``1;9;LISTL<``, EMDAT of bare line numbers (clearing), EMDAT of
-   the lines (S7 packs up to 255 characters), SAVE, CLOSE. What we do *not* replay, to be
-   generous to the thesis: the 2 s / 1 s sleeps of its motion init/deinit (initRobot's SRVON
-   wait and the SRVOFF wait are not part of the load path in §4.2), the port open/close time
-   of a real adapter, and S7's off-by-one chunking slips. A second row adds initRobot/deinit
-   around each of the two operations (as §4.2 says the thesis did for every command), for
-   an upper bound.
+   about the controller's input buffering, off by default). Every melfa row re-uploads over
+   a controller that already holds the program (as after an edit), the session already open.
+3. **Thesis replay**, its "load project" (thesis §6.7: delete what is in slot 1, send the
+   code, then the points; protocol.md §4.2, S7 ``execute_node.cpp``/``melfa.cpp``), three
+   operations, each on its own new connection:
+   - delete (§4.2 item 6): OPEN=NARCUSR, SAVE, CNTLON, RSTPRG, CNTLOFF, FDEL1, CLOSE;
+   - program, then points (§4.2 items 2–4, 7): "connect for load" (OPEN=NARCUSR, PARRLNG,
+     PDIRTOP, PPOSF, PARMEXTL, KEYWDptest), NEW, LOAD=1, PRTVERLISTL, PRTVEREMDAT,
+     ``1;9;LISTL<``, EMDAT of bare line numbers (clearing; program only), EMDAT of the lines
+     (S7 packs up to 255 characters), SAVE, CLOSE.
+   Every reply is checked: a refusal in the replay aborts the benchmark (a refused command
+   would be cheaper than a real one). What we do *not* replay, to be generous to the thesis:
+   the 2 s / 1 s sleeps of its motion init/deinit (initRobot's SRVON wait and the SRVOFF
+   wait are not part of the load path in §4.2), the port open/close time of a real adapter,
+   and S7's off-by-one chunking slips. A further row adds initRobot/deinit around the program
+   and the points operations (as §4.2 says the thesis did for every command), for an upper
+   bound (``--no-upper-bound`` skips it).
 4. **JPOSF polling**: back-to-back `Robot.joints()` against the line bound
    ``1 / ((request + reply bytes) × 12 / 9600)``; the thesis reconnected for each read
    (OPEN, JPOSF, CLOSE).
@@ -35,13 +46,16 @@ from __future__ import annotations
 import argparse
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 from melfa.link import Link, LinkSettings, PacedLink
-from melfa.protocol import Request, chunk_emdat, encode_reply
+from melfa.protocol import Ok, Request, chunk_emdat, encode_reply
 from melfa.robot import Robot, RobotSettings, point_items, program_items
 from melfa.sim import VirtualController, open_sim_link
 
 SETTINGS = LinkSettings()  # 9600 8E2
+REALISTIC_LATENCY_S = 0.12
+"""Controller processing time per reply: prior-art.md §5 measured 100–150 ms."""
 
 
 def make_program(lines: int, points: int) -> tuple[str, list[str]]:
@@ -95,6 +109,25 @@ def line_minimum(program: str, points: list[str]) -> tuple[int, float]:
     return size, size * SETTINGS.seconds_per_char
 
 
+def send(link: Link, request: Request, allow: tuple[int, ...] = ()) -> None:
+    """One replayed request; a refusal would make the replay cheaper than the real thing,
+    so any refusal not in ``allow`` aborts the benchmark."""
+    reply = link.exchange(request)
+    if not isinstance(reply, Ok) and getattr(reply, "error", None) not in allow:
+        raise SystemExit(f"thesis replay: {request.command[:30]!r} was refused: {reply}")
+
+
+def thesis_delete(controller: VirtualController, latency: float) -> None:
+    """The thesis's delete (protocol.md §4.2 item 6) on its own connection."""
+    link = paced(controller, latency)
+    try:
+        for command in ("OPEN=NARCUSR", "SAVE", "CNTLON", "RSTPRG", "CNTLOFF", "FDEL1"):
+            send(link, Request(command))
+        send(link, Request("CLOSE"))
+    finally:
+        link.close()
+
+
 def thesis_load(
     controller: VirtualController, latency: float, items: list[str], numbers: list[str]
 ) -> None:
@@ -102,32 +135,36 @@ def thesis_load(
     link = paced(controller, latency)
     try:
         for command in ("OPEN=NARCUSR", "PARRLNG", "PDIRTOP", "PPOSF", "PARMEXTL", "KEYWDptest"):
-            link.exchange(Request(command))
+            send(link, Request(command))
         for command in ("NEW", "LOAD=1", "PRTVERLISTL", "PRTVEREMDAT"):
-            link.exchange(Request(command))
-        link.exchange(Request("LISTL<", slot=9))
+            send(link, Request(command))
+        send(link, Request("LISTL<", slot=9))
         for batch in (numbers, items):
             if batch:
                 for chunk in chunk_emdat(batch):  # S7: ≤ 255; ours: ≤ 254, see REQUEST_LIMIT
-                    link.exchange(chunk.request)
-        link.exchange(Request("SAVE"))
-        link.exchange(Request("CLOSE"))
+                    send(link, chunk.request)
+        send(link, Request("SAVE"))
+        send(link, Request("CLOSE"))
     finally:
         link.close()
 
 
 def thesis_init_deinit(controller: VirtualController, latency: float) -> None:
-    """initRobot (§4.2 item 1) and its deinit, with the 2 s / 1 s sleeps."""
+    """initRobot (§4.2 item 1) and its deinit, with the 2 s / 1 s sleeps. PRGLOAD=1 (S6
+    loads its own COSIROP program) may meet an empty slot after the delete: its 4140
+    refusal costs the same round trip, so it is allowed."""
     link = paced(controller, latency)
     try:
-        for command in ("OPEN=NARCUSR", "CNTLON", "RSTPRG", "PRGLOAD=1", "SRVON"):
-            link.exchange(Request(command))
+        for command in ("OPEN=NARCUSR", "CNTLON", "RSTPRG"):
+            send(link, Request(command))
+        send(link, Request("PRGLOAD=1"), allow=(4140,))
+        send(link, Request("SRVON"))
         time.sleep(2.0)
-        link.exchange(Request("EXECBASE (0,0,0,0,0,0,0,0)"))
-        link.exchange(Request("SRVOFF"))
+        send(link, Request("EXECBASE (0,0,0,0,0,0,0,0)"))
+        send(link, Request("SRVOFF"))
         time.sleep(1.0)
-        link.exchange(Request("CNTLOFF"))
-        link.exchange(Request("CLOSE"))
+        send(link, Request("CNTLOFF"))
+        send(link, Request("CLOSE"))
     finally:
         link.close()
 
@@ -140,42 +177,73 @@ def fresh_controller(program: str, points: list[str]) -> VirtualController:
     return controller
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else "")
-    parser.add_argument("--lines", type=int, default=200)
-    parser.add_argument("--points", type=int, default=20)
-    parser.add_argument("--latency", type=float, default=0.0, help="controller latency, s")
-    parser.add_argument("--polls", type=int, default=30)
-    parser.add_argument("--no-upper-bound", action="store_true", help="skip the slow row")
-    args = parser.parse_args()
+@dataclass(frozen=True)
+class Results:
+    """One latency's measurements."""
 
-    program, points = make_program(args.lines, args.points)
-    size, minimum = line_minimum(program, points)
-    rows: list[tuple[str, float, str]] = []
+    latency: float
+    rows: list[tuple[str, float]]
+    thesis: float
+    poll_bound: float
+    poll_ours: float
+    poll_thesis: float
 
-    controller = fresh_controller(program, points)
-    robot = Robot(paced(controller, args.latency))
-    robot.connect()  # the session is open already in real use; do not time OPEN
-    ours = timed(lambda: robot.load_project(program, points))
-    robot.close()
 
-    controller = fresh_controller(program, points)
-    robot = Robot(paced(controller, args.latency))
-    robot.connect()
-    two = timed(lambda: (robot.upload_program(program), robot.upload_points(points)))
-    robot.close()
+def timed_robot(
+    program: str, points: list[str], latency: float, settings: RobotSettings | None = None
+) -> Callable[[Callable[[Robot], object]], float]:
+    """Time ``action(robot)`` on a paced link to a controller already holding the program,
+    the session already open (it stays open in real use; OPEN is not timed)."""
 
-    controller = fresh_controller(program, points)
-    fast = Robot(paced(controller, args.latency), RobotSettings(prtver_handshakes=False))
-    fast.connect()
-    no_prtver = timed(lambda: fast.load_project(program, points))
-    fast.close()
+    def run(action: Callable[[Robot], object]) -> float:
+        controller = fresh_controller(program, points)
+        robot = Robot(paced(controller, latency), settings)
+        robot.connect()
+        try:
+            seconds = timed(lambda: action(robot))
+        finally:
+            robot.close()
+        check_uploaded(controller, program, points)
+        return seconds
 
-    controller = fresh_controller(program, points)
-    piped = Robot(paced(controller, args.latency), RobotSettings(emdat_window=2))
-    piped.connect()
-    pipelined = timed(lambda: piped.load_project(program, points))
-    piped.close()
+    return run
+
+
+def check_uploaded(controller: VirtualController, program: str, points: list[str]) -> None:
+    """The benchmark measures complete uploads only."""
+    stored = controller.store.get("1")
+    lines = [i.text for i in program_items(program)]
+    if stored is None or list(stored.lines.values()) != lines:
+        raise SystemExit("benchmark upload did not store the program")
+    if len(stored.positions) != len(point_items(points)):
+        raise SystemExit("benchmark upload did not store the points")
+
+
+def measure(program: str, points: list[str], latency: float, args: argparse.Namespace) -> Results:
+    """Every row of the table at one controller latency."""
+    rows: list[tuple[str, float]] = []
+    default = timed_robot(program, points, latency)
+    rows.append(
+        ("melfa load_project (ECLR deletes)", default(lambda r: r.load_project(program, points)))
+    )
+
+    def delete_then_load(robot: Robot) -> None:
+        robot.delete()
+        robot.load_project(program, points)
+
+    rows.append(("melfa delete() + load_project", default(delete_then_load)))
+    no_prtver = timed_robot(program, points, latency, RobotSettings(prtver_handshakes=False))
+    rows.append(
+        ("melfa, no PRTVER handshakes", no_prtver(lambda r: r.load_project(program, points)))
+    )
+    rows.append(
+        (
+            "melfa program + points (2 sessions)",
+            default(lambda r: (r.upload_program(program), r.upload_points(points))),
+        )
+    )
+    piped = timed_robot(program, points, latency, RobotSettings(emdat_window=2))
+    rows.append(("melfa, EMDAT window 2 [GUESS]", piped(lambda r: r.load_project(program, points))))
 
     program_lines = [i.text for i in program_items(program)]
     point_lines = [i.text for i in point_items(points)]
@@ -183,34 +251,29 @@ def main() -> None:
     controller = fresh_controller(program, points)
 
     def thesis_upload() -> None:
-        thesis_load(controller, args.latency, program_lines, numbers)
-        thesis_load(controller, args.latency, point_lines, [])
+        thesis_delete(controller, latency)
+        thesis_load(controller, latency, program_lines, numbers)
+        thesis_load(controller, latency, point_lines, [])
 
     thesis = timed(thesis_upload)
-    stored = controller.store.get("1")
-    assert stored is not None and len(stored.lines) == len(program_lines)
-
-    rows.append((f"line-rate minimum ({size} bytes)", minimum, "1.00×"))
-    rows.append(("melfa load_project (1 session)", ours, f"{ours / minimum:.2f}×"))
-    rows.append(("melfa, no PRTVER handshakes", no_prtver, f"{no_prtver / minimum:.2f}×"))
-    rows.append(("melfa program + points (2 sessions)", two, f"{two / minimum:.2f}×"))
-    rows.append(("melfa, EMDAT window 2 [GUESS]", pipelined, f"{pipelined / minimum:.2f}×"))
-    rows.append(("thesis replay (§4.2, no sleeps)", thesis, f"{thesis / minimum:.2f}×"))
+    check_uploaded(controller, program, points)
+    rows.append(("thesis replay: delete, program, points", thesis))
     if not args.no_upper_bound:
         controller = fresh_controller(program, points)
 
         def thesis_with_sleeps() -> None:
-            thesis_init_deinit(controller, args.latency)
-            thesis_load(controller, args.latency, program_lines, numbers)
-            thesis_init_deinit(controller, args.latency)
-            thesis_load(controller, args.latency, point_lines, [])
+            thesis_delete(controller, latency)
+            thesis_init_deinit(controller, latency)
+            thesis_load(controller, latency, program_lines, numbers)
+            thesis_init_deinit(controller, latency)
+            thesis_load(controller, latency, point_lines, [])
 
         upper = timed(thesis_with_sleeps)
-        rows.append(("thesis + init/deinit sleeps", upper, f"{upper / minimum:.2f}×"))
+        check_uploaded(controller, program, points)
+        rows.append(("thesis + init/deinit sleeps", upper))
 
     # JPOSF polling
-    controller = VirtualController()
-    robot = Robot(paced(controller, args.latency))
+    robot = Robot(paced(VirtualController(), latency))
     robot.connect()
     sample = robot.channel.sent_bytes
     robot.joints()
@@ -222,14 +285,15 @@ def main() -> None:
     probe.close()
     elapsed = timed(lambda: [robot.joints() for _ in range(args.polls)])
     robot.close()
-    our_rate = args.polls / elapsed
-    bound = 1 / ((request_bytes + reply_bytes) * SETTINGS.seconds_per_char + args.latency)
+    bound = 1 / ((request_bytes + reply_bytes) * SETTINGS.seconds_per_char + latency)
 
     def thesis_poll() -> None:
-        link = paced(VirtualController(), args.latency)
-        for command in ("OPEN=NARCUSR", "JPOSF", "CLOSE"):
-            link.exchange(Request(command))
-        link.close()
+        link = paced(VirtualController(), latency)
+        try:
+            for command in ("OPEN=NARCUSR", "JPOSF", "CLOSE"):
+                send(link, Request(command))
+        finally:
+            link.close()
 
     thesis_polls = max(3, args.polls // 5)
 
@@ -238,21 +302,48 @@ def main() -> None:
             thesis_poll()
 
     thesis_rate = thesis_polls / timed(thesis_polling)
+    return Results(latency, rows, thesis, bound, args.polls / elapsed, thesis_rate)
 
+
+def report(results: Results, size: int, minimum: float, args: argparse.Namespace) -> None:
     print(
         f"9600 baud 8E2 ({SETTINGS.seconds_per_char * 1000:.2f} ms/char), controller latency "
-        f"{args.latency:g} s; {args.lines}-line program, {args.points} points"
+        f"{results.latency:g} s per reply; {args.lines}-line program, {args.points} points"
     )
     print()
     print(f"{'upload':40} {'seconds':>8} {'÷ line min':>11} {'thesis ÷ this':>14}")
-    for name, seconds, ratio in rows:
-        speedup = f"{thesis / seconds:.2f}×" if seconds else ""
-        print(f"{name:40} {seconds:8.2f} {ratio:>11} {speedup:>14}")
+    print(f"{f'line-rate minimum ({size} bytes)':40} {minimum:8.2f} {'1.00×':>11}")
+    for name, seconds in results.rows:
+        speedup = f"{results.thesis / seconds:.2f}×" if seconds else ""
+        print(f"{name:40} {seconds:8.2f} {seconds / minimum:10.2f}× {speedup:>14}")
     print()
     print(f"{'JPOSF polling':40} {'Hz':>8} {'÷ bound':>11}")
-    print(f"{'line bound (+latency)':40} {bound:8.2f} {'1.00':>11}")
-    print(f"{'melfa joints()':40} {our_rate:8.2f} {our_rate / bound:11.2f}")
-    print(f"{'thesis (reconnect per read)':40} {thesis_rate:8.2f} {thesis_rate / bound:11.2f}")
+    print(f"{'line bound (+latency)':40} {results.poll_bound:8.2f} {'1.00':>11}")
+    ours, theirs, bound = results.poll_ours, results.poll_thesis, results.poll_bound
+    print(f"{'melfa joints()':40} {ours:8.2f} {ours / bound:11.2f}")
+    print(f"{'thesis (reconnect per read)':40} {theirs:8.2f} {theirs / bound:11.2f}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else "")
+    parser.add_argument("--lines", type=int, default=200)
+    parser.add_argument("--points", type=int, default=20)
+    parser.add_argument(
+        "--latencies",
+        default=f"0,{REALISTIC_LATENCY_S:g}",
+        help="controller latencies to measure, seconds, comma-separated",
+    )
+    parser.add_argument("--polls", type=int, default=30)
+    parser.add_argument("--no-upper-bound", action="store_true", help="skip the slow row")
+    args = parser.parse_args()
+    latencies = [float(x) for x in args.latencies.split(",") if x.strip()]
+
+    program, points = make_program(args.lines, args.points)
+    size, minimum = line_minimum(program, points)
+    for index, latency in enumerate(latencies):
+        if index:
+            print()
+        report(measure(program, points, latency, args), size, minimum, args)
 
 
 if __name__ == "__main__":

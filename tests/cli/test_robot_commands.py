@@ -4,6 +4,9 @@ fresh pty per invocation, opened at 9600 8E2 like a real port."""
 from __future__ import annotations
 
 import json
+import os
+import socket
+import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -91,7 +94,9 @@ def test_controller_refusal_exit_1_with_number_and_text(server: PtyServer) -> No
     assert melfa(server, "exec", "JT=(500,0,0,0,0,0)")[0] == 0
     code, out = melfa(server, "exec", "MOV J_CURR+JT")
     assert code == 1
-    assert "error 2160" in out and "Joint angle exceeds the limit" in out
+    assert out.startswith(
+        "error: the controller refused `MOV J_CURR+JT`: H2160 Joint angle exceeds the limit"
+    )
 
 
 def test_exec_hand_servo_stop(server: PtyServer, controller: VirtualController) -> None:
@@ -145,3 +150,175 @@ def test_jog_keys_hold_and_release() -> None:
     assert keys.active(0.53 + REPEAT_GAP_S + 0.01) is None  # ...and stop: released
     keys.press("a", 1.0)
     assert keys.active(1.1) == "a"
+
+
+# ---------------------------------------------------------------------------------------
+# The student's flow, alarms, and what the messages say
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+TOO_FAR = "MOV P_CURR*(0,0,-5000,0,0,0)"
+SIM_SPEEDUP = 200.0
+"""The flow test runs the simulator's clock this much faster than real time."""
+
+
+def test_accents_in_comments_and_strings_are_sent_as_plain_letters(
+    server: PtyServer, controller: VirtualController, tmp_path: Path
+) -> None:
+    source = "' Piràmide\nSERVO ON\nPRINT \"peça\"\nMOV P1   ' repòs\nEND\n"
+    program = tmp_path / "accents.MB4"
+    program.write_bytes(source.encode("utf-8"))
+    points = tmp_path / "accents.POS"
+    points.write_text("' Punts de la piràmide\n" + POINTS, encoding="utf-8")
+    code, out = melfa(server, "upload", str(program), "--points", str(points))
+    assert code == 0, out
+    assert (
+        "note: accents.MB4: comments and strings on lines 1, 3, 4 sent without accents; "
+        "your file is unchanged" in out
+    )
+    stored = controller.store.get("1")
+    assert stored is not None
+    assert list(stored.lines.values()) == [
+        "10 ' Piramide",
+        "20 SERVO ON",
+        '30 PRINT "peca"',
+        "40 MOV P1   ' repos",
+        "50 END",
+    ]
+    assert list(stored.positions) == ["P1"]
+    assert program.read_bytes() == source.encode("utf-8")
+
+
+def test_non_ascii_code_is_refused_before_sending_even_with_force(
+    server: PtyServer, controller: VirtualController, tmp_path: Path
+) -> None:
+    program = tmp_path / "name.MB4"
+    program.write_text("MPEÇA = 1\nEND\n", encoding="utf-8")
+    code, out = melfa(server, "upload", str(program), "--force")
+    assert code == 1
+    assert f"{program}:1:4: 'Ç' is not ASCII and is not in a comment or string" in out
+    assert "1" not in controller.store
+
+
+def test_student_flow_with_the_pyramid_example() -> None:
+    """upload → servo on → run --wait → pose → status, as a student does it."""
+    controller = VirtualController()
+    with PtyServer(controller, clock=lambda: time.monotonic() * SIM_SPEEDUP) as server:
+        code, out = melfa(
+            server,
+            "upload",
+            str(EXAMPLES / "pyramid.MB4"),
+            "--points",
+            str(EXAMPLES / "pyramid.POS"),
+        )
+        assert code == 0, out
+        assert "note: pyramid.MB4: comments on lines 1, 2, 3, 6" in out
+        assert "uploaded pyramid.MB4 and 4 points" in out
+        assert melfa(server, "servo", "on") == (0, "servo on\n")
+        assert not controller.arm.hand_open(1)
+        code, out = melfa(server, "run", "--wait")
+        assert (code, out) == (0, "finished\n")
+        code, out = melfa(server, "pose", "--json")
+        assert code == 0, out
+        joints = json.loads(out)["joints"]
+        assert [round(joints[n], 2) for n in ("J1", "J2", "J3", "J4", "J5", "J6")] == [
+            0.0,
+            0.0,
+            90.0,
+            0.0,
+            90.0,
+            0.0,
+        ]  # MOV Jsafe, the program's last move
+        assert controller.arm.hand_open(1)  # the last piece was let go
+        code, out = melfa(server, "status", "--json")
+        assert code == 0, out
+        status = json.loads(out)
+        assert (status["run"], status["alarm"], status["servo"]) == ("stopped", None, True)
+        stored = controller.store.get("1")
+        assert stored is not None
+        end = next(n for n, text in stored.lines.items() if text.endswith(" END"))
+        assert status["line"] == end  # the main program's END, not *BUIDA's
+
+
+def test_alarm_hint_status_and_reset(server: PtyServer) -> None:
+    assert melfa(server, "servo", "on")[0] == 0
+    code, out = melfa(server, "exec", TOO_FAR)
+    assert code == 1
+    assert out.splitlines() == [
+        f"error: the controller refused `{TOO_FAR}`: L2600 Position data exceeds the limit",
+        "An alarm is active (L2600 Position data exceeds the limit): clear it with `melfa reset`.",
+    ]
+    code, out = melfa(server, "exec", "OVRD 10")
+    assert code == 1
+    assert "L5600 Cannot execute during an error" in out
+    assert out.rstrip().endswith(
+        "An alarm is active (L2600 Position data exceeds the limit): clear it with `melfa reset`."
+    )
+    code, out = melfa(server, "status")
+    assert code == 0
+    assert "alarm     L2600 Position data exceeds the limit (clear it with `melfa reset`)" in out
+    assert "servo     on" in out
+    assert melfa(server, "reset") == (0, "cleared L2600 Position data exceeds the limit\n")
+    assert melfa(server, "reset") == (0, "no alarm was active\n")
+    code, out = melfa(server, "status")
+    assert "alarm     none" in out
+    assert melfa(server, "exec", "OVRD 10") == (0, "accepted\n")
+
+
+def test_refusal_without_alarm_has_no_hint(server: PtyServer) -> None:
+    code, out = melfa(server, "run")  # nothing uploaded
+    assert code == 1
+    assert out == "error: the controller refused `RUN1;1`: L4140 The program was not found\n"
+
+
+def test_run_wait_reports_a_program_that_stops_on_an_error(
+    server: PtyServer, tmp_path: Path
+) -> None:
+    program = tmp_path / "far.MB4"
+    program.write_text(f"SERVO ON\n{TOO_FAR}\nEND\n")
+    assert melfa(server, "upload", str(program))[0] == 0
+    code, out = melfa(server, "run", "--wait")
+    assert code == 1
+    assert out.splitlines() == [
+        "error: the program stopped at line 20: L2600 Position data exceeds the limit",
+        "An alarm is active (L2600 Position data exceeds the limit): clear it with `melfa reset`.",
+    ]
+
+
+def test_link_failures_name_the_port_and_what_to_check(tmp_path: Path) -> None:
+    master, slave = os.openpty()  # a port where nothing ever answers
+    try:
+        port = os.ttyname(slave)
+        result = runner.invoke(app, ["stop", "--robot", port, "--timeout", "0.3"])
+    finally:
+        os.close(master)
+        os.close(slave)
+    assert result.exit_code == 3
+    assert f"no answer from {port}" in result.output
+    assert "Check the cable" in result.output
+    assert "--baud 9600 --parity E --stopbits 2" in result.output
+
+    with socket.socket() as probe:  # a free port: nobody listens there
+        probe.bind(("127.0.0.1", 0))
+        address = f"tcp://127.0.0.1:{probe.getsockname()[1]}"
+    result = runner.invoke(app, ["stop", "--robot", address])
+    assert result.exit_code == 3
+    assert f"the link to {address} failed" in result.output
+    assert "melfa sim --tcp" in result.output
+
+
+def test_help_explains_sim_and_jog_keys() -> None:
+    result = runner.invoke(app, ["upload", "--help"], env={"COLUMNS": "200"})
+    assert "throw-away simulator" in result.output
+    result = runner.invoke(app, ["jog", "--robot", "sim"])
+    assert result.exit_code == 2
+    assert "needs an interactive terminal" in result.output and "melfa exec" in result.output
+
+
+def test_run_on_the_throw_away_simulator_explains_why_nothing_is_there(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    monkeypatch.delenv("MELFA_ROBOT", raising=False)
+    result = runner.invoke(app, ["run"])
+    assert result.exit_code == 1
+    assert "L4140 The program was not found" in result.output
+    assert "--robot sim is a throw-away simulator" in result.output

@@ -55,7 +55,8 @@ class FakeController:
         self.hang_up()
 
 
-def wait_for(condition: Callable[[], bool], timeout: float = 5.0) -> bool:
+def wait_for(condition: Callable[[], bool], timeout: float = 30.0) -> bool:
+    """Poll ``condition`` until true (generous timeout: returns as soon as it holds)."""
     end = time.monotonic() + timeout
     while time.monotonic() < end:
         if condition():

@@ -7,7 +7,15 @@ import threading
 import pytest
 
 from melfa.link import LinkClosed, LinkError, SerialLink
-from melfa.protocol import JOINT_NAMES, POSE_NAMES, JogMode, Refused, Request, RunStatus
+from melfa.protocol import (
+    JOINT_NAMES,
+    POSE_NAMES,
+    JogMode,
+    Refused,
+    Request,
+    RunStatus,
+    error_text,
+)
 from melfa.robot import (
     ControllerError,
     JogMethod,
@@ -16,6 +24,7 @@ from melfa.robot import (
     Stopped,
     UploadRefused,
 )
+from melfa.robot.client import DURING_ERROR
 from melfa.sim import PtyServer, SimConfig, VirtualController
 from tests.robot.conftest import LINK
 from tests.robot.fake import wait_for
@@ -105,8 +114,8 @@ def test_exec_pose_and_joints(robot: Robot, controller: VirtualController) -> No
     robot.servo(True)
     robot.exec("JT=(10,0,0,0,0,0)")
     robot.exec("MOV J_CURR+JT")
-    robot.wait_idle(timeout=30)
-    wait_for(lambda: not controller.moving)
+    robot.wait_idle(timeout=60)
+    assert wait_for(lambda: not controller.moving)
     after = robot.joints().values(*JOINT_NAMES)
     assert after[0] == pytest.approx(before[0] + 10, abs=0.01)
     pose = robot.pose()
@@ -125,30 +134,31 @@ def test_override_and_hand(robot: Robot, controller: VirtualController) -> None:
 def test_jog_start_and_stop(robot: Robot, controller: VirtualController) -> None:
     robot.servo(True)
     assert robot.jog(JogMode.JOINT, 0, +1) is JogMethod.JOG
-    assert wait_for(lambda: controller.moving, 2)
+    assert controller.moving  # the simulator advances only on requests: no race here
     robot.jog_stop()
-    assert wait_for(lambda: not controller.moving, 2)
+    assert not controller.moving
 
 
 @pytest.mark.parametrize("sim_config", [SimConfig(jog_supported=False)])
 def test_jog_falls_back_to_steps_and_remembers(robot: Robot, controller: VirtualController) -> None:
     robot.servo(True)
+    robot.override(1)  # a slow step, so the second call surely finds it still moving
     start = robot.joints().values("J1")[0]
     assert robot.jog(JogMode.JOINT, 0, +1) is JogMethod.STEP
     assert robot.jog_method is JogMethod.STEP
     assert robot.jog(JogMode.JOINT, 0, +1) is JogMethod.STEP  # busy: skipped, not queued
-    robot.wait_idle(timeout=10)
+    robot.wait_idle(timeout=120)
     assert robot.joints().values("J1")[0] == pytest.approx(start + robot.settings.jog_step_deg)
 
 
 def test_stop_during_motion(robot: Robot, controller: VirtualController) -> None:
     robot.servo(True)
-    robot.override(10)
+    robot.override(2)  # the 90° move takes many seconds: STOP surely lands mid-move
     robot.exec("JT=(90,0,0,0,0,0)")
     robot.exec("MOV J_CURR+JT")
     assert controller.moving
     robot.stop()
-    robot.wait_idle(timeout=5)  # far shorter than the 90° move at 10 %
+    robot.wait_idle(timeout=60)
     assert robot.joints().values("J1")[0] < 90
 
 
@@ -169,9 +179,9 @@ def test_stop_from_another_thread_interrupts_wait(
 
     thread = threading.Thread(target=worker)
     thread.start()
-    wait_for(lambda: robot.channel.received_replies > 5)
+    assert wait_for(lambda: robot.channel.received_replies > 5, 30)
     robot.stop()
-    thread.join(timeout=10)
+    thread.join(timeout=60)
     assert not thread.is_alive()
     assert (errors and isinstance(errors[0], Stopped)) or not controller.moving
 
@@ -286,3 +296,51 @@ def test_pipelined_upload_same_result(controller: VirtualController, pty_server:
         assert controller.edit is None
         r.upload_program("10 END")  # pairing intact after the refusal
         assert stored(controller) == {10: "10 END"}
+
+
+# ---------------------------------------------------------------- alarms, status, reset
+
+TOO_FAR = "MOV P_CURR*(0,0,-5000,0,0,0)"
+
+
+def test_alarm_refusal_status_and_reset(robot: Robot, controller: VirtualController) -> None:
+    robot.servo(True)
+    with pytest.raises(ControllerError) as exc:
+        robot.exec(TOO_FAR)
+    assert exc.value.number == 2600 and exc.value.alarm
+    assert str(exc.value) == f"the controller refused `{TOO_FAR}`: {error_text(2600)}"
+    with pytest.raises(ControllerError) as during:
+        robot.exec("OVRD 10")
+    assert during.value.number == DURING_ERROR and during.value.alarm
+    status = robot.status()
+    assert status.alarm is not None and status.alarm.number == 2600
+    assert status.alarm.detail == error_text(2600)
+    assert status.servo_on and status.run_state == "stopped"
+    assert robot.active_alarm() == status.alarm
+    assert robot.reset_alarm() is None
+    assert robot.status().alarm is None and not robot.alarm
+    robot.exec("OVRD 10")  # accepted again
+
+
+def test_status_of_a_running_program(robot: Robot, controller: VirtualController) -> None:
+    robot.load_project("10 SERVO ON\n20 OVRD 5\n30 MOV P1\n40 END", POINTS)
+    robot.run()
+    status = robot.status()
+    assert status.running and status.state.program.startswith("1")
+    assert status.to_json()["run"] in ("running", "waiting") and status.alarm is None
+    robot.stop()
+
+
+def test_load_project_replaces_program_and_points(
+    robot: Robot, controller: VirtualController
+) -> None:
+    """The thesis deleted slot 1 before loading; ECLR inside the edit does the same."""
+    robot.load_project(
+        "10 MOV P1\n20 MOV P2\n30 HOPEN 1\n40 END",
+        [POINTS, "DEF POS P2=(300.00,50.00,450.00,180.00,0.00,180.00)(7,0)"],
+    )
+    robot.load_project("10 MOV P3\n20 END", ["P3=(310.00,0.00,450.00,180.00,0.00,180.00)(7,0)"])
+    program = controller.store.get("1")
+    assert program is not None
+    assert list(program.lines.values()) == ["10 MOV P3", "20 END"]
+    assert list(program.positions) == ["P3"]

@@ -1,13 +1,16 @@
-"""`melfa upload|run|stop|delete|exec|pose|hand|servo|jog`: drive a controller.
+"""`melfa upload|run|stop|delete|exec|pose|hand|servo|reset|status|jog`: drive a controller.
 
 Thin: parse options, call `melfa.robot`, print. Every command takes ``--robot`` (a serial
 device such as ``/dev/ttyUSB0``, ``tcp://host:port``, a pyserial URL such as
 ``socket://host:port`` or ``rfc2217://…``, or ``sim``; default ``$MELFA_ROBOT``, else
 ``sim``) and the line settings (``--baud``, ``--parity``, ``--stopbits``: 9600 8E2 by default).
 
-``--robot sim`` starts a fresh in-process virtual controller for each invocation, so an
+``--robot sim`` starts a throw-away in-process virtual controller for each invocation, so an
 ``upload`` followed by a separate ``run`` only makes sense against a persistent simulator:
 start ``melfa sim --tcp 127.0.0.1:7000`` (or ``--pty``) and pass its address.
+
+Refusals read like ``error: the controller refused `MOV P1`: L2600 Position data exceeds the
+limit``; while an alarm is active they end with how to clear it (``melfa reset``).
 
 Exit codes: 0 done, 1 refused (by the controller, or errors in the program), 2 usage,
 3 link failure or timeout.
@@ -43,6 +46,7 @@ from melfa.link import (
     SIM_SPEC,
     LinkError,
     LinkSettings,
+    LinkTimeout,
 )
 from melfa.protocol import (
     JOINT_NAMES,
@@ -51,7 +55,9 @@ from melfa.protocol import (
     LocalProtocolError,
     RemoteProtocolError,
 )
-from melfa.robot import ControllerError, Robot, RobotError, Stopped, UploadRefused
+from melfa.robot import ControllerError, Robot, RobotError, Stopped
+from melfa.robot.client import DURING_ERROR, NOT_FOUND
+from melfa.robot.status import Alarm
 
 EXIT_REFUSED = 1
 EXIT_USAGE = 2
@@ -76,16 +82,22 @@ RobotOpt = Annotated[
         envvar=ROBOT_ENV,
         show_default=False,
         metavar="ROBOT",
-        help="Serial device (/dev/ttyUSB0), tcp://host:port, a pyserial URL (socket://, "
-        "rfc2217://, loop://) or 'sim' (a fresh in-process simulator each run). "
-        f"Default: ${ROBOT_ENV}, else sim.",
+        help="Serial device (/dev/ttyUSB0, COM3), tcp://host:port, a pyserial URL "
+        "(socket://, rfc2217://) or 'sim': a throw-away simulator that lives only for this "
+        "one command (start `melfa sim --tcp 127.0.0.1:7000` for one that keeps what you "
+        f"upload). Default: ${ROBOT_ENV}, else sim.",
     ),
 ]
-BaudOpt = Annotated[int, typer.Option("--baud", help="Baud rate (controller CBAU232).")]
-ParityOpt = Annotated[str, typer.Option("--parity", help="Parity N, E or O (controller CPRTY232).")]
-StopbitsOpt = Annotated[int, typer.Option("--stopbits", help="Stop bits 1 or 2 (CSTOP232).")]
+BaudOpt = Annotated[
+    int, typer.Option("--baud", help="Baud rate; must match the controller's CBAU232.")
+]
+ParityOpt = Annotated[str, typer.Option("--parity", help="Parity N, E or O; must match CPRTY232.")]
+StopbitsOpt = Annotated[
+    int, typer.Option("--stopbits", help="Stop bits 1 or 2; must match CSTOP232.")
+]
 TimeoutOpt = Annotated[
-    float, typer.Option("--timeout", metavar="S", help="Seconds to wait for each reply.")
+    float,
+    typer.Option("--timeout", metavar="S", help="Seconds to wait for each reply before giving up."),
 ]
 TraceOpt = Annotated[
     bool,
@@ -114,6 +126,69 @@ def _target(
     return Target((robot or "").strip() or SIM_SPEC, settings, True if trace else None)
 
 
+RESET_HINT = "clear it with `melfa reset`"
+
+
+def alarm_hint(alarm: Alarm | None) -> str:
+    """The sentence that ends a refusal while an alarm is active.
+
+    >>> alarm_hint(Alarm(2600, "L2600 Position data exceeds the limit"))
+    'An alarm is active (L2600 Position data exceeds the limit): clear it with `melfa reset`.'
+    """
+    what = f" ({alarm.detail})" if alarm is not None else ""
+    return f"An alarm is active{what}: {RESET_HINT}."
+
+
+def _is_serial(spec: str) -> bool:
+    return "://" not in spec and spec != SIM_SPEC and not spec.startswith(SIM_SPEC + ":")
+
+
+def link_advice(spec: str, settings: LinkSettings) -> str:
+    """What to check after a link failure, for the kind of port ``spec`` is.
+
+    >>> print(link_advice("/dev/ttyUSB0", LinkSettings()))  # doctest: +ELLIPSIS
+    Check the cable ... that --baud 9600 --parity E --stopbits 2 match the controller's ...
+    """
+    if _is_serial(spec) or spec.startswith(("rfc2217://", "spy://", "loop://")):
+        return (
+            "Check the cable and that the controller is switched on, and that --baud "
+            f"{settings.baudrate} --parity {settings.parity} --stopbits {settings.stopbits} "
+            "match the controller's CBAU232/CPRTY232/CSTOP232."
+        )
+    return (
+        "Check the address and that the controller (or `melfa sim --tcp HOST:PORT`) is "
+        "running there."
+    )
+
+
+SIM_HINT = (
+    "--robot sim is a throw-away simulator, empty for every command: start "
+    "`melfa sim --tcp 127.0.0.1:7000` and use --robot tcp://127.0.0.1:7000 to keep an upload."
+)
+
+
+def _refusal_message(exc: ControllerError, robot: Robot | None, target: Target) -> str:
+    text = str(exc)
+    if exc.number == NOT_FOUND and target.spec == SIM_SPEC:
+        return f"{text}\n{SIM_HINT}"
+    if robot is None or not (exc.alarm or exc.number == DURING_ERROR):
+        return text
+    alarm: Alarm | None = None
+    with contextlib.suppress(Exception):
+        alarm = robot.active_alarm()
+    if alarm is None and exc.number != DURING_ERROR:
+        return text  # the alarm cleared itself meanwhile
+    return f"{text}\n{alarm_hint(alarm)}"
+
+
+def _link_failure(target: Target, message: str) -> typer.Exit:
+    """Exit 3 with the port named and what to check (unless the message says already)."""
+    if "plugged in" not in message:
+        end = "" if message.endswith((".", "?", ")")) else "."
+        message = f"{message}{end} {link_advice(target.spec, target.settings)}"
+    return _fail(message, EXIT_LINK)
+
+
 @contextlib.contextmanager
 def _session(target: Target) -> Iterator[Robot]:
     """Open the robot and turn every failure into one message and its exit code."""
@@ -121,21 +196,16 @@ def _session(target: Target) -> Iterator[Robot]:
     try:
         robot = Robot.open(target.spec, target.settings, trace=target.trace)
         yield robot
-    except UploadRefused as exc:
-        _err.print(f"[bold red]refused:[/] {escape(str(exc))}")
-        raise typer.Exit(EXIT_REFUSED) from None
     except ControllerError as exc:
-        raise _fail(
-            f"controller refused{f' {exc.command}' if exc.command else ''}: "
-            f"error {exc.number:04d} {exc.message}",
-            EXIT_REFUSED,
-        ) from None
+        raise _fail(_refusal_message(exc, robot, target), EXIT_REFUSED) from None
     except Stopped as exc:
         raise _fail(str(exc), EXIT_REFUSED) from None
+    except LinkTimeout as exc:
+        raise _link_failure(target, f"no answer from {target.spec}: {exc}") from None
     except LinkError as exc:
-        raise _fail(f"link to {target.spec}: {exc}", EXIT_LINK) from None
+        raise _link_failure(target, f"the link to {target.spec} failed: {exc}") from None
     except RemoteProtocolError as exc:
-        raise _fail(f"garbled reply from {target.spec}: {exc}", EXIT_LINK) from None
+        raise _link_failure(target, f"garbled reply from {target.spec}: {exc}") from None
     except (LocalProtocolError, RobotError) as exc:
         raise _fail(str(exc), EXIT_USAGE) from None
     finally:
@@ -161,8 +231,10 @@ def _read_text(path: Path, what: str) -> tuple[str, object]:
 
 @app.command(
     help="Check, number and upload a program (and its points) as program 1 in slot 1.\n\n"
-    "Program and points go in one LOAD…SAVE session; nothing is saved unless every line "
-    "was accepted. With --robot sim the upload goes to a throw-away simulator: start "
+    "Program and points go in one LOAD…SAVE session that replaces what was there; nothing "
+    "is saved unless every line was accepted. The controller takes ASCII only: accents in "
+    "comments and strings are sent as plain letters (your file is not changed). "
+    "With --robot sim the upload goes to a throw-away simulator: start "
     "`melfa sim --tcp 127.0.0.1:7000` (or --pty) for one that persists between commands."
 )
 def upload(
@@ -202,6 +274,7 @@ def upload(
             f"{program}: not uploaded because of the errors above (--force to upload anyway)",
             EXIT_REFUSED,
         )
+    text, point_lines = _controller_ascii(program, text, points, point_lines)
     numbered = all(line.strip()[:1].isdigit() for line in text.splitlines() if line.strip())
     if not numbered:
         try:
@@ -222,6 +295,29 @@ def upload(
         + f" to {target.spec}: {report.items} items in {report.requests} EMDAT requests, "
         f"{report.bytes_sent} bytes, {report.seconds:.1f} s"
     )
+
+
+def _controller_ascii(
+    program: Path, text: str, points: Path | None, point_lines: list[str]
+) -> tuple[str, list[str]]:
+    """Accents in comments and strings go as plain letters (with one note); anything else
+    non-ASCII (only possible with --force) is refused here, with where it is."""
+    from melfa.robot.text import convert, find_non_ascii
+
+    conversion = convert(text)
+    note = conversion.note()
+    if note is not None:
+        _err.print(f"note: {escape(program.name)}: {escape(note)}")
+    for path, lines in ((program, conversion.text), (points, point_lines)):
+        bad = find_non_ascii(lines)
+        if bad is not None and path is not None:
+            where = f"{path}:{bad.line}:{bad.column}" if path == program else f"{path}"
+            raise _fail(
+                f"{where}: {bad.char!r} is not ASCII and is not in a comment or string; "
+                "the controller only takes ASCII (rename it)",
+                EXIT_REFUSED,
+            )
+    return conversion.text, point_lines
 
 
 def _progress() -> Progress:
@@ -251,17 +347,28 @@ def run(
     timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
     trace: TraceOpt = False,
 ) -> None:
-    """Start program 1 in slot 1 once (cycle mode); needs a persistent robot, not sim."""
+    """Start program 1 in slot 1 once (cycle mode); needs a persistent robot, not sim.
+
+    With --wait, exit 1 if the program stopped on an error (line and error shown)."""
     target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.run()
-        if wait:
-            try:
-                session.wait_idle(timeout=3600)
-            except KeyboardInterrupt:
-                session.stop()
-                raise _fail("interrupted: robot stopped", EXIT_REFUSED) from None
-    _out.print("finished" if wait else "started")
+        if not wait:
+            _out.print("started")
+            return
+        try:
+            state = session.wait_idle(timeout=3600)
+        except KeyboardInterrupt:
+            session.stop()
+            raise _fail("interrupted: robot stopped", EXIT_REFUSED) from None
+        if state.status.error:
+            status = session.status()
+            line = f" at line {status.state.line}" if status.state.line else ""
+            alarm = status.alarm or Alarm(state.status.error, "")
+            raise _fail(
+                f"the program stopped{line}: {alarm.detail}\n{alarm_hint(alarm)}", EXIT_REFUSED
+            )
+    _out.print("finished")
 
 
 @app.command()
@@ -306,7 +413,7 @@ def exec_(
     timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
     trace: TraceOpt = False,
 ) -> None:
-    """Execute one MELFA BASIC statement now (replies when accepted, not when done)."""
+    """Execute one MELFA BASIC statement now; returns when accepted (the arm may still move)."""
     if not statement.strip():
         raise _fail("empty statement", EXIT_USAGE)
     target = _target(robot, baud, parity, stopbits, timeout, trace)
@@ -384,11 +491,64 @@ def servo(
     timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
     trace: TraceOpt = False,
 ) -> None:
-    """Switch the servo power on (needs the operation rights) or off."""
+    """Switch the servo power on (needed before any move) or off."""
     target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.servo(state is OnOff.ON)
     _out.print(f"servo {state.value}")
+
+
+@app.command()
+def reset(
+    robot: RobotOpt = None,
+    baud: BaudOpt = 9600,
+    parity: ParityOpt = "E",
+    stopbits: StopbitsOpt = 2,
+    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
+    trace: TraceOpt = False,
+) -> None:
+    """Clear the active alarm (RSTALRM), e.g. after a refused move; exit 1 if one remains."""
+    target = _target(robot, baud, parity, stopbits, timeout, trace)
+    with _session(target) as session:
+        before = session.active_alarm()
+        after = session.reset_alarm()
+    if after is not None:
+        raise _fail(
+            f"the alarm is still active after the reset: {after.detail} (an emergency stop, "
+            "or a fault that is still there, must be resolved at the robot first)",
+            EXIT_REFUSED,
+        )
+    _out.print(f"cleared {before.detail}" if before is not None else "no alarm was active")
+
+
+@app.command()
+def status(
+    as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
+    robot: RobotOpt = None,
+    baud: BaudOpt = 9600,
+    parity: ParityOpt = "E",
+    stopbits: StopbitsOpt = 2,
+    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
+    trace: TraceOpt = False,
+) -> None:
+    """Show whether a program runs (and which line), servo, override and any active alarm."""
+    target = _target(robot, baud, parity, stopbits, timeout, trace)
+    with _session(target) as session:
+        report = session.status()
+    if as_json:
+        _out.print_json(json.dumps(report.to_json()))
+        return
+    state = report.state
+    program = state.program or "none selected"
+    line = f", line {state.line}" if state.line else ""
+    override = f"{state.override} %" if state.override is not None else "unknown"
+    _out.print(f"run       {report.run_state} (program {program}{line})")
+    _out.print(f"servo     {'on' if report.servo_on else 'off'}")
+    _out.print(f"override  {override}")
+    if report.alarm is None:
+        _out.print("alarm     none")
+    else:
+        _out.print(f"alarm     {escape(report.alarm.detail)} ({RESET_HINT})")
 
 
 # --- jog ---------------------------------------------------------------------------------
@@ -466,9 +626,16 @@ def _read_keys(timeout: float) -> list[str]:
     return keys
 
 
+JOG_KEY_MAP = (
+    "hold w/s: +X/-X   a/d: +Y/-Y   up/down arrows: +Z/-Z   (release to stop)\n"
+    "space: open/close the hand   q: quit"
+)
+
+
 @app.command(
-    help="Jog from the keyboard: hold w/s (±X), a/d (±Y), up/down (±Z); space toggles the "
-    "hand; q quits. The arm moves only while a key is held. Needs an interactive terminal."
+    help="Jog from the keyboard: hold w/s (±X), a/d (±Y), up/down (±Z); space opens or "
+    "closes the hand; q quits. The arm moves only while a key is held. Needs an interactive "
+    "terminal (not a pipe or a script)."
 )
 def jog(
     override: Annotated[
@@ -484,14 +651,19 @@ def jog(
 ) -> None:
     """See the help text above."""
     if not sys.stdin.isatty():
-        raise _fail("melfa jog needs an interactive terminal (stdin is not a TTY)", EXIT_USAGE)
+        raise _fail(
+            "melfa jog reads held keys, so it needs an interactive terminal (stdin is not a "
+            'TTY); run it in a terminal window, or script moves with `melfa exec "MVS '
+            'P_CURR+(0,0,10,0,0,0)"`',
+            EXIT_USAGE,
+        )
     import termios
     import tty
 
     target = _target(robot, baud, parity, stopbits, timeout, trace)
     fd = sys.stdin.fileno()
     saved = termios.tcgetattr(fd)
-    _out.print("w/s ±X  a/d ±Y  ↑/↓ ±Z  space hand  q quit")
+    _out.print(JOG_KEY_MAP)
     with _session(target) as session:
         session.servo(True)
         session.override(override)

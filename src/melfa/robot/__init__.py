@@ -2,9 +2,10 @@
 
 `Robot` opens the session once, takes the operation rights when an operation needs them, and
 offers typed operations (upload, run, stop, exec, jog, hand, servo, override, read joints/
-pose/state). Refusals raise `ControllerError(number, message)`; link failures raise
-`melfa.link.LinkError`; garbled replies raise `melfa.protocol.RemoteProtocolError`.
-`stop` may be called from any thread, even while another request is in flight.
+pose/state, status with the active alarm, alarm reset). Refusals raise
+`ControllerError(number, message)`; link failures raise `melfa.link.LinkError`; garbled
+replies raise `melfa.protocol.RemoteProtocolError`. `stop` may be called from any thread,
+even while another request is in flight.
 """
 
 from melfa.robot.channel import Channel
@@ -20,11 +21,15 @@ from melfa.robot.client import (
 )
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
+from melfa.robot.status import Alarm, ControllerStatus
+from melfa.robot.text import to_controller_ascii
 
 __all__ = [
     "RIGHTS_PREFIXES",
+    "Alarm",
     "Channel",
     "ControllerError",
+    "ControllerStatus",
     "HandMethod",
     "JogMethod",
     "Progress",
@@ -38,4 +43,5 @@ __all__ = [
     "needs_rights",
     "point_items",
     "program_items",
+    "to_controller_ascii",
 ]

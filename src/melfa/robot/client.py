@@ -46,6 +46,7 @@ from melfa.protocol.answers import RunStatus
 from melfa.robot.channel import Channel
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
+from melfa.robot.status import Alarm, ControllerStatus
 
 Progress = Callable[[int, int], None]
 """``progress(bytes_sent, bytes_total)`` during an upload."""
@@ -72,6 +73,8 @@ RIGHTS_PREFIXES: Final = (
 [DOC S5: alarm reset needs the rights]. STOP and SRVOFF never need them."""
 
 NO_RIGHTS: Final = 6020
+DURING_ERROR: Final = 5600
+"""L5600 "Cannot execute during an error": only RSTALRM helps."""
 BUSY: Final = 5640
 NOT_FOUND: Final = 4140
 PROGRAM_RUNNING: Final = 4180
@@ -81,6 +84,9 @@ command]; `JogMethod.AUTO` then falls back to step moves."""
 
 JOG_JOINT_VARIABLE: Final = "JMJOG"
 """Joint variable the step jog assigns (≤ 8 characters, L4300; leading J = joint type)."""
+
+COMMAND_SHOWN: Final = 80
+"""A refused command is quoted in the error up to this many characters."""
 
 _NUMBERED = re.compile(r"\s*\d+(\s|$)")
 _DEF_POINT = re.compile(r"\s*DEF\s+(POS|JNT)\s+", re.IGNORECASE)
@@ -257,7 +263,12 @@ class Robot:
         progress: Progress | None = None,
     ) -> UploadReport:
         """Program and points in one LOAD…SAVE session (they live in the same program, and
-        one session saves the NEW/LOAD/handshake/SAVE round trips of a second one)."""
+        one session saves the NEW/LOAD/handshake/SAVE round trips of a second one).
+
+        This is the thesis's "load project" (delete, program, points), with the delete done
+        *inside* the edit: ``ECLR`` clears the old steps and positions [DOC S1 §5.2; TRACE
+        S21], so nothing of the old program survives a successful upload, and a failed one
+        leaves the old program whole (the thesis's FDEL first would have lost it)."""
         with self._operation():
             return self._edit(program_items(program) + point_items(points), progress)
 
@@ -350,11 +361,32 @@ class Robot:
                 on = open_ == self.settings.hnd_on_opens
                 self._call(f"{'HNDON' if on else 'HNDOFF'}{number}")
 
-    def reset_alarm(self) -> None:
-        """``RSTALRM`` (needs rights)."""
+    def reset_alarm(self) -> Alarm | None:
+        """``RSTALRM`` (needs rights); then ``ERROR`` again. Returns the alarm still active
+        after the reset (one that cannot be reset this way: an emergency stop, a fault
+        that is still there), or None when all is clear."""
         with self._operation():
             self._call("RSTALRM")
             self.alarm = False
+            return self.active_alarm()
+
+    def active_alarm(self) -> Alarm | None:
+        """The active error with its text (``ERROR`` then ``ERRORMES``), or None."""
+        with self._operation():
+            status = ErrorStatus.parse(self._call("ERROR").answer)
+            if status is None:
+                return None
+            return Alarm(status.number, self._error_message(status.number), status.level)
+
+    def status(self) -> ControllerStatus:
+        """``STATE`` plus the active alarm: what ``melfa status`` shows."""
+        with self._operation():
+            state = State.parse(self._call("STATE").answer)
+            alarm = self.active_alarm()
+            if alarm is None and state.status.error:
+                number = state.status.error
+                alarm = Alarm(number, self._error_message(number))
+            return ControllerStatus(state, alarm)
 
     def error_text(self, number: int) -> str:
         """The controller's text for an error (``ERRORMES<n>``), else melfa's table."""
@@ -499,7 +531,8 @@ class Robot:
     def _refusal(self, reply: Reply, command: str, *, fetch: bool = True) -> ControllerError:
         number = getattr(reply, "error", 0)
         message = self._error_message(number) if fetch else error_text(number)
-        return ControllerError(number, message, command=command[:40], alarm=reply.alarm)
+        shown = command if len(command) <= COMMAND_SHOWN else command[: COMMAND_SHOWN - 1] + "…"
+        return ControllerError(number, message, command=shown, alarm=reply.alarm)
 
     def _error_message(self, number: int) -> str:
         fallback = error_text(number)
@@ -601,5 +634,6 @@ class Robot:
                 column=reply.column,
                 text=item.text,
                 alarm=reply.alarm,
+                source=item.source,
             )
         return self._refusal(reply, "EMDAT")
