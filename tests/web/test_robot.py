@@ -1,0 +1,180 @@
+"""Every robot operation through the API, against the in-process virtual controller."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import pytest
+
+from tests.web.conftest import Web, assert_error
+
+PROGRAM = "SERVO ON\nMOV P1\nHLT\nEND\n"
+POINTS = (
+    "DEF POS P1=(300.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    "DEF JNT JHOME=(0.00,0.00,90.00,0.00,90.00,0.00)\n"
+)
+
+
+def ok(response: Any) -> Any:
+    assert response.status_code == 200, response.text
+    return response.json()
+
+
+def wait_for(predicate: Any, timeout: float = 10.0) -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError("condition not met in time")
+        time.sleep(0.02)
+
+
+def settle(browser: Any) -> None:
+    """Until the arm stands still (EXEC of a move is refused while one runs: L5640)."""
+
+    def still() -> bool:
+        state = ok(browser.get("/api/robot/state"))
+        return state["moving"] is False
+
+    time.sleep(0.05)
+    wait_for(still)
+
+
+@pytest.fixture
+def ws_id(web: Web) -> int:
+    ws = int(web.ann.get("/api/workspaces").json()["default_id"])
+    web.ann.put(f"/api/workspaces/{ws}", json={"base": 0, "program": PROGRAM, "points": POINTS})
+    return ws
+
+
+def test_load_project_from_workspace_run_stop_reset_delete(web: Web, ws_id: int) -> None:
+    ann = web.ann
+    assert ok(ann.post("/api/robot/servo", json={"on": True})) == {"ok": True}
+    report = ok(ann.post("/api/robot/project", json={}))
+    assert report["items"] == 4 + 2 and report["bytes_sent"] > 0
+    assert ok(ann.post("/api/robot/run")) == {"ok": True}
+    assert ok(web.bob.post("/api/robot/stop")) == {"ok": True}  # anyone may stop
+    assert ok(ann.post("/api/robot/reset-program")) == {"ok": True}
+    assert ok(ann.post("/api/robot/reset-alarm")) == {"ok": True}
+    assert ok(ann.delete("/api/robot/program")) == {"ok": True}
+    actions = {e["action"] for e in web.ivy.get("/api/audit").json()["entries"]}
+    assert {"robot.load_project", "robot.run", "robot.stop", "robot.delete"} <= actions
+
+
+def test_upload_program_and_points_from_the_request(web: Web) -> None:
+    ann = web.ann
+    assert (
+        ok(ann.post("/api/robot/program", json={"program": PROGRAM, "points": POINTS}))["items"]
+        == 4
+    )
+    assert ok(ann.post("/api/robot/points", json={"points": POINTS}))["items"] == 2
+    assert_error(ann.post("/api/robot/points", json={"points": ""}), 422, "no-points")
+
+
+def test_program_with_errors_is_refused_before_sending(web: Web) -> None:
+    response = web.ann.post(
+        "/api/robot/project", json={"program": "MOV P1\nGOTO 99\n", "points": POINTS}
+    )
+    error = assert_error(response, 422, "program-has-errors")
+    assert error["where"] == {"source": "program", "line": 2, "column": 6}
+    bad_points = web.ann.post(
+        "/api/robot/project", json={"program": "END\n", "points": "DEF POS P1=(1,\n"}
+    )
+    assert assert_error(bad_points, 422, "points-have-errors")["where"]["line"] == 1
+    audit = web.ivy.get("/api/audit", params={"action": "robot.load_project"}).json()
+    assert audit["entries"] == []  # nothing reached the service
+
+
+def test_exec_hand_move_override_jog_step_and_reads(web: Web, ws_id: int) -> None:
+    ann = web.ann
+    ok(ann.post("/api/robot/servo", json={"on": True}))
+    assert ok(ann.post("/api/robot/exec", json={"statement": "SPD 100"})) == {"ok": True}
+    assert ok(ann.post("/api/robot/hand", json={"hand": 1, "action": "close"})) == {
+        "hand": 1,
+        "open": False,
+    }
+    assert ok(ann.post("/api/robot/hand", json={"hand": 1, "action": "toggle"}))["open"] is True
+    assert ok(ann.post("/api/robot/hand", json={"hand": 2, "action": "open"}))["open"] is True
+    assert ok(ann.post("/api/robot/override", json={"percent": 100})) == {"percent": 100}
+    ok(ann.post("/api/robot/move", json={"joints": [10, 0, 90, 0, 90, 0]}))
+    wait_for(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0] - 10) < 0.01)
+    settle(ann)
+    ok(ann.post("/api/robot/move", json={"point": "jhome"}))
+    wait_for(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0]) < 0.01)
+    settle(ann)
+    ok(ann.post("/api/robot/move", json={"point": "P1", "linear": True}))
+    wait_for(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 300) < 0.5)
+    settle(ann)
+    pose = ok(ann.get("/api/robot/pose"))
+    assert pose["names"] == ["X", "Y", "Z", "A", "B", "C"]
+    ok(ann.post("/api/robot/move", json={"pose": [310, 0, 400, 180, 0, 180]}))
+    wait_for(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 310) < 0.5)
+    settle(ann)
+    ok(ann.post("/api/robot/jog-step", json={"frame": "joint", "axis": 0, "direction": 1}))
+    state = ok(ann.get("/api/robot/state"))
+    assert state["link"] == "connected" and state["lease_holder"] == "ann"
+    assert len(state["joints"]) == 6
+
+
+def test_move_refusals(web: Web, ws_id: int) -> None:
+    ann = web.ann
+    assert_error(ann.post("/api/robot/move", json={"point": "PNOPE"}), 404, "unknown-point")
+    assert_error(ann.post("/api/robot/move", json={}), 422, "invalid-value")
+    assert_error(
+        ann.post("/api/robot/move", json={"point": "P1", "pose": [0, 0, 0, 0, 0, 0]}),
+        422,
+        "invalid-value",
+    )
+    assert_error(ann.post("/api/robot/move", json={"pose": [1, 2, 3]}), 422, "invalid-request")
+
+
+def test_controller_refusal_is_409_with_its_number(web: Web) -> None:
+    ann = web.ann
+    ok(ann.post("/api/robot/servo", json={"on": True}))
+    response = ann.post("/api/robot/exec", json={"statement": "MOV PUNDEF1"})
+    error = assert_error(response, 409, "controller-refused")
+    assert isinstance(error["detail"]["number"], int)
+
+
+def test_lease_take_release_and_refusal(web: Web) -> None:
+    ann, bob = web.ann, web.bob
+    assert ok(ann.get("/api/lease")) == {"holder": None, "you": False}
+    assert ok(ann.post("/api/lease")) == {"holder": {"user": "ann", "role": "student"}, "you": True}
+    error = assert_error(bob.post("/api/robot/servo", json={"on": True}), 423, "lease-required")
+    assert error["detail"]["holder"] == {"user": "ann", "role": "student"}
+    assert_error(bob.post("/api/lease"), 423, "lease-required")
+    assert ok(bob.post("/api/robot/stop")) == {"ok": True}  # stop needs no lease
+    assert ok(bob.get("/api/lease"))["you"] is False
+    assert ok(ann.delete("/api/lease")) == {"holder": None, "you": False}
+    assert ok(bob.post("/api/robot/servo", json={"on": True})) == {"ok": True}  # auto lease
+    assert ok(bob.get("/api/lease"))["holder"]["user"] == "bob"
+
+
+def test_takeover_by_instructor_not_student(web: Web) -> None:
+    ok(web.ann.post("/api/lease"))
+    assert_error(web.bob.post("/api/lease/takeover"), 403, "forbidden")
+    taken = ok(web.ivy.post("/api/lease/takeover"))
+    assert taken == {"holder": {"user": "ivy", "role": "instructor"}, "you": True}
+    assert_error(web.ann.post("/api/robot/run"), 423, "lease-required")
+    assert ok(web.admin.post("/api/lease/takeover"))["holder"]["user"] == "admin"
+
+
+def test_audit_api_and_page(web: Web) -> None:
+    ok(web.ann.post("/api/robot/servo", json={"on": True}))
+    ok(web.ann.post("/api/robot/servo", json={"on": False}))
+    page = ok(web.ivy.get("/api/audit", params={"actor": "ann", "limit": 2}))
+    assert len(page["entries"]) == 2 and page["next_before"] is not None
+    assert all(e["actor"] == "ann" for e in page["entries"])
+    rest = ok(web.ivy.get("/api/audit", params={"actor": "ann", "before": page["next_before"]}))
+    assert rest["entries"] and rest["entries"][0]["id"] < page["entries"][-1]["id"]
+    assert_error(web.ann.get("/api/audit"), 403, "forbidden")
+    html = web.ivy.get("/audit")
+    assert html.status_code == 200 and "robot.servo" in html.text
+    assert web.ann.get("/audit").status_code == 403
+    assert web.client.get("/audit", follow_redirects=False).headers["location"].startswith("/login")
+
+
+def test_health(web: Web) -> None:
+    body = web.client.get("/api/health").json()
+    assert body["status"] == "ok" and body["store"] == "ok"
+    assert body["robot"] == {**body["robot"], "link": "connected", "robot": "sim"}
