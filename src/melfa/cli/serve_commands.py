@@ -101,5 +101,8 @@ def serve(
     )
     try:
         uvicorn.Server(config).run()
+    except KeyboardInterrupt:
+        pass  # uvicorn re-raises Ctrl+C after its clean shutdown: that is the normal end
     finally:
         store.close()
+    _out.print("melfa stopped")

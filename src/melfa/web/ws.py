@@ -261,10 +261,10 @@ async def _goodbye(context: WebContext, connection: Connection) -> None:
     actor = connection.actor
     left = context.sockets.remove(actor)
     with contextlib.suppress(Exception):
-        if connection.jogging:
-            await service.jog_release(actor)
         if left == 0 and not service.closed:
-            await service.disconnect(actor)
+            await service.disconnect(actor)  # ends its jog ("client disconnected") and lease
+        elif connection.jogging:
+            await service.jog_release(actor)
     _log.info(
         "websocket closed for %s",
         actor.user,
