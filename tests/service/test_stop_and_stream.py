@@ -54,6 +54,10 @@ async def _stop_during_upload(service: RobotService, controller: RecordingContro
     assert not any(c.endswith(";SAVE") for c in commands)
     assert not any(";RUN" in c for c in commands)
     assert "1" not in controller.store
+    # The stopped upload was abandoned with NEW (sent in turn after STOP's reply), so no
+    # edit session is left open on the controller.
+    assert any(c.endswith(";NEW") for c in after)
+    assert controller.edit is None
 
 
 def test_stop_overtakes_upload_in_memory_paced() -> None:

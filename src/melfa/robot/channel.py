@@ -22,7 +22,14 @@ from collections.abc import Generator, Iterable
 from dataclasses import dataclass, field
 
 from melfa.link import Link, LinkError, LinkTimeout
-from melfa.protocol import ClientConnection, ClientState, RemoteProtocolError, Reply, Request
+from melfa.protocol import (
+    OVERTAKING_COMMANDS,
+    ClientConnection,
+    ClientState,
+    RemoteProtocolError,
+    Reply,
+    Request,
+)
 
 _WAIT_S = 0.02
 
@@ -50,8 +57,25 @@ class Channel:
         self.received_replies = 0
 
     def request(self, request: Request, timeout: float | None = None) -> Reply:
-        """Send ``request`` and return its reply (or raise the link/protocol error)."""
+        """Send ``request`` and return its reply (or raise the link/protocol error).
+
+        Only STOP overtakes: any other request first waits for the replies still
+        outstanding (a STOP pipelined by another thread), so that e.g. the ``NEW`` that
+        abandons a stopped upload is sent in turn instead of being refused as out of turn.
+        """
+        if request.command not in OVERTAKING_COMMANDS:
+            self._settle()
         return self._await(self._submit(request, timeout))
+
+    def _settle(self) -> None:
+        """Wait until no request is outstanding; their owners get the replies or errors."""
+        while True:
+            with self._tickets_lock:
+                if not self._tickets:
+                    return
+                oldest = self._tickets[0]
+            with contextlib.suppress(Exception):  # the owner sees the error, not us
+                self._await(oldest)
 
     def pipeline(
         self, requests: Iterable[Request], window: int, timeout: float | None = None
