@@ -255,7 +255,6 @@ def upload(
     """See the help text above."""
     from melfa.cli.lang_commands import check_files, print_text
     from melfa.lang.diagnostics import Severity
-    from melfa.lang.numbering import NumberingError, number_lines
     from melfa.lang.points import parse_points, upload_lines
 
     target = _target(robot, baud, parity, stopbits, timeout, trace)
@@ -274,13 +273,8 @@ def upload(
             f"{program}: not uploaded because of the errors above (--force to upload anyway)",
             EXIT_REFUSED,
         )
+    # The robot layer numbers an unnumbered program (jump targets rewritten) as it uploads.
     text, point_lines = _controller_ascii(program, text, points, point_lines)
-    numbered = all(line.strip()[:1].isdigit() for line in text.splitlines() if line.strip())
-    if not numbered:
-        try:
-            text = number_lines(text)
-        except NumberingError as exc:
-            raise _fail(f"{program}: cannot number the lines: {exc}", EXIT_REFUSED) from None
 
     with _session(target) as session, _progress() as bar:
         task = bar.add_task(f"upload {program.name}", total=None)

@@ -47,6 +47,7 @@ from melfa.robot.channel import Channel
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus
+from melfa.robot.text import to_controller_ascii
 
 Progress = Callable[[int, int], None]
 """``progress(bytes_sent, bytes_total)`` during an upload."""
@@ -118,9 +119,11 @@ class UploadReport:
 
 
 def program_items(program: str | Sequence[str]) -> list[UploadItem]:
-    """Program text -> numbered EMDAT items. An unnumbered program is numbered 10, 20, …
-    with `melfa.lang.numbering.number_lines` (jump targets rewritten)."""
-    lines = program.splitlines() if isinstance(program, str) else list(program)
+    """Program text -> numbered EMDAT items. Accents in comments and strings are folded to
+    ASCII (`melfa.robot.text`; the line count is unchanged), and an unnumbered program is
+    numbered 10, 20, … with `melfa.lang.numbering.number_lines` (jump targets rewritten)."""
+    text = program if isinstance(program, str) else "\n".join(program)
+    lines = to_controller_ascii(text)[0].splitlines()
     lines = [line.rstrip("\r\n \t") for line in lines]
     if not all(_NUMBERED.match(line) for line in lines if line.strip()):
         from melfa.lang.numbering import NumberingError, number_lines
