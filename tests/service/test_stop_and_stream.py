@@ -152,6 +152,27 @@ def test_nobody_listening_polls_slowly() -> None:
     run(main())
 
 
+def test_a_rest_reader_gets_fresh_state_for_a_while() -> None:
+    """`want_state` (what GET /api/robot/state calls) counts as a listener for
+    `state_interest_s`, so a client polling over REST sees fresh joints, not an idle
+    snapshot; once the interest lapses the service is back to idle polling."""
+    controller = RecordingController()
+
+    async def main() -> None:
+        service, _ = make_service(controller, idle_poll_s=5.0, state_interest_s=0.5)
+        async with service:
+            await asyncio.sleep(0.3)
+            # Idle polling (one request per 5 s) could not give 5 snapshots in 4 s.
+            first = service.want_state().seq
+            assert await until(lambda: service.state.seq >= first + 5, timeout=4.0)
+            await asyncio.sleep(0.6)  # interest over: idle again
+            settled = len(controller.commands())
+            await asyncio.sleep(0.3)
+            assert len(controller.commands()) - settled <= 1
+
+    run(main())
+
+
 def test_reconnects_after_the_in_memory_link_hangs_up() -> None:
     controller = RecordingController()
 

@@ -19,6 +19,8 @@ class ServiceConfig:
     the floor only keeps an instant in-memory simulator from burning a CPU."""
     idle_poll_s: float = 2.0
     """Pause between poll requests when nobody listens (still notices a dead link)."""
+    state_interest_s: float = 10.0
+    """How long a `RobotService.want_state` call (a REST state read) counts as a listener."""
     pose_every: int = 3
     """Read PPOSF every n-th cycle; in between the pose is computed from JPOSF with kin's
     forward kinematics and the tool offset learned from the last still PPOSF."""

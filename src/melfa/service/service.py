@@ -99,6 +99,7 @@ class RobotService:
         self._link_factory = link_factory
         self._clock = clock
         self._bus = EventBus(on_change=self._listeners_changed)
+        self._interest_until = float("-inf")
         self._lease = Lease(
             idle_timeout=self.config.lease_idle_timeout_s,
             auto=self.config.auto_lease,
@@ -151,7 +152,7 @@ class RobotService:
             self._open_robot,
             self.config,
             self._post,
-            listeners=lambda: self._bus.state_listeners,
+            listeners=self._state_listeners,
             jog_view=self._jog.view,
             clock=self._clock,
         )
@@ -222,6 +223,20 @@ class RobotService:
         if sub.wants_state:
             sub._put(self._snapshot)
         return sub
+
+    def want_state(self) -> StateSnapshot:
+        """Note that a reader without a subscription (a REST client polling the state)
+        wants fresh state: polling runs at the listening rate for
+        `ServiceConfig.state_interest_s` from now. Returns the latest snapshot."""
+        was_idle = self._state_listeners() == 0
+        self._interest_until = self._clock() + self.config.state_interest_s
+        if was_idle:
+            self._listeners_changed()
+        return self._snapshot
+
+    def _state_listeners(self) -> int:
+        """Subscribers wanting snapshots, plus one while a REST reader showed interest."""
+        return self._bus.state_listeners + (self._clock() < self._interest_until)
 
     def publish(self, event: Event) -> None:
         """Put an event on the bus (adapters such as `ThesisMessages` use this)."""

@@ -291,7 +291,9 @@ async def jog_step(body: JogStepIn, actor: ActorDep, context: ContextDep) -> Ok:
 
 @router.get("/state", response_model=StateOut, summary="Latest state (no round trip)")
 async def get_state(session: SessionDep, context: ContextDep) -> StateOut:
-    return state_out(context.service.state)
+    """The latest snapshot; reading it keeps the service polling at full rate for a while,
+    so a client that polls this endpoint sees fresh state (its ``at`` says how fresh)."""
+    return state_out(context.service.want_state())
 
 
 @router.get("/joints", response_model=ValuesOut, summary="Read the joints now")
