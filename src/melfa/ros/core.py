@@ -1,0 +1,265 @@
+"""What a ROS node does with a `RobotService`, independent of the ROS client library.
+
+`RosCore` runs on the service's event loop. A binding (the rospy node, the rosbridge
+endpoint, later an rclpy node) gives it a `RosOutput` to publish through and a
+`ParamSource` to read load texts from, and forwards to it:
+
+- every ``execute_instruction`` string → `put_instruction` (handled strictly in arrival order
+  by one task, through `melfa.service.ThesisMessages`);
+- every service call → `call` → `ServiceReply(success, message)` (never raises: a refusal
+  is ``success=False`` with the reason, whose fault it is included).
+
+`stream` pumps the service's snapshots (and the thesis adapter's REQUEST answers) to the
+output until the service closes.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Protocol
+
+from melfa.robot import UploadReport
+from melfa.ros import interface as ri
+from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, StreamMessages
+from melfa.service import (
+    Actor,
+    RobotService,
+    StateSnapshot,
+    ThesisMessages,
+    ThesisOutput,
+)
+from melfa.service.service import describe_error
+
+log = logging.getLogger(__name__)
+
+
+class RosOutput(Protocol):
+    """Where a binding publishes; called on the service's loop thread (keep it quick)."""
+
+    def joint_states(self, message: JointStateData) -> None: ...
+
+    def tool_pose_stamped(self, message: PoseData) -> None: ...
+
+    def text(self, topic: str, text: str) -> None:
+        """A ``std_msgs/String`` on ``topic`` (tool_pose, joint_state, execute_error)."""
+
+    def log(self, level: int, text: str) -> None:
+        """A line for the ROS log (``logging`` levels)."""
+
+
+class ParamSource(Protocol):
+    """The node's private parameters (``~program`` is ``/melfa/program``)."""
+
+    def get(self, name: str) -> object | None: ...
+
+
+@dataclass(frozen=True)
+class ServiceReply:
+    """A ``std_srvs/Trigger`` / ``SetBool`` response."""
+
+    success: bool
+    message: str
+
+
+def _report(report: UploadReport) -> str:
+    return (
+        f"{report.items} lines, {report.bytes_sent} bytes in {report.requests} requests, "
+        f"{report.seconds:.2f} s"
+    )
+
+
+class RosCore:
+    """One ROS binding's view of the service, acting as ``actor``."""
+
+    def __init__(
+        self,
+        service: RobotService,
+        actor: Actor,
+        output: RosOutput,
+        params: ParamSource,
+        *,
+        frame_id: str = BASE_FRAME,
+        max_rate_hz: float | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        if max_rate_hz is not None and max_rate_hz <= 0:
+            raise ValueError("max_rate_hz must be positive (or None for every snapshot)")
+        self.service = service
+        self.actor = actor
+        self.output = output
+        self.params = params
+        self.frame_id = frame_id
+        self.max_rate_hz = max_rate_hz
+        self._clock = clock
+        self.thesis = ThesisMessages(service, actor)
+        self._instructions: asyncio.Queue[str] = asyncio.Queue()
+        self._tasks: list[asyncio.Task[None]] = []
+        self._stream: asyncio.Task[None] | None = None
+        self.published = 0
+        """Snapshots published (each as joint_states, tool_pose_stamped and the strings)."""
+        self.instructions = 0
+        self.errors = 0
+
+    # ------------------------------------------------------------------ lifecycle
+
+    def start(self, *, stream: bool = True) -> None:
+        """Start handling instructions and publishing answers (on the service's loop);
+        with ``stream`` also the state stream (else `start_stream` when first wanted: a
+        state subscriber makes the service poll as fast as the line allows)."""
+        self._tasks = [
+            asyncio.create_task(self._handle_instructions(), name="ros-instructions"),
+            asyncio.create_task(self._answers(), name="ros-answers"),
+        ]
+        if stream:
+            self.start_stream()
+
+    def start_stream(self) -> None:
+        if self._stream is None or self._stream.done():
+            self._stream = asyncio.create_task(self.stream(), name="ros-stream")
+
+    async def stop_stream(self) -> None:
+        task, self._stream = self._stream, None
+        if task is not None:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await task
+
+    @property
+    def streaming(self) -> bool:
+        return self._stream is not None and not self._stream.done()
+
+    async def close(self) -> None:
+        """Stop the tasks; a move the thesis adapter is making finishes first."""
+        await self.stop_stream()
+        for task in self._tasks:
+            task.cancel()
+        for task in self._tasks:
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await task
+        self._tasks = []
+        with contextlib.suppress(Exception):
+            await self.thesis.close()
+
+    # ------------------------------------------------------------------ topics
+
+    async def put_instruction(self, text: str) -> None:
+        """An ``execute_instruction`` message (handled in order, after the earlier ones)."""
+        self._instructions.put_nowait(text)
+
+    async def _handle_instructions(self) -> None:
+        while True:
+            text = await self._instructions.get()
+            self.instructions += 1
+            try:
+                await self.thesis.feed(text)
+            except Exception as exc:
+                self.errors += 1
+                reason = describe_error(exc)
+                self.output.log(logging.ERROR, f"execute_instruction {text!r}: {reason}")
+                self.output.text(ri.EXECUTE_ERROR, reason)
+
+    async def _answers(self) -> None:
+        """The thesis adapter's REQUEST answers and jog errors, on their topics."""
+        with self.service.subscribe(ThesisOutput) as sub:
+            async for event in sub:
+                if isinstance(event, ThesisOutput) and event.actor == self.actor:
+                    self.output.text(event.topic, event.text)
+
+    async def stream(self) -> None:
+        """Publish every snapshot (at most ``max_rate_hz``) until the service closes."""
+        min_gap = 1.0 / self.max_rate_hz if self.max_rate_hz else 0.0
+        last = -float("inf")
+        with self.service.subscribe(StateSnapshot) as sub:
+            async for event in sub:
+                if not isinstance(event, StateSnapshot):
+                    continue
+                now = self._clock()
+                if now - last < min_gap:
+                    continue
+                if self.publish_snapshot(event):
+                    last = now
+
+    def publish_snapshot(self, snapshot: StateSnapshot) -> bool:
+        """Publish one snapshot; False when it holds no joints yet."""
+        messages = StreamMessages.of(snapshot, self.frame_id)
+        if messages.joint_states is None:
+            return False
+        self.output.joint_states(messages.joint_states)
+        if messages.joint_state_text is not None:
+            self.output.text(ri.JOINT_STATE_TEXT, messages.joint_state_text)
+        if messages.tool_pose_stamped is not None:
+            self.output.tool_pose_stamped(messages.tool_pose_stamped)
+        if messages.tool_pose_text is not None:
+            self.output.text(ri.TOOL_POSE, messages.tool_pose_text)
+        self.published += 1
+        return True
+
+    # ------------------------------------------------------------------ services
+
+    async def call(self, name: str, data: bool | None = None) -> ServiceReply:
+        """Run service ``name`` (see `melfa.ros.interface.SERVICES`); never raises."""
+        try:
+            message = await self._call(name, data)
+        except Exception as exc:
+            self.output.log(logging.WARNING, f"{name}: {describe_error(exc)}")
+            return ServiceReply(False, describe_error(exc))
+        return ServiceReply(True, message)
+
+    async def _call(self, name: str, data: bool | None) -> str:
+        service, actor = self.service, self.actor
+        if name == ri.LOAD_PROGRAM:
+            report = await service.upload_program(actor, self._text(ri.PROGRAM_PARAM))
+            return f"program loaded: {_report(report)}"
+        if name == ri.LOAD_POINTS:
+            report = await service.upload_points(actor, self._text(ri.POINTS_PARAM))
+            return f"points loaded: {_report(report)}"
+        if name == ri.LOAD_PROJECT:
+            program = self._text(ri.PROGRAM_PARAM)
+            points = self._text(ri.POINTS_PARAM, required=False)
+            report = await service.load_project(actor, program, points)
+            return f"program and points loaded: {_report(report)}"
+        if name == ri.RUN:
+            await service.run(actor)
+            return "program started"
+        if name == ri.STOP:
+            await service.stop(actor)
+            return "stopped"
+        if name == ri.DELETE:
+            await service.delete(actor)
+            return "program and points deleted"
+        if name == ri.SERVO:
+            on = bool(data)
+            await service.servo(actor, on)
+            return "servo on" if on else "servo off"
+        raise LookupError(f"no service {name!r}; there are {', '.join(ri.SERVICE_BY_NAME)}")
+
+    def _text(self, param: str, *, required: bool = True) -> str:
+        """The text of parameter ``~param``, or of the file named by ``~param_file``."""
+        value = self.params.get(param)
+        if value is not None:
+            if not isinstance(value, str):
+                raise TypeError(f"parameter ~{param} must be a string (the text itself)")
+            return value
+        path = self.params.get(f"{param}_file")
+        if path is not None:
+            try:
+                return Path(str(path)).read_text(encoding="latin-1")
+            except OSError as exc:
+                raise FileNotFoundError(
+                    f"cannot read ~{param}_file {str(path)!r}: {exc.strerror}"
+                ) from exc
+        if not required:
+            return ""
+        raise LookupError(
+            f"set the parameter ~{param} to the text (rosparam set /<node>/{param} "
+            f'"$(cat FILE)") or ~{param}_file to a path on the node\'s machine first'
+        )
+
+
+__all__ = ["ParamSource", "RosCore", "RosOutput", "ServiceReply"]

@@ -1,0 +1,99 @@
+"""The real web app (`melfa.web.create_app`) with the rosbridge router included the way
+the web server should include it, served by a real uvicorn on a free loopback port."""
+
+from __future__ import annotations
+
+import contextlib
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import httpx
+import uvicorn
+from argon2 import PasswordHasher
+from fastapi import FastAPI
+
+from melfa.ros.rosbridge import rosbridge_router
+from melfa.service import ServiceConfig
+from melfa.store import Store
+from melfa.web import SESSION_COOKIE, WebSettings, create_app
+from melfa.web.deps import actor_of, find_session, ws_context
+
+PASSWORDS = {"ann": "ann-password-12", "ivy": "ivy-password-12"}
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+def include_rosbridge(app: FastAPI) -> None:
+    """The lines the web app needs (see docs/ros.md)."""
+    app.include_router(
+        rosbridge_router(
+            lambda ws: ws_context(ws).service,
+            lambda ws, token: find_session(ws_context(ws), token),
+            actor_of,
+            allowed_origins=lambda ws: ws_context(ws).settings.allowed_origins,
+        )
+    )
+
+
+@dataclass
+class Server:
+    app: FastAPI
+    port: int
+    store: Store
+
+    @property
+    def http(self) -> str:
+        return f"http://127.0.0.1:{self.port}"
+
+    @property
+    def ws_url(self) -> str:
+        return f"ws://127.0.0.1:{self.port}/rosbridge"
+
+    def login(self, username: str) -> str:
+        """Sign in over HTTP; the session token (the cookie's value)."""
+        response = httpx.post(
+            f"{self.http}/api/session",
+            json={"username": username, "password": PASSWORDS[username]},
+            timeout=30,
+        )
+        assert response.status_code == 200, response.text
+        token: str = response.cookies[SESSION_COOKIE]
+        return token
+
+
+@contextlib.contextmanager
+def serve(data_dir: Path) -> Iterator[Server]:
+    store = Store.open_dir(
+        data_dir, hasher=PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
+    )
+    store.accounts.create_user("ann", PASSWORDS["ann"], group="G1")
+    store.accounts.create_user("ivy", PASSWORDS["ivy"], role="instructor")
+    settings = WebSettings(data_dir=data_dir, service_config=ServiceConfig(idle_poll_s=0.2))
+    app = create_app(settings, store=store)
+    include_rosbridge(app)
+    port = free_port()
+    config = uvicorn.Config(
+        app, host="127.0.0.1", port=port, log_level="warning", ws="websockets-sansio"
+    )
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, name="uvicorn", daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started:
+        assert thread.is_alive() and time.monotonic() < deadline, "uvicorn did not start"
+        time.sleep(0.02)
+    try:
+        yield Server(app, port, store)
+    finally:
+        server.should_exit = True
+        thread.join(30)
+        store.close()
