@@ -1,0 +1,111 @@
+"""Which files the client accepts, and how it reads them. Pure, no Qt.
+
+The rule mirrors the server's import rule (`wrong-extension` in docs/api.md): a program is
+a `.MB4` file and a points file is a `.POS` file, in any letter case, as the thesis's RQt
+client required (requirements 3.2.3 and 3.2.4). It is checked here, before anything is
+sent, because `/api/robot/project` takes texts, not files.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+from pathlib import Path
+
+MAX_FILE_BYTES = 2 * 1024 * 1024
+"""The server refuses bigger imports (413 `too-large`); refuse them before reading."""
+
+
+class FileKind(enum.Enum):
+    PROGRAM = ".MB4"
+    POINTS = ".POS"
+
+    @property
+    def label(self) -> str:
+        return "program" if self is FileKind.PROGRAM else "points file"
+
+
+class FileRefused(Exception):
+    """The user chose a file the client cannot send (the user's mistake, not the server's)."""
+
+    def __init__(self, path: Path, kind: FileKind, reason: str) -> None:
+        super().__init__(f"{path.name}: {reason}")
+        self.path = path
+        self.kind = kind
+        self.reason = reason
+
+
+@dataclass(frozen=True)
+class ChosenFile:
+    path: Path
+    kind: FileKind
+    text: str
+
+
+def has_extension(path: str | Path, kind: FileKind) -> bool:
+    """True when the name ends with the kind's extension (any case) after a real stem.
+
+    >>> has_extension("pick.MB4", FileKind.PROGRAM), has_extension("pick.mb4", FileKind.PROGRAM)
+    (True, True)
+    >>> has_extension("pick.txt", FileKind.PROGRAM), has_extension(".POS", FileKind.POINTS)
+    (False, False)
+    """
+    name = Path(path).name
+    return name.upper().endswith(kind.value) and len(name) > len(kind.value)
+
+
+def check_extension(path: Path, kind: FileKind) -> None:
+    """`FileRefused` with a message naming the expected extension."""
+    if not has_extension(path, kind):
+        suffix = path.suffix or "no extension"
+        raise FileRefused(
+            path,
+            kind,
+            f"wrong extension ({suffix}): choose a {kind.value} {kind.label}",
+        )
+
+
+def decode_text(data: bytes) -> str:
+    """UTF-8 (BOM allowed), else Windows-1252, as the server reads imports; LF line ends.
+
+    >>> decode_text(b"10 MOV P1\\r\\n20 END\\r\\n")
+    '10 MOV P1\\n20 END\\n'
+    >>> decode_text("caf\\xe9".encode("cp1252"))
+    'café'
+    """
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = data.decode("cp1252", errors="replace")
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+
+
+def read_file(path: Path, kind: FileKind) -> ChosenFile:
+    """The file's text, or `FileRefused` (wrong extension, missing, too big, binary)."""
+    check_extension(path, kind)
+    try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise FileRefused(path, kind, f"too large ({size} bytes; at most 2 MiB)")
+        data = path.read_bytes()
+    except FileNotFoundError:
+        raise FileRefused(path, kind, "no such file") from None
+    except IsADirectoryError:
+        raise FileRefused(path, kind, "is a folder, not a file") from None
+    except OSError as exc:
+        raise FileRefused(path, kind, f"cannot be read ({exc.strerror or exc})") from None
+    if b"\x00" in data:
+        raise FileRefused(path, kind, "is not a text file")
+    return ChosenFile(path, kind, decode_text(data))
+
+
+__all__ = [
+    "MAX_FILE_BYTES",
+    "ChosenFile",
+    "FileKind",
+    "FileRefused",
+    "check_extension",
+    "decode_text",
+    "has_extension",
+    "read_file",
+]
