@@ -42,7 +42,9 @@ class Stamp:
 
     @classmethod
     def of(cls, when: dt.datetime) -> Stamp:
-        """>>> Stamp.of(dt.datetime(1970, 1, 1, 0, 0, 1, 500000, tzinfo=dt.UTC))
+        """The stamp of an aware datetime (exact to the microsecond).
+
+        >>> Stamp.of(dt.datetime(1970, 1, 1, 0, 0, 1, 500000, tzinfo=dt.UTC))
         Stamp(secs=1, nsecs=500000000)
         """
         delta = when - dt.datetime(1970, 1, 1, tzinfo=dt.UTC)
