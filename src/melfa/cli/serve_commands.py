@@ -86,6 +86,13 @@ def serve(
             f"[bold yellow]warning:[/] listening on {escape(host)}: anyone who can reach "
             "this address can try to sign in and, once signed in, move the robot"
         )
+    from melfa.web.routes.pages import VENDOR, vendor_ready
+
+    if not vendor_ready():
+        _err.print(
+            f"[bold yellow]warning:[/] the browser IDE's libraries are missing ({VENDOR}); "
+            "run scripts/setup (or scripts/build-frontend) to make them. The API works meanwhile."
+        )
     robot_text = "virtual controller (in process)" if spec == "sim" else spec
     shown = f"[{host}]" if ":" in host else host
     _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")

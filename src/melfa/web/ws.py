@@ -233,6 +233,7 @@ async def live(websocket: WebSocket) -> None:
             "link": service.link_status.value,
             "lease_holder": actor_dict(holder),
             "snapshot_hz": context.settings.snapshot_hz,
+            "jog_override_ceiling": context.settings.service_config.jog_override_ceiling,
         }
     )
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")

@@ -1,0 +1,439 @@
+// The IDE's entry point: signs the page in (session + CSRF), opens the workspace, the live
+// socket, and wires the header (connections, lease, STOP, user menu), the main buttons
+// (load, run, stop, save, check, clear) and the tabs.
+
+import { api, setCsrf } from "./api.js";
+import { ProgramEditor } from "./editor.js";
+import { JogPad } from "./jog.js";
+import { Live } from "./live.js";
+import { PointsTab } from "./points.js";
+import { $, el, setActivity, showError, toast } from "./ui.js";
+import { RobotView } from "./view3d.js";
+import { Workspace } from "./workspace.js";
+
+const app = {
+  user: "",
+  role: "",
+  state: null, // the latest `state` message
+  leaseHolder: null,
+  live: null,
+  view: null,
+  uploading: null, // {command_id, sent, total} while our load runs
+  activityLock: false, // an explicit operation owns the activity line
+  tracing: false, // drawing the path of a running program
+};
+window.melfa = app; // for debugging in the console (and the browser tests)
+
+app.busy = (text, progress = null) => {
+  app.activityLock = true;
+  setActivity(text, { busy: true, progress });
+};
+app.idle = (text = "Idle", error = false) => {
+  app.activityLock = false;
+  setActivity(text, { error });
+  renderActivity();
+};
+
+async function main() {
+  let session;
+  try {
+    session = await api("GET", "/api/session");
+  } catch (err) {
+    if (err.status !== 401) showError("Could not reach the server", err);
+    return;
+  }
+  setCsrf(session.csrf_token);
+  app.user = session.user.username;
+  app.role = session.user.role;
+  $("user-name").textContent = session.user.display_name || app.user;
+  $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
+  $("audit-link").hidden = app.role === "student";
+
+  app.view = new RobotView($("view3d"));
+  const workspace = new Workspace(app.user);
+  app.workspace = workspace;
+  const editor = new ProgramEditor(workspace);
+  app.editor = editor;
+  const points = new PointsTab(workspace, app);
+  app.points = points;
+  editor.addEventListener("checked", (e) => {
+    points.diagnostics = e.detail.points.diagnostics;
+    points.render();
+  });
+
+  const scheme = location.protocol === "https:" ? "wss" : "ws";
+  app.live = new Live(`${scheme}://${location.host}/api/ws`);
+  wireLive(app.live);
+  app.jog = new JogPad(app);
+  wireHeader();
+  wireToolbar(workspace, editor);
+  wireTabs();
+  wireRobotTab();
+  renderReadouts(null);
+  app.live.connect();
+
+  try {
+    await workspace.open();
+  } catch (err) {
+    showError("Could not open your workspace", err);
+  }
+  points.render();
+  points.check();
+  if (editor.liveBox.checked) editor.check();
+  window.addEventListener("beforeunload", (e) => {
+    if (workspace.dirty) {
+      workspace.writeDraft(); // kept in this browser either way
+      workspace.save("autosave");
+    }
+    if (app.jog.held) app.jog.stopJog();
+  });
+}
+
+// ---- live socket ----
+function wireLive(live) {
+  live.on("status", ({ state }) => {
+    const up = state === "open";
+    setStatus("web-status", up ? "up" : state === "connecting" ? "wait" : "down",
+      up ? "connected" : state === "connecting" ? "connecting…" : "disconnected — click to reconnect");
+    if (!up) setStatus("robot-status", "down", "unknown");
+  });
+  live.on("hello", (m) => {
+    setLink(m.link);
+    setLease(m.lease_holder);
+    if (m.jog_override_ceiling) app.jog.setCeiling(m.jog_override_ceiling);
+  });
+  live.on("link", (m) => setLink(m.status, m.detail));
+  live.on("state", (m) => onState(m));
+  live.on("lease", (m) => {
+    setLease(m.holder);
+    if (m.reason === "taken over" && m.previous?.user === app.user) {
+      toast("Control taken over", { kind: "warning", text: `${m.holder?.user ?? "An instructor"} took control of the robot.` });
+    }
+  });
+  live.on("progress", (m) => {
+    if (m.actor?.user !== app.user) return;
+    app.uploading = m;
+    app.busy(`Uploading ${m.sent}/${m.total}`, m.total ? m.sent / m.total : 0);
+  });
+  live.on("result", (m) => {
+    if (m.actor?.user === app.user && m.command === "load_project") app.uploading = null;
+  });
+}
+
+function setStatus(id, state, text) {
+  const node = $(id);
+  node.dataset.state = state;
+  $(`${id}-text`).textContent = text;
+  const what = id === "web-status" ? "Server connection" : "Robot link";
+  node.setAttribute("aria-label", `${what}: ${text}. Click to reconnect.`);
+}
+
+function setLink(status, detail = "") {
+  const state = status === "connected" ? "up" : status === "connecting" || status === "reconnecting" ? "wait" : "down";
+  setStatus("robot-status", state, status + (detail && state !== "up" ? ` (${detail})` : ""));
+}
+
+function setLease(holder) {
+  app.leaseHolder = holder;
+  const text = $("lease-text");
+  const mine = holder?.user === app.user;
+  const staff = app.role === "instructor" || app.role === "admin";
+  text.replaceChildren(
+    "Control: ",
+    holder ? el("strong", {}, mine ? "you" : holder.user) : el("strong", {}, "free"),
+    holder && !mine ? ` (${holder.role})` : "",
+  );
+  text.classList.toggle("mine", mine);
+  text.dataset.holder = holder?.user ?? "";
+  $("lease-take").hidden = !!holder;
+  $("lease-release").hidden = !mine;
+  $("lease-takeover").hidden = !(holder && !mine && staff);
+}
+
+let lastRunning = false;
+function onState(m) {
+  app.state = m;
+  if (m.link) setLink(m.link);
+  if (m.joints) app.view.setJoints(m.joints);
+  if (m.hands?.length) app.view.setHand(m.hands[0]);
+  if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null)) {
+    setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null);
+  }
+  // The program's path: TCP samples while it runs (cleared when a new run starts).
+  if (m.running && !lastRunning) app.view.clearPath();
+  if (m.running && m.pose) app.view.addPathPoint(m.pose);
+  lastRunning = !!m.running;
+  // The running step, in the editor: the upload numbered every line 10, 20, 30… so step
+  // N is line N/10 — as long as the editor still holds what was loaded.
+  const step = m.running && m.line && app.loaded === app.editor.text ? m.line / 10 : null;
+  app.editor.markRunLine(Number.isInteger(step) ? step - 1 : null);
+  renderReadouts(m);
+  renderActivity();
+}
+
+function renderActivity() {
+  const m = app.state;
+  const pill = $("run-state");
+  let text = "idle";
+  let cls = "pill";
+  if (m?.busy === "upload") { text = "uploading"; cls = "pill busy"; }
+  else if (m?.running) { text = `running${m.line ? " · line " + m.line : ""}`; cls = "pill busy"; }
+  else if (m?.jogging) { text = "jogging"; cls = "pill busy"; }
+  else if (m?.moving) { text = "moving"; cls = "pill busy"; }
+  if (m?.alarm) { text = `alarm ${m.alarm.number}`; cls = "pill bad"; }
+  pill.textContent = text;
+  pill.className = cls;
+  const alarm = $("alarm");
+  alarm.hidden = !m?.alarm;
+  if (m?.alarm) alarm.textContent = `Alarm ${m.alarm.number}: ${m.alarm.text}. Reset it when the cause is gone.`;
+  $("servo-state").textContent = m?.servo == null ? "—" : m.servo ? "on" : "off";
+  $("servo-state").className = m?.servo ? "pill on" : "pill";
+  const hand = m?.hands?.[0];
+  $("hand-state").textContent = hand == null ? "—" : hand ? "open" : "closed";
+  if (app.activityLock) return;
+  if (m?.busy === "upload") setActivity("Uploading…", { busy: true });
+  else if (m?.running) setActivity(`Running${m.program ? " " + m.program : ""}${m.line ? " · line " + m.line : ""}`, { busy: true });
+  else if (m?.jogging) setActivity("Jogging", { busy: true });
+  else if (m?.moving) setActivity("Robot moving", { busy: true });
+  else setActivity(m?.alarm ? `Alarm ${m.alarm.number}` : "Idle", { error: !!m?.alarm });
+}
+
+function renderReadouts(m) {
+  const row = (label, value, unit = "") => el("tr", {}, el("th", { scope: "row" }, label), el("td", {}, value == null ? "—" : (Math.abs(value) < 0.005 ? 0 : value).toFixed(2) + unit));
+  $("joints-out").replaceChildren(...["J1", "J2", "J3", "J4", "J5", "J6"].map((n, i) => row(n, m?.joints?.[i])));
+  $("pose-out").replaceChildren(...["X", "Y", "Z", "A", "B", "C"].map((n, i) => row(n, m?.pose?.[i])));
+  $("fact-flags").textContent = m?.flags ? `FL1 ${m.flags[0]}, FL2 ${m.flags[1]}` : "—";
+  $("fact-speed").textContent = m?.speed == null ? "—" : `${m.speed.toFixed(1)} mm/s`;
+  $("fact-measured").textContent = m?.pose ? (m.pose_measured ? "read from the controller" : "computed from the joints") : "—";
+  const pose = $("pose-out");
+  pose.dataset.pose = m?.pose ? JSON.stringify(m.pose) : "";
+}
+
+// ---- header ----
+function wireHeader() {
+  $("web-status").addEventListener("click", () => app.live.connect());
+  $("robot-status").addEventListener("click", () => {
+    app.live.connect();
+    api("GET", "/api/health").then((h) => setLink(h.robot.link)).catch(() => {});
+  });
+  $("estop").addEventListener("click", stopAll);
+  let lastEscape = 0;
+  document.addEventListener("keydown", (e) => {
+    if (e.key !== "Escape") return;
+    if (e.timeStamp - lastEscape < 500) stopAll(); // Esc Esc stops from anywhere
+    lastEscape = e.timeStamp;
+  });
+  $("lease-take").addEventListener("click", () => leaseCall("POST", "/api/lease", "Could not take control"));
+  $("lease-release").addEventListener("click", () => leaseCall("DELETE", "/api/lease", "Could not release control"));
+  $("lease-takeover").addEventListener("click", () => leaseCall("POST", "/api/lease/takeover", "Could not take over"));
+  const button = $("user-button");
+  const menu = $("user-menu");
+  const toggle = (open) => {
+    menu.hidden = !open;
+    button.setAttribute("aria-expanded", String(open));
+    if (open) menu.querySelector("[role=menuitem]:not([hidden])").focus();
+  };
+  button.addEventListener("click", () => toggle(menu.hidden));
+  document.addEventListener("click", (e) => { if (!e.target.closest(".usermenu")) toggle(false); });
+  menu.addEventListener("keydown", (e) => {
+    if (e.key === "Escape") { toggle(false); button.focus(); }
+  });
+  $("logout").addEventListener("click", async () => {
+    await app.workspace.save("autosave").catch(() => {});
+    try {
+      await api("DELETE", "/api/session");
+    } finally {
+      location.href = "/login";
+    }
+  });
+}
+
+async function leaseCall(method, path, what) {
+  try {
+    const out = await api(method, path);
+    if (out && "holder" in out) setLease(out.holder);
+    else if (method === "DELETE") setLease(null);
+  } catch (err) {
+    showError(what, err);
+  }
+}
+
+/** STOP: over the socket (fastest), and over REST when the socket is not there. */
+async function stopAll() {
+  app.jog.releaseAll();
+  const sent = app.live.send({ type: "stop", id: 0 });
+  if (!sent) {
+    try {
+      await api("POST", "/api/robot/stop");
+    } catch (err) {
+      showError("STOP could not be delivered", err);
+      return;
+    }
+  }
+  toast("Stop sent", { kind: "warning", text: "The robot stops; queued commands are cancelled." });
+}
+
+// ---- main buttons ----
+function wireToolbar(workspace, editor) {
+  $("act-load").addEventListener("click", () => loadProject(workspace, editor));
+  $("act-run").addEventListener("click", runProgram);
+  $("act-stop").addEventListener("click", async () => {
+    try {
+      await api("POST", "/api/robot/stop");
+    } catch (err) {
+      showError("Could not stop", err);
+    }
+  });
+  $("act-save").addEventListener("click", async () => {
+    const kind = currentTab() === "points" ? "points" : "program";
+    try {
+      const name = await workspace.exportFile(kind);
+      toast(`Saved ${name}`, { kind: "ok", text: kind === "program" ? "Numbered 10, 20, 30…; jumps rewritten to match." : "Points in the controller's format." });
+    } catch (err) {
+      if (err.code !== "save-conflict") showError("Could not save the file", err);
+    }
+  });
+  $("act-check").addEventListener("click", async () => {
+    const out = await editor.check({ announce: true });
+    if (out && currentTab() === "points") app.points.render();
+  });
+  const history = $("history");
+  const showHistory = (open) => {
+    history.hidden = !open;
+    $("history-button").setAttribute("aria-expanded", String(open));
+    editor.editor.resize();
+    if (open) workspace.loadHistory();
+  };
+  $("history-button").addEventListener("click", () => showHistory(history.hidden));
+  $("history-close").addEventListener("click", () => showHistory(false));
+  workspace.on("saved", () => {
+    if (!history.hidden) workspace.loadHistory();
+  });
+  $("act-clear").addEventListener("click", () => {
+    editor.clear();
+    app.points.diagnostics = [];
+    app.points.render();
+  });
+}
+
+async function loadProject(workspace, editor) {
+  const button = $("act-load");
+  button.disabled = true;
+  app.busy("Loading project…", 0);
+  try {
+    const program = workspace.program;
+    const out = await api("POST", "/api/robot/project", { program, points: workspace.points, check: true });
+    app.loaded = program;
+    app.idle(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`);
+    setActivity(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`, { progress: 1 });
+    toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
+  } catch (err) {
+    app.idle("Load failed", true);
+    if (err.code === "program-has-errors" && err.detail?.diagnostics) {
+      editor.show(err.detail.diagnostics);
+      selectTab("editor");
+    }
+    showError(err.code === "program-has-errors" ? "Not loaded: the program has errors" : err.code === "points-have-errors" ? "Not loaded: the points have errors" : "Could not load the project", err);
+  } finally {
+    button.disabled = false;
+    app.uploading = null;
+  }
+}
+
+async function runProgram() {
+  const override = Number($("override").value);
+  try {
+    if (app.state && app.state.override !== override) await api("POST", "/api/robot/override", { percent: override });
+    app.view.clearPath();
+    await api("POST", "/api/robot/run");
+  } catch (err) {
+    showError("Could not run the program", err);
+  }
+}
+
+// ---- tabs (ARIA tabs: arrows move between them) ----
+const TABS = ["editor", "points", "robot"];
+function currentTab() {
+  return TABS.find((t) => $(`tab-${t}`).getAttribute("aria-selected") === "true");
+}
+function selectTab(name, focus = false) {
+  for (const t of TABS) {
+    const on = t === name;
+    const tab = $(`tab-${t}`);
+    tab.setAttribute("aria-selected", String(on));
+    tab.tabIndex = on ? 0 : -1;
+    $(`panel-${t}`).hidden = !on;
+    if (on && focus) tab.focus();
+  }
+  $("act-save-label").textContent = name === "points" ? "Save .POS" : "Save .MB4";
+  $("act-save").title = name === "points" ? "Download the points as .POS" : "Download the numbered .MB4";
+  if (name === "editor") app.editor.editor.resize();
+  if (name !== "robot") app.jog.releaseAll();
+  else app.jog.draw();
+}
+function wireTabs() {
+  for (const t of TABS) $(`tab-${t}`).addEventListener("click", () => selectTab(t));
+  document.querySelector(".tabs").addEventListener("keydown", (e) => {
+    const i = TABS.indexOf(currentTab());
+    if (e.key === "ArrowRight") selectTab(TABS[(i + 1) % TABS.length], true);
+    else if (e.key === "ArrowLeft") selectTab(TABS[(i + TABS.length - 1) % TABS.length], true);
+  });
+}
+
+// ---- robot tab ----
+function wireRobotTab() {
+  const call = (what, method, path, body) => async () => {
+    try {
+      await api(method, path, body);
+    } catch (err) {
+      showError(what, err);
+    }
+  };
+  $("servo-on").addEventListener("click", call("Could not switch the servo on", "POST", "/api/robot/servo", { on: true }));
+  $("servo-off").addEventListener("click", call("Could not switch the servo off", "POST", "/api/robot/servo", { on: false }));
+  $("hand-toggle").addEventListener("click", async () => {
+    try {
+      const out = await api("POST", "/api/robot/hand", { hand: 1, action: "toggle" });
+      app.view.setHand(out.open);
+    } catch (err) {
+      showError("Could not move the hand", err);
+    }
+  });
+  const override = $("override");
+  override.addEventListener("input", () => ($("override-out").textContent = `${override.value} %`));
+  $("override-set").addEventListener("click", call("Could not set the override", "POST", "/api/robot/override", { get percent() { return Number(override.value); } }));
+  $("reset-program").addEventListener("click", call("Could not reset the program", "POST", "/api/robot/reset-program"));
+  $("reset-alarm").addEventListener("click", call("Could not reset the alarm", "POST", "/api/robot/reset-alarm"));
+  $("delete-program").addEventListener("click", async () => {
+    if (!confirm("Delete the program and its points from the controller's slot 1?")) return;
+    await call("Could not delete the program", "DELETE", "/api/robot/program")();
+  });
+  // Go to a point of the points tab.
+  const select = $("goto-point");
+  const fill = () => {
+    const names = app.points.names();
+    const keep = select.value;
+    select.replaceChildren(...(names.length ? names.map((n) => el("option", { value: n }, n)) : [el("option", { value: "" }, "no points defined")]));
+    if (names.includes(keep)) select.value = keep;
+    $("goto-move").disabled = !names.length;
+  };
+  app.workspace.on("points", fill);
+  app.workspace.on("replaced", fill);
+  fill();
+  $("goto-move").addEventListener("click", async () => {
+    const point = select.value;
+    if (!point) return;
+    app.busy(`Moving to ${point}…`);
+    try {
+      await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear: $("goto-linear").checked });
+      app.idle(`At ${point}`);
+    } catch (err) {
+      app.idle("Move failed", true);
+      showError(`Could not move to ${point}`, err);
+    }
+  });
+  $("path-clear").addEventListener("click", () => app.view.clearPath());
+  $("view-reset").addEventListener("click", () => app.view.resetView());
+}
+
+main();

@@ -1,0 +1,114 @@
+// Small shared UI helpers: toasts (human error messages from the API's error shape),
+// the activity indicator, element lookup.
+
+export const $ = (id) => document.getElementById(id);
+
+/** Make an element: el("li", {class: "x"}, "text", child…). */
+export function el(tag, attrs = {}, ...children) {
+  const node = document.createElement(tag);
+  for (const [key, value] of Object.entries(attrs)) {
+    if (value === false || value == null) continue;
+    if (key === "class") node.className = value;
+    else if (key.startsWith("on")) node.addEventListener(key.slice(2), value);
+    else node.setAttribute(key, value === true ? "" : value);
+  }
+  for (const child of children.flat()) {
+    if (child == null || child === false) continue;
+    node.append(child instanceof Node ? child : document.createTextNode(String(child)));
+  }
+  return node;
+}
+
+/**
+ * A toast. kind: "info" | "ok" | "warning" | "error". `items` are extra lines (for
+ * example diagnostics). Errors stay until closed; the others fade after a while.
+ */
+export function toast(title, { kind = "info", text = "", items = [], timeout } = {}) {
+  const close = el("button", { class: "close", "aria-label": "Dismiss", type: "button" }, "✕");
+  const node = el(
+    "div",
+    { class: `toast ${kind}`, role: kind === "error" ? "alert" : "status" },
+    el("div", {}, el("strong", {}, title), text ? el("span", {}, text) : null,
+      items.length ? el("ul", {}, items.slice(0, 6).map((i) => el("li", {}, i))) : null,
+      items.length > 6 ? el("span", { class: "muted" }, `… and ${items.length - 6} more`) : null),
+    close,
+  );
+  close.addEventListener("click", () => node.remove());
+  const box = document.getElementById("toasts");
+  box.append(node);
+  while (box.children.length > 4) box.firstElementChild.remove();
+  const ms = timeout ?? (kind === "error" ? 12000 : 4000);
+  if (ms > 0) setTimeout(() => node.remove(), ms);
+  return node;
+}
+
+/** One line per diagnostic: "line 3:5 — message (suggestion)". */
+export function describeDiagnostic(d) {
+  const where = d.line ? `line ${d.line}:${d.column} — ` : "";
+  return `${where}${d.message}${d.suggestion ? " " + d.suggestion : ""}`;
+}
+
+/** Show an API error as a toast that says what went wrong and, where known, where. */
+export function showError(what, err) {
+  if (err?.name === "AbortError") return;
+  const items = [];
+  const diags = err?.detail?.diagnostics;
+  if (Array.isArray(diags)) for (const d of diags) items.push(describeDiagnostic(d));
+  let text = err?.message || String(err);
+  if (err?.where?.line) text += ` (line ${err.where.line}${err.where.column ? ":" + err.where.column : ""})`;
+  if (err?.code === "lease-required" && err.detail?.holder) {
+    text = `${err.detail.holder.user} is controlling the robot. Ask them to release it` +
+      (err.detail.holder.role ? "" : "") + ", or an instructor can take over.";
+  }
+  if (err?.code === "controller-refused" && err.detail?.number) text += ` [controller error ${err.detail.number}]`;
+  toast(what, { kind: "error", text, items });
+}
+
+/** The toolbar's activity line: busy spinner, text, optional progress 0…1. */
+export function setActivity(text, { busy = false, error = false, progress = null } = {}) {
+  const box = document.getElementById("activity");
+  box.classList.toggle("busy", busy);
+  box.classList.toggle("error", error);
+  document.getElementById("activity-spinner").hidden = !busy;
+  document.getElementById("activity-text").textContent = text;
+  const bar = document.getElementById("upload-progress");
+  bar.hidden = progress == null;
+  if (progress != null) bar.value = progress;
+}
+
+/** Debounce: run fn `ms` after the last call. `.flush()` runs a pending call now. */
+export function debounce(fn, ms) {
+  let timer = null;
+  let lastArgs = [];
+  const run = () => {
+    timer = null;
+    return fn(...lastArgs);
+  };
+  const wrapped = (...args) => {
+    lastArgs = args;
+    clearTimeout(timer);
+    timer = setTimeout(run, ms);
+  };
+  wrapped.cancel = () => {
+    clearTimeout(timer);
+    timer = null;
+  };
+  wrapped.flush = () => (timer ? (clearTimeout(timer), run()) : undefined);
+  wrapped.pending = () => timer !== null;
+  return wrapped;
+}
+
+/** Read a chosen file as text: UTF-8, else Windows-1252 (the controller era's encoding). */
+export async function readTextFile(file) {
+  const bytes = await file.arrayBuffer();
+  try {
+    return new TextDecoder("utf-8", { fatal: true }).decode(bytes);
+  } catch {
+    return new TextDecoder("windows-1252").decode(bytes);
+  }
+}
+
+/** True when `name` ends with `.ext` (any case). */
+export function hasExtension(name, ext) {
+  return name.toLowerCase().endsWith("." + ext.toLowerCase());
+}

@@ -1,0 +1,262 @@
+// The workspace: program + points, autosaved to the server with the base revision, and a
+// draft in localStorage on every keystroke so a reload, a dropped connection or a crashed
+// tab never loses typing. A 409 conflict asks the student (keep mine / load theirs); edits
+// are never dropped silently.
+
+import { api, ApiError, OfflineError, downloadText } from "./api.js";
+import { $, debounce, el, showError, toast } from "./ui.js";
+
+const AUTOSAVE_MS = 1200;
+const RETRY_MS = 5000;
+
+export class Workspace extends EventTarget {
+  constructor(user) {
+    super();
+    this.user = user;
+    this.id = null;
+    this.owner = "";
+    this.base = 0; // the revision our texts are based on
+    this.program = "";
+    this.points = "";
+    this.saved = { program: "", points: "" }; // what the server has at `base`
+    this.saving = null; // the save in flight
+    this.again = false; // another save is needed after it
+    this.conflictOpen = false;
+    this.autosave = debounce(() => this.save("autosave"), AUTOSAVE_MS);
+    this.retryTimer = null;
+  }
+
+  get draftKey() {
+    return `melfa.draft.${this.user}.${this.id}`;
+  }
+
+  get dirty() {
+    return this.program !== this.saved.program || this.points !== this.saved.points;
+  }
+
+  emit(type, detail = {}) {
+    this.dispatchEvent(new CustomEvent(type, { detail }));
+  }
+
+  on(type, handler) {
+    this.addEventListener(type, (e) => handler(e.detail));
+  }
+
+  status(text, kind = "") {
+    const node = $("save-state");
+    node.textContent = text;
+    node.className = "save-state " + kind;
+  }
+
+  /** Open the default workspace; restore an unsaved draft or ask when it conflicts. */
+  async open() {
+    const list = await api("GET", "/api/workspaces");
+    const id = list.default_id;
+    const ws = await api("GET", `/api/workspaces/${id}`);
+    this.id = ws.id;
+    this.owner = ws.owner;
+    this.base = ws.revision;
+    this.saved = { program: ws.program, points: ws.points };
+    this.program = ws.program;
+    this.points = ws.points;
+    const draft = this.readDraft();
+    if (draft && (draft.program !== ws.program || draft.points !== ws.points)) {
+      if (draft.base === ws.revision) {
+        // Typed but never saved (reload, network gone): keep typing where it stopped.
+        this.program = draft.program;
+        this.points = draft.points;
+        toast("Unsaved edits restored", { kind: "info", text: "Your last edits were kept in this browser; saving them now." });
+        this.autosave();
+      } else {
+        this.program = draft.program;
+        this.points = draft.points;
+        this.emit("replaced", { source: "draft" });
+        this.conflict({ number: ws.revision, author: "?", program: ws.program, points: ws.points, created: "" }, true);
+      }
+    } else if (draft) {
+      this.clearDraft();
+    }
+    this.emit("replaced", { source: "open" });
+    this.showStatus();
+  }
+
+  readDraft() {
+    try {
+      const draft = JSON.parse(localStorage.getItem(this.draftKey) || "null");
+      return draft && typeof draft.program === "string" ? draft : null;
+    } catch {
+      return null;
+    }
+  }
+
+  writeDraft() {
+    try {
+      localStorage.setItem(this.draftKey, JSON.stringify({ base: this.base, program: this.program, points: this.points, at: Date.now() }));
+    } catch {
+      /* storage full or disabled: the server copy still saves */
+    }
+  }
+
+  clearDraft() {
+    localStorage.removeItem(this.draftKey);
+  }
+
+  /** The editor changed the program (or the points tab the points). */
+  update({ program, points }) {
+    if (program !== undefined) this.program = program;
+    if (points !== undefined) this.points = points;
+    if (this.dirty) {
+      this.writeDraft();
+      this.status("Unsaved changes…", "dirty");
+      this.autosave();
+    } else {
+      this.showStatus();
+    }
+    if (points !== undefined) this.emit("points", {});
+  }
+
+  /** Replace both texts (restore, load theirs, file opened): the editor follows. */
+  replace({ program, points }, source) {
+    if (program !== undefined) this.program = program;
+    if (points !== undefined) this.points = points;
+    this.emit("replaced", { source });
+    this.emit("points", {});
+    this.update({});
+  }
+
+  showStatus() {
+    if (this.dirty) this.status("Unsaved changes…", "dirty");
+    else this.status(this.base ? `Saved · revision ${this.base}` : "Not saved yet");
+  }
+
+  /** Save now (reason autosave|save). Resolves when the server has our texts. */
+  async save(reason = "autosave") {
+    this.autosave.cancel();
+    if (this.saving) {
+      this.again = true;
+      await this.saving.catch(() => {});
+      if (!this.dirty && reason === "autosave") return;
+    }
+    if (!this.dirty && reason === "autosave") return;
+    if (this.conflictOpen) return;
+    const sent = { program: this.program, points: this.points };
+    this.status("Saving…");
+    const job = api("PUT", `/api/workspaces/${this.id}`, { base: this.base, ...sent, reason });
+    this.saving = job;
+    try {
+      const out = await job;
+      this.base = out.revision.number;
+      this.saved = { program: out.revision.program, points: out.revision.points };
+      clearTimeout(this.retryTimer);
+      if (!this.dirty) this.clearDraft();
+      else this.writeDraft();
+      this.showStatus();
+      this.emit("saved", out.revision);
+    } catch (err) {
+      if (err instanceof ApiError && err.code === "save-conflict") {
+        this.conflict(err.detail.current);
+      } else if (err instanceof OfflineError || err.status >= 500) {
+        this.status("Offline — edits kept in this browser", "error");
+        clearTimeout(this.retryTimer);
+        this.retryTimer = setTimeout(() => this.save("autosave"), RETRY_MS);
+      } else {
+        this.status("Not saved", "error");
+        showError("Could not save the workspace", err);
+      }
+      if (reason !== "autosave") throw err;
+    } finally {
+      this.saving = null;
+      if (this.again) {
+        this.again = false;
+        if (this.dirty) this.autosave();
+      }
+    }
+  }
+
+  /** Someone saved meanwhile (`current` is their revision): ask, never drop edits. */
+  conflict(current, fromDraft = false) {
+    if (this.conflictOpen) return;
+    this.conflictOpen = true;
+    this.status("Conflict — choose a version", "error");
+    const dialog = $("conflict-dialog");
+    const who = current.author && current.author !== "?" ? `${current.author} saved revision ${current.number}` : `The workspace is now at revision ${current.number}`;
+    $("conflict-text").textContent = fromDraft
+      ? `This browser holds edits made on revision ${this.readDraft()?.base ?? "?"}, but ${who.charAt(0).toLowerCase() + who.slice(1)}. Keep your edits (they become the newest revision; theirs stays in the history) or load theirs (yours can be downloaded first).`
+      : `${who} while you were editing. Keep your edits (they become the newest revision; theirs stays in the history) or load theirs (download yours first if you want them).`;
+    const finish = () => {
+      this.conflictOpen = false;
+      dialog.close();
+    };
+    $("conflict-mine").onclick = () => {
+      finish();
+      this.base = current.number;
+      this.saved = { program: current.program, points: current.points };
+      this.save("save").catch(() => {});
+    };
+    $("conflict-theirs").onclick = () => {
+      finish();
+      this.base = current.number;
+      this.saved = { program: current.program, points: current.points };
+      this.clearDraft();
+      this.replace({ program: current.program, points: current.points }, "theirs");
+    };
+    $("conflict-download").onclick = () => {
+      downloadText(this.program, `${this.owner || "program"}-mine.MB4`);
+      if (this.points) downloadText(this.points, `${this.owner || "points"}-mine.POS`);
+    };
+    dialog.addEventListener("cancel", (e) => e.preventDefault(), { once: true }); // a choice is required
+    if (!dialog.open) dialog.showModal();
+  }
+
+  /** Save, then download the server's numbered export (kind program|points). */
+  async exportFile(kind) {
+    await this.save("save");
+    const response = await api("GET", `/api/workspaces/${this.id}/export/${kind}`, undefined, { raw: true });
+    const text = await response.text();
+    const disposition = response.headers.get("content-disposition") || "";
+    const name = /filename="?([^"]+)"?/.exec(disposition)?.[1] || (kind === "program" ? "program.MB4" : "points.POS");
+    downloadText(text, name);
+    return name;
+  }
+
+  // ---- revision history ----
+  async loadHistory() {
+    const list = $("history-list");
+    list.replaceChildren(el("li", { class: "muted" }, "Loading…"));
+    try {
+      const out = await api("GET", `/api/workspaces/${this.id}/revisions?limit=50`);
+      list.replaceChildren(
+        ...out.revisions.map((rev) =>
+          el("li", {},
+            el("span", {}, el("strong", {}, `#${rev.number}`), ` ${rev.reason}${rev.restored_from ? ` of #${rev.restored_from}` : ""} · ${rev.author}`),
+            el("span", { class: "when" }, formatTime(rev.created), ` · ${rev.program_chars} chars`),
+            el("button", { type: "button", class: "btn btn-sm", "aria-label": `Restore revision ${rev.number}`, onclick: () => this.restore(rev.number) }, "Restore"),
+          )),
+      );
+      if (!out.revisions.length) list.replaceChildren(el("li", { class: "muted" }, "No revisions yet: the first save makes one."));
+    } catch (err) {
+      list.replaceChildren(el("li", { class: "err-text" }, err.message));
+    }
+  }
+
+  async restore(number) {
+    await this.save("autosave").catch(() => {}); // the current text becomes a revision first
+    try {
+      const out = await api("POST", `/api/workspaces/${this.id}/revisions/${number}/restore`, { base: this.base });
+      this.base = out.revision.number;
+      this.saved = { program: out.revision.program, points: out.revision.points };
+      this.clearDraft();
+      this.replace({ program: out.revision.program, points: out.revision.points }, "restore");
+      toast(`Revision ${number} restored`, { kind: "ok", text: `It is now revision ${out.revision.number}.` });
+      this.loadHistory();
+    } catch (err) {
+      if (err.code === "save-conflict") this.conflict(err.detail.current);
+      else showError("Could not restore", err);
+    }
+  }
+}
+
+function formatTime(iso) {
+  const date = new Date(/[zZ]|[+-]\d\d:?\d\d$/.test(iso) ? iso : iso + "Z"); // store times are UTC
+  return isNaN(date) ? iso : date.toLocaleString([], { dateStyle: "short", timeStyle: "medium" });
+}

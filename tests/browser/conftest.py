@@ -1,0 +1,208 @@
+"""Browser tests: `melfa serve` for real (a subprocess on a free port, a temp data dir) and
+Debian's Chromium driven by Playwright's sync API. Never a downloaded browser: Chromium is
+launched by its path (scripts/test installs it with apt-get)."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Browser, BrowserContext, Page, sync_playwright
+
+CHROMIUM = Path("/usr/bin/chromium")
+ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+ADMIN_PASSWORD = "browser-tests-admin-pw"
+ROOT = Path(__file__).resolve().parents[2]
+SCREENSHOTS = ROOT / "docs" / "screenshots"
+VIEWPORT = {"width": 1366, "height": 768}
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@dataclass(frozen=True)
+class Server:
+    url: str
+    data: Path
+    passwords: dict[str, str]
+
+    def add_user(self, name: str, role: str = "student") -> str:
+        """Create an account with the `melfa users add` CLI; returns its password."""
+        command = [sys.executable, "-m", "melfa", "users", "add", name, "--role", role]
+        out = subprocess.run(
+            [*command, "--generate", "--data", str(self.data)],
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=60,
+        )
+        password = out.stdout.strip().splitlines()[-1]
+        self.passwords[name] = password
+        return password
+
+
+@pytest.fixture(scope="session")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    data = tmp_path_factory.mktemp("melfa-data")
+    port = _free_port()
+    env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
+    env["MELFA_ADMIN_PASSWORD"] = ADMIN_PASSWORD
+    log = (data / "serve.log").open("w")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)],
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        env=env,
+    )
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            assert proc.poll() is None, (data / "serve.log").read_text()
+            try:
+                with urllib.request.urlopen(url + "/api/health", timeout=2) as reply:
+                    if json.loads(reply.read())["robot"]["link"] == "connected":
+                        break
+            except OSError:
+                pass
+            assert time.monotonic() < deadline, "melfa serve did not answer"
+            time.sleep(0.1)
+        server = Server(url, data, {"admin": ADMIN_PASSWORD})
+        for name in ("alice", "bob", "carol"):
+            server.add_user(name)
+        yield server
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+        log.close()
+
+
+@pytest.fixture(scope="session")
+def browser() -> Iterator[Browser]:
+    if not CHROMIUM.exists():  # pragma: no cover - scripts/test installs it
+        pytest.skip("Debian's chromium is not at /usr/bin/chromium (apt-get install chromium)")
+    if not (ROOT / "src/melfa/web/static/vendor/.stamp").is_file():  # pragma: no cover
+        pytest.skip("the IDE's vendored libraries are missing: run scripts/build-frontend")
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=str(CHROMIUM), args=ARGS)
+        yield browser
+        browser.close()
+
+
+class Session:
+    """One signed-in browser context with the IDE open."""
+
+    def __init__(self, browser: Browser, server: Server, user: str) -> None:
+        self.server = server
+        self.user = user
+        self.context: BrowserContext = browser.new_context(viewport=VIEWPORT)  # type: ignore[arg-type]
+        self.context.set_default_timeout(10_000)
+        self.errors: list[str] = []
+        self.page: Page = self.context.new_page()
+        self.page.on("pageerror", lambda exc: self.errors.append(str(exc)))
+
+    def login_api(self) -> None:
+        """Sign in through the API (the login form has its own test)."""
+        reply = self.context.request.post(
+            self.server.url + "/api/session",
+            data={"username": self.user, "password": self.server.passwords[self.user]},
+        )
+        assert reply.ok, reply.text()
+        self.open()
+
+    def open(self) -> None:
+        self.page.goto(self.server.url + "/")
+        self.wait_ready()
+
+    def wait_ready(self) -> None:
+        self.page.wait_for_selector("#web-status[data-state=up]")
+        self.page.wait_for_function("() => window.melfa && window.melfa.workspace?.id")
+        self.page.wait_for_function("() => window.melfa.state && window.melfa.state.joints")
+
+    def eval(self, script: str, arg: Any = None) -> Any:
+        return self.page.evaluate(script, arg)
+
+    def set_program(self, text: str) -> None:
+        self.eval("(t) => window.melfa.editor.editor.setValue(t, 1)", text)
+
+    def set_points(self, text: str) -> None:
+        self.eval("(t) => window.melfa.workspace.update({points: t})", text)
+
+    def joints(self) -> list[float]:
+        return json.loads(self.page.get_attribute("#view3d", "data-joints") or "[]")
+
+    def pose(self) -> list[float]:
+        return list(self.eval("() => window.melfa.state.pose"))
+
+    def screenshot(self, name: str) -> None:
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        self.page.mouse.move(0, 0)
+        self.page.screenshot(path=str(SCREENSHOTS / f"{name}.png"))
+
+    def close(self) -> None:
+        self.context.close()
+        assert not self.errors, self.errors
+
+
+@pytest.fixture
+def open_session(browser: Browser, server: Server) -> Iterator[Any]:
+    """Factory: `open_session("alice")` gives a signed-in IDE; all closed afterwards."""
+    sessions: list[Session] = []
+
+    def make(user: str, *, login: bool = True) -> Session:
+        session = Session(browser, server, user)
+        sessions.append(session)
+        if login:
+            session.login_api()
+        return session
+
+    yield make
+    for session in sessions:
+        session.close()
+
+
+@pytest.fixture
+def stop_robot(server: Server) -> Iterator[None]:
+    """Leave the shared robot idle for the next test."""
+    yield
+    body = json.dumps({"username": "admin", "password": ADMIN_PASSWORD}).encode()
+    request = urllib.request.Request(
+        server.url + "/api/session", body, {"Content-Type": "application/json"}
+    )
+    with urllib.request.urlopen(request, timeout=5) as reply:
+        token = json.loads(reply.read())["csrf_token"]
+        cookies = "; ".join(c.split(";")[0] for c in reply.headers.get_all("Set-Cookie") or [])
+    stop = urllib.request.Request(
+        server.url + "/api/robot/stop",
+        b"",
+        {"X-CSRF-Token": token, "Cookie": cookies},
+        method="POST",
+    )
+    urllib.request.urlopen(stop, timeout=10).close()
