@@ -1,5 +1,5 @@
-"""The real web app (`melfa.web.create_app`) with the rosbridge router included the way
-the web server should include it, served by a real uvicorn on a free loopback port."""
+"""The real web app (`melfa.web.create_app`, which includes the rosbridge router), served
+by a real uvicorn on a free loopback port."""
 
 from __future__ import annotations
 
@@ -16,11 +16,9 @@ import uvicorn
 from argon2 import PasswordHasher
 from fastapi import FastAPI
 
-from melfa.ros.rosbridge import rosbridge_router
 from melfa.service import ServiceConfig
 from melfa.store import Store
 from melfa.web import SESSION_COOKIE, WebSettings, create_app
-from melfa.web.deps import actor_of, find_session, ws_context
 
 PASSWORDS = {"ann": "ann-password-12", "ivy": "ivy-password-12"}
 
@@ -30,18 +28,6 @@ def free_port() -> int:
         sock.bind(("127.0.0.1", 0))
         port: int = sock.getsockname()[1]
         return port
-
-
-def include_rosbridge(app: FastAPI) -> None:
-    """The lines the web app needs (see docs/ros.md)."""
-    app.include_router(
-        rosbridge_router(
-            lambda ws: ws_context(ws).service,
-            lambda ws, token: find_session(ws_context(ws), token),
-            actor_of,
-            allowed_origins=lambda ws: ws_context(ws).settings.allowed_origins,
-        )
-    )
 
 
 @dataclass
@@ -79,7 +65,6 @@ def serve(data_dir: Path) -> Iterator[Server]:
     store.accounts.create_user("ivy", PASSWORDS["ivy"], role="instructor")
     settings = WebSettings(data_dir=data_dir, service_config=ServiceConfig(idle_poll_s=0.2))
     app = create_app(settings, store=store)
-    include_rosbridge(app)
     port = free_port()
     config = uvicorn.Config(
         app, host="127.0.0.1", port=port, log_level="warning", ws="websockets-sansio"

@@ -7,7 +7,7 @@ from __future__ import annotations
 import contextlib
 from collections.abc import AsyncIterator
 
-from fastapi import FastAPI
+from fastapi import APIRouter, FastAPI
 from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 
@@ -110,8 +110,23 @@ def create_app(
     app.include_router(audit.pages)
     app.include_router(pages.router)
     app.include_router(ws_router)
+    app.include_router(_rosbridge())
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     return app
 
 
 __all__ = ["create_app", "operation_id"]
+
+
+def _rosbridge() -> APIRouter:
+    """The rosbridge v2 endpoint (`/rosbridge`, docs/ros.md): roslibjs and roslibpy clients
+    drive the same service as the IDE, authenticated by the session cookie or `auth` op."""
+    from melfa.ros.rosbridge import rosbridge_router
+    from melfa.web.deps import actor_of, find_session, ws_context
+
+    return rosbridge_router(
+        lambda ws: ws_context(ws).service,
+        lambda ws, token: find_session(ws_context(ws), token),
+        actor_of,
+        allowed_origins=lambda ws: ws_context(ws).settings.allowed_origins,
+    )
