@@ -55,6 +55,8 @@ function MelfaHighlightRules() {
     ],
   };
   this.normalizeRules();
+  // Ctrl+Space completes these (Ace's keyword completer reads $keywordList).
+  this.$keywordList = [...STATEMENT_SET, ...SECONDARY_SET, ...FUNCTION_SET];
 }
 oop.inherits(MelfaHighlightRules, TextHighlightRules);
 

@@ -165,8 +165,9 @@ export class RobotView {
   }
 
   resetView() {
-    this.camera.position.set(1.3, 0.9, 1.05);
-    this.controls?.target.set(0.18, 0.42, 0);
+    // From the front-left of the robot (its -Y side), a little above the table.
+    this.camera.position.set(0.95, 0.85, 1.55);
+    this.controls?.target.set(0.2, 0.4, 0);
     this.controls?.update();
     this.requestRender();
   }
