@@ -10,6 +10,7 @@ import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
 from collections.abc import Iterator
@@ -33,7 +34,14 @@ ARGS = [
 ]
 ADMIN_PASSWORD = "browser-tests-admin-pw"
 ROOT = Path(__file__).resolve().parents[2]
-SCREENSHOTS = ROOT / "docs" / "screenshots"
+# The committed screenshots (docs/screenshots, linked from docs/ide.md) are refreshed with
+# MELFA_UPDATE_SCREENSHOTS=1; ordinary runs write them to a temporary folder so a test run
+# never dirties the working tree.
+SCREENSHOTS = (
+    ROOT / "docs" / "screenshots"
+    if os.environ.get("MELFA_UPDATE_SCREENSHOTS")
+    else Path(tempfile.gettempdir()) / "melfa-screenshots"
+)
 VIEWPORT = {"width": 1366, "height": 768}
 
 
