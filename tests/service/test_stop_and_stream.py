@@ -223,3 +223,32 @@ def test_reconnects_after_the_pty_server_side_dies() -> None:
     finally:
         for server in servers:
             server.close()
+
+
+def test_a_still_arm_shows_one_steady_pose() -> None:
+    """Away from home, the pose computed from 2-decimal joints differs from the measured
+    one by a fraction of a mm; a still arm must show the measured pose, not flicker."""
+    controller = RecordingController()
+
+    async def main() -> None:
+        service, _ = make_service(controller)
+        async with service:
+            await service.servo(ANN, True)
+            await service.move_to(ANN, (350.0, -250.0, 390.0, 180.0, 0.0, 180.0))
+            with service.subscribe(StateSnapshot) as sub:
+                while True:  # until the move is over and a PPOSF was read at rest
+                    snap = await sub.get()
+                    assert isinstance(snap, StateSnapshot)
+                    arrived = snap.pose is not None and abs(snap.pose[1] + 250.0) < 1.0
+                    if arrived and not snap.moving and snap.pose_measured:
+                        break
+                poses = set()
+                for _ in range(16):  # four poll cycles (JPOSF, PPOSF, STATE, HNDSTS)
+                    snap = await sub.get()
+                    assert isinstance(snap, StateSnapshot)
+                    poses.add(snap.pose)
+            assert len(poses) == 1
+            (pose,) = poses
+            assert pose[:3] == pytest.approx((350.0, -250.0, 390.0), abs=0.02)
+
+    run(main())

@@ -96,6 +96,8 @@ class Worker:
         self._rtt: dict[str, float] = {}
         self._joints: tuple[float, ...] | None = None
         self._tool_offset: Pose | None = None
+        self._measured_joints: tuple[float, ...] | None = None
+        self._joints_still = False
         self._error_texts: dict[int, str] = {}
         self.polls = 0
 
@@ -251,6 +253,7 @@ class Worker:
             return False
         self.robot = robot
         self._tool_offset = None
+        self._measured_joints = None
         self._set_status(LinkStatus.CONNECTED, f"{why}: {robot.link.description}")
         return True
 
@@ -361,7 +364,11 @@ class Worker:
                 self._joints is not None and joints != self._joints
             )
             self._joints = joints
-            if self._tool_offset is not None:
+            self._joints_still = not update["moving"]
+            # At rest where the last PPOSF was read, that measured pose stands: the one
+            # computed from 2-decimal joints can differ from it by ~0.5 mm, and alternating
+            # the two would make a still arm's pose flicker.
+            if self._tool_offset is not None and joints != self._measured_joints:
                 with contextlib.suppress(Exception):
                     pose = pose_mul(fk(joints), self._tool_offset)
                     update["pose"] = (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)
@@ -373,11 +380,14 @@ class Worker:
             update = {"pose": values, "pose_measured": True}
             if position.fl1 is not None and position.fl2 is not None:
                 update["flags"] = (position.fl1, position.fl2)
-            if not position.speed and self._joints is not None:
+            # Learn the offset only from joints read at rest: joints read mid-move and a
+            # pose read after the stop would teach a wrong offset.
+            if not position.speed and self._joints is not None and self._joints_still:
                 with contextlib.suppress(Exception):
                     x, y, z, a, b, c = values
                     measured = Pose(x, y, z, a, b, c, position.fl1 or 7, position.fl2 or 0)
                     self._tool_offset = pose_mul(pose_inv(fk(self._joints)), measured)
+                    self._measured_joints = self._joints
             return update
         if command == "STATE":
             return self._state_update(robot, robot.state())
