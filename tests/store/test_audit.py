@@ -94,30 +94,3 @@ def test_record_async(store: Store) -> None:
 
     event_id = asyncio.run(store.audit.record_async(AuditEvent("robot.stop", actor="tom")))
     assert store.audit.query().entries[0].id == event_id
-
-
-def test_service_audit_events_are_stored_through_the_sink(store: Store) -> None:
-    from melfa.service.audit import AuditSink
-    from melfa.service.events import Actor
-    from melfa.service.events import AuditEvent as ServiceEvent
-    from melfa.service.events import Role as ServiceRole
-    from melfa.store import ServiceAuditSink
-
-    sink = ServiceAuditSink(store.audit)
-    assert isinstance(sink, AuditSink)
-    actor = Actor("ada", ServiceRole.STUDENT, "s-1")
-    sink.write(ServiceEvent(actor=actor, command_id=7, command="run", detail="slot 1"))
-    sink.write(ServiceEvent(actor=actor, command_id=7, command="run", result="ok"))
-    sink.flush()
-    entries = store.audit.query(actor="ada").entries
-    assert [(e.action, e.result) for e in entries] == [
-        ("robot.run", "ok"),
-        ("robot.run", "accepted"),
-    ]
-    assert entries[1].details == {
-        "command_id": 7,
-        "detail": "slot 1",
-        "moves": True,
-        "session": "s-1",
-    }
-    assert entries[1].role == "student"

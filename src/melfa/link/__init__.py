@@ -10,7 +10,15 @@ cutting them at CR (that is `melfa.protocol`).
 from melfa.link.base import POLL_S, Link
 from melfa.link.errors import LinkCancelled, LinkClosed, LinkError, LinkTimeout
 from melfa.link.memory import MemoryLink, Responder
-from melfa.link.opener import ROBOT_ENV, SIM_SPEC, TRACE_ENV, default_robot, open_link
+from melfa.link.opener import (
+    ROBOT_ENV,
+    SIM_SPEC,
+    TRACE_ENV,
+    default_robot,
+    is_sim_spec,
+    open_link,
+    wrap_link,
+)
 from melfa.link.serial_link import SerialLink
 from melfa.link.settings import BAUDRATES, DEFAULT_TIMEOUT_S, PARITIES, STOPBITS, LinkSettings
 from melfa.link.tcp import TcpLink, parse_tcp_url
@@ -38,7 +46,9 @@ __all__ = [
     "TcpLink",
     "TraceLink",
     "default_robot",
+    "is_sim_spec",
     "open_link",
     "parse_tcp_url",
     "render",
+    "wrap_link",
 ]

@@ -1,9 +1,10 @@
-"""`open_link(spec)`: one opener for every ``--robot`` form.
+"""`open_link(spec)`: one opener for every transport a ``--robot`` spec can name.
 
 =========================  ==================================================================
 spec                       link
 =========================  ==================================================================
-``sim``                    in-process virtual controller (`melfa.sim.open_sim_link`)
+``sim``                    not here: the in-process virtual controller is a layer above the
+                           link (`melfa.robot.open_robot_link` opens every form, ``sim`` too)
 ``tcp://host:port``        `TcpLink` (Ethernet controller, or ``melfa sim --tcp``)
 ``socket://``, ``loop://``, any other pyserial URL (``rfc2217://``, ``spy://``…): `SerialLink`
 ``/dev/ttyUSB0``, ``COM3``  a serial device: `SerialLink` at the settings (9600 8E2 default)
@@ -50,9 +51,12 @@ def open_link(
     if not spec:
         raise LinkError("no robot given: use a serial device, tcp://host:port, a URL, or sim")
     link: Link
-    if spec == SIM_SPEC or spec.startswith(SIM_SPEC + ":"):
-        link = _open_sim(spec, settings)
-    elif spec.startswith("tcp://"):
+    if is_sim_spec(spec):
+        raise LinkError(
+            "'sim' is the in-process virtual controller: open it with "
+            "melfa.robot.open_robot_link (melfa.link opens real transports only)"
+        )
+    if spec.startswith("tcp://"):
         link = TcpLink(spec, settings)
     elif "://" in spec:
         link = SerialLink(spec, settings)
@@ -63,24 +67,27 @@ def open_link(
                 "(try `ls /dev/serial/by-id/`), or use tcp://host:port or sim"
             )
         link = SerialLink(spec, settings)
+    return wrap_link(link, trace=trace, trace_sink=trace_sink, pace=pace)
+
+
+def is_sim_spec(spec: str) -> bool:
+    """``sim`` (or ``sim:…``): the in-process virtual controller."""
+    spec = spec.strip()
+    return spec == SIM_SPEC or spec.startswith(SIM_SPEC + ":")
+
+
+def wrap_link(
+    link: Link,
+    *,
+    trace: bool | None = None,
+    trace_sink: Callable[[str], None] | None = None,
+    pace: bool = False,
+) -> Link:
+    """Add line pacing and, when asked (or ``MELFA_TRACE``), a trace of both directions."""
     if pace:
         link = PacedLink(link)
     if trace if trace is not None else trace_requested():
         link = TraceLink(link, trace_sink)
-    return link
-
-
-def _open_sim(spec: str, settings: LinkSettings) -> Link:
-    try:
-        from melfa.sim import open_sim_link  # type: ignore[attr-defined,unused-ignore]
-    except ImportError:
-        raise LinkError(
-            "the in-process virtual controller is not available in this build; "
-            "start `melfa sim --tcp` and use --robot tcp://127.0.0.1:PORT"
-        ) from None
-    link = open_sim_link(settings=settings)
-    if not isinstance(link, Link):
-        raise LinkError(f"melfa.sim.open_sim_link returned {type(link).__name__}, not a Link")
     return link
 
 

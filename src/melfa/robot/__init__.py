@@ -20,6 +20,7 @@ from melfa.robot.client import (
     program_items,
 )
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
+from melfa.robot.opener import open_robot_link
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus
 from melfa.robot.text import to_controller_ascii
@@ -41,6 +42,7 @@ __all__ = [
     "UploadRefused",
     "UploadReport",
     "needs_rights",
+    "open_robot_link",
     "point_items",
     "program_items",
     "to_controller_ascii",

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Final
 
-from melfa.link import Link, LinkError, LinkSettings, open_link
+from melfa.link import Link, LinkError, LinkSettings
 from melfa.protocol import (
     EDIT_SLOT,
     REQUEST_LIMIT,
@@ -186,8 +186,10 @@ class Robot:
         *,
         trace: bool | None = None,
     ) -> Robot:
-        """Open the link ``spec`` names (see `melfa.link.open_link`) and wrap it."""
-        return cls(open_link(spec, link_settings, trace=trace), settings)
+        """Open the link ``spec`` names (see `melfa.robot.open_robot_link`) and wrap it."""
+        from melfa.robot.opener import open_robot_link
+
+        return cls(open_robot_link(spec, link_settings, trace=trace), settings)
 
     # ----------------------------------------------------------------- session basics
 

@@ -33,10 +33,11 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from melfa.link import Link, LinkSettings, open_link
+from melfa.link import Link, LinkSettings
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
 from melfa.robot.client import BUSY
+from melfa.robot.opener import open_robot_link
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription
 from melfa.service.config import ServiceConfig
@@ -137,7 +138,7 @@ class RobotService:
 
             controller = VirtualController()
             return cls(lambda: open_sim_link(settings, controller=controller), **options)
-        return cls(lambda: open_link(spec, settings, trace=trace), **options)
+        return cls(lambda: open_robot_link(spec, settings, trace=trace), **options)
 
     # ================================================================== lifecycle
 

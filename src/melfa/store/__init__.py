@@ -54,7 +54,6 @@ from melfa.store.models import (
     WorkspaceState,
 )
 from melfa.store.passwords import Passwords, generate_password
-from melfa.store.service_audit import ServiceAuditSink, from_service_event
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions, check_csrf
 from melfa.store.store import (
     DATA_ENV,
@@ -114,7 +113,6 @@ __all__ = [
     "SaveConflict",
     "SaveReason",
     "SaveResult",
-    "ServiceAuditSink",
     "Session",
     "SessionPolicy",
     "Sessions",
@@ -133,7 +131,6 @@ __all__ = [
     "default_data_dir",
     "enrol",
     "file_kind",
-    "from_service_event",
     "generate_password",
     "normalize_group",
     "normalize_username",

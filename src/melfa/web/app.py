@@ -13,8 +13,9 @@ from fastapi.staticfiles import StaticFiles
 
 from melfa import __version__
 from melfa.service import RobotService
-from melfa.store import ServiceAuditSink, Store
+from melfa.store import Store
 from melfa.web import errors
+from melfa.web.audit_sink import ServiceAuditSink
 from melfa.web.config import WebSettings
 from melfa.web.context import WebContext
 from melfa.web.logs import RequestLog

@@ -1,5 +1,7 @@
 """The store as the service's audit sink (`melfa.service.audit.AuditSink`).
 
+It lives in the web layer, which composes the two: the store knows nothing of the service.
+
 The service calls ``write(entry)`` on its event loop and asks that it neither block nor
 raise; so the entry is converted at once and queued on the store's writer thread without
 waiting. A failed write is logged (``melfa.store`` logger), never raised into the service.
@@ -10,13 +12,10 @@ from __future__ import annotations
 
 import logging
 from concurrent.futures import Future
-from typing import TYPE_CHECKING
 
+from melfa.service.events import AuditEvent as ServiceAuditEvent
 from melfa.store.audit import AuditLog, insert_event
 from melfa.store.models import AuditEvent
-
-if TYPE_CHECKING:
-    from melfa.service.events import AuditEvent as ServiceAuditEvent
 
 __all__ = ["ServiceAuditSink", "from_service_event"]
 
