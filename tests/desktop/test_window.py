@@ -326,3 +326,58 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
     target = Path(os.environ.get("MELFA_DESKTOP_SCREENSHOT") or tmp_path / "desktop.png")
     assert image.save(str(target))
     assert target.stat().st_size > 10_000
+
+
+def test_main_signs_in_opens_the_window_and_exits_when_closed(
+    qapp: QApplication, server: Server
+) -> None:
+    """The real entry point (`melfa desktop`), its modal sign-in driven by timers."""
+    from PySide6.QtCore import QTimer
+
+    from melfa.desktop.app import main
+
+    seen: list[str] = []
+    others = {id(w) for w in QApplication.topLevelWidgets()}  # e.g. the module's window
+
+    def sign_in_when_asked() -> None:
+        dialog = QApplication.activeModalWidget()
+        if not isinstance(dialog, LoginDialog):
+            QTimer.singleShot(20, sign_in_when_asked)
+            return
+        seen.append(dialog.username_edit.text())
+        dialog.password_edit.setText(server.password)
+        dialog.sign_in_button.click()
+        QTimer.singleShot(20, close_when_live)
+
+    def close_when_live() -> None:
+        windows = [
+            w
+            for w in QApplication.topLevelWidgets()
+            if isinstance(w, MainWindow) and id(w) not in others
+        ]
+        live = [w for w in windows if w.isVisible() and w.presenter.state is not None]
+        if not live:
+            QTimer.singleShot(20, close_when_live)
+            return
+        seen.append(live[0].link_pill.text())
+        live[0].close()
+
+    QTimer.singleShot(0, sign_in_when_asked)
+    assert main(server.url, "admin") == 0
+    assert seen == ["admin", "Connected"]
+
+
+def test_many_updates_do_not_exhaust_none(ui: Ui) -> None:
+    """PySide6 6.12 on Python 3.11 drops a reference to None per Qt call (melfa.desktop.qtfix);
+    a long session must not run the count down to zero."""
+    import sys
+
+    from melfa.desktop.qtfix import top_up
+
+    state = ui.presenter.state
+    assert state is not None
+    top_up()
+    for _ in range(2000):
+        ui.window.show_state(state)
+    top_up()  # what the application's timer does every second
+    assert sys.getrefcount(None) > 10_000

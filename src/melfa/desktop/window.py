@@ -6,6 +6,8 @@ Widgets only: every action goes to the `Presenter`, every dialog through `Dialog
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from PySide6.QtCore import Qt
 from PySide6.QtGui import QCloseEvent, QFont, QFontDatabase, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
@@ -126,10 +128,16 @@ class ValueLabel(QLabel):
 
 
 class MainWindow(QMainWindow):
-    def __init__(self, presenter: Presenter, dialogs: Dialogs) -> None:
+    def __init__(
+        self,
+        presenter: Presenter,
+        dialogs: Dialogs,
+        on_closed: Callable[[], None] | None = None,
+    ) -> None:
         super().__init__()
         self.presenter = presenter
         self.dialogs = dialogs
+        self.on_closed = on_closed
         client = presenter.client
         user = client.user.username if client.user else "?"
         self.setWindowTitle(f"melfa desktop — {user} @ {client.server}")
@@ -505,6 +513,8 @@ class MainWindow(QMainWindow):
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
         self.presenter.shutdown()
         super().closeEvent(event)
+        if self.on_closed is not None:
+            self.on_closed()
 
 
 __all__ = ["MainWindow"]
