@@ -367,17 +367,15 @@ def test_main_signs_in_opens_the_window_and_exits_when_closed(
     assert seen == ["admin", "Connected"]
 
 
-def test_many_updates_do_not_exhaust_none(ui: Ui) -> None:
-    """PySide6 6.12 on Python 3.11 drops a reference to None per Qt call (melfa.desktop.qtfix);
-    a long session must not run the count down to zero."""
+def test_many_updates_keep_none_alive(ui: Ui) -> None:
+    """A long session makes thousands of void Qt calls. PySide6-Essentials 6.12.0 dropped a
+    reference to None on each under Python 3.11 and aborted the interpreter; pyproject pins
+    below it, and this catches a build that does it again."""
     import sys
-
-    from melfa.desktop.qtfix import top_up
 
     state = ui.presenter.state
     assert state is not None
-    top_up()
+    before = sys.getrefcount(None)
     for _ in range(2000):
         ui.window.show_state(state)
-    top_up()  # what the application's timer does every second
-    assert sys.getrefcount(None) > 10_000
+    assert sys.getrefcount(None) >= before - 100

@@ -4,14 +4,12 @@ from __future__ import annotations
 
 import sys
 
-from PySide6.QtCore import QTimer
 from PySide6.QtGui import QFont
 from PySide6.QtWidgets import QApplication, QDialog
 
 from melfa.desktop.dialogs import QtDialogs
 from melfa.desktop.login import LoginDialog
 from melfa.desktop.presenter import Presenter
-from melfa.desktop.qtfix import INTERVAL_MS, NEEDED, top_up
 from melfa.desktop.window import STYLE, MainWindow
 
 BASE_POINT_SIZE = 10.5
@@ -19,18 +17,11 @@ BASE_POINT_SIZE = 10.5
 
 
 def application() -> QApplication:
-    """The one QApplication (created once), with the Fusion style and a readable font,
-    and the reference-count guard of `melfa.desktop.qtfix`."""
+    """The one QApplication (created once), with the Fusion style and a readable font."""
     existing = QApplication.instance()
     if isinstance(existing, QApplication):
         return existing
-    top_up()
     app = QApplication(sys.argv[:1])
-    if NEEDED:  # see melfa.desktop.qtfix: PySide6 6.12 on Python 3.11 leaks None/True away
-        guard = QTimer(app)
-        guard.setInterval(INTERVAL_MS)
-        guard.timeout.connect(top_up)
-        guard.start()
     app.setApplicationName("melfa desktop")
     app.setStyle("Fusion")
     font = QFont(app.font())
