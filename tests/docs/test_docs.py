@@ -1,0 +1,42 @@
+"""The docs are kept true by a machine: every command is in the README, every API route in
+docs/api.md, every benchmark in the README's table."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer.main
+
+from melfa.cli import app
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_every_command_is_in_the_readme() -> None:
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    commands = typer.main.get_command(app).commands  # type: ignore[attr-defined]
+    missing = [name for name in commands if f"melfa {name}" not in readme]
+    assert not missing, f"README.md does not mention: {missing}"
+
+
+def test_every_api_route_is_in_the_api_docs() -> None:
+    from fastapi.routing import APIRoute, APIWebSocketRoute
+
+    from melfa.web import WebSettings, create_app
+
+    api = (ROOT / "docs" / "api.md").read_text(encoding="utf-8")
+    routes = create_app(WebSettings()).routes
+    paths = {
+        route.path
+        for route in routes
+        if isinstance(route, APIRoute | APIWebSocketRoute) and route.path.startswith("/api")
+    }
+    assert len(paths) > 20  # the app really has its routes
+    missing = sorted(path for path in paths if path not in api)
+    assert not missing, f"docs/api.md does not mention: {missing}"
+
+
+def test_every_benchmark_is_in_the_readme_table() -> None:
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    missing = [p.name for p in sorted((ROOT / "bench").glob("bench_*.py")) if p.name not in readme]
+    assert not missing, f"README.md's benchmark table lacks: {missing}"
