@@ -112,8 +112,11 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
         log.close()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser() -> Iterator[Browser]:
+    """Chromium for one test module. Not for the session: Playwright's sync API keeps an
+    asyncio loop running in the main thread until it stops, and every later test that
+    calls asyncio.run() would fail."""
     if not CHROMIUM.exists():  # pragma: no cover - scripts/test installs it
         pytest.skip("Debian's chromium is not at /usr/bin/chromium (apt-get install chromium)")
     if not (ROOT / "src/melfa/web/static/vendor/.stamp").is_file():  # pragma: no cover
