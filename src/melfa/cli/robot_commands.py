@@ -20,13 +20,15 @@ from __future__ import annotations
 
 import contextlib
 import enum
+import functools
+import inspect
 import json
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.console import Console
@@ -124,6 +126,53 @@ def _target(
     except ValueError as exc:
         raise _fail(str(exc), EXIT_USAGE) from None
     return Target((robot or "").strip() or SIM_SPEC, settings, True if trace else None)
+
+
+_SHARED_OPTIONS: tuple[tuple[str, Any, Any], ...] = (
+    ("robot", RobotOpt, None),
+    ("baud", BaudOpt, 9600),
+    ("parity", ParityOpt, "E"),
+    ("stopbits", StopbitsOpt, 2),
+    ("timeout", TimeoutOpt, DEFAULT_TIMEOUT_S),
+    ("trace", TraceOpt, False),
+)
+
+
+def robot_command(
+    *args: Any, **kwargs: Any
+) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """`app.command` for a command that talks to a robot.
+
+    Adds the connection options every such command shares (--robot, --baud, --parity,
+    --stopbits, --timeout, --trace, in one place) and hands the command the `Target` they
+    describe as its keyword-only ``target`` argument.
+    """
+
+    def decorate(fn: Callable[..., None]) -> Callable[..., None]:
+        own = [
+            p
+            for p in inspect.signature(fn, eval_str=True).parameters.values()
+            if p.name != "target"
+        ]
+        shared = [
+            inspect.Parameter(
+                name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=hint
+            )
+            for name, hint, default in _SHARED_OPTIONS
+        ]
+
+        @functools.wraps(fn)
+        def command(*a: Any, **kw: Any) -> None:
+            options = [kw.pop(name) for name, _, _ in _SHARED_OPTIONS]
+            fn(*a, target=_target(*options), **kw)
+
+        params = [*own, *shared]
+        command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
+        command.__annotations__ = {p.name: p.annotation for p in params}
+        app.command(*args, **kwargs)(command)
+        return fn
+
+    return decorate
 
 
 RESET_HINT = "clear it with `melfa reset`"
@@ -229,7 +278,7 @@ def _read_text(path: Path, what: str) -> tuple[str, object]:
     return source.text, source
 
 
-@app.command(
+@robot_command(
     help="Check, number and upload a program (and its points) as program 1 in slot 1.\n\n"
     "Program and points go in one LOAD…SAVE session that replaces what was there; nothing "
     "is saved unless every line was accepted. The controller takes ASCII only: accents in "
@@ -245,19 +294,14 @@ def upload(
     force: Annotated[
         bool, typer.Option("--force", help="Upload even if the checker finds errors.")
     ] = False,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """See the help text above."""
     from melfa.cli.lang_commands import check_files, print_text
     from melfa.lang.diagnostics import Severity
     from melfa.lang.points import parse_points, upload_lines
 
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     text, program_source = _read_text(program, "program")
     sources = [program_source]
     point_lines: list[str] = []
@@ -329,22 +373,17 @@ def _progress() -> Progress:
 # --- simple commands ---------------------------------------------------------------------
 
 
-@app.command()
+@robot_command()
 def run(
     wait: Annotated[
         bool, typer.Option("--wait/--no-wait", help="Wait until the program has finished.")
     ] = False,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Start program 1 in slot 1 once (cycle mode); needs a persistent robot, not sim.
 
     With --wait, exit 1 if the program stopped on an error (line and error shown)."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.run()
         if not wait:
@@ -365,69 +404,49 @@ def run(
     _out.print("finished")
 
 
-@app.command()
+@robot_command()
 def stop(
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Stop every slot and any motion now (needs no operation rights)."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.stop()
     _out.print("stopped")
 
 
-@app.command()
+@robot_command()
 def delete(
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Delete program 1 and its points from the controller."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.delete()
     _out.print("deleted")
 
 
-@app.command("exec")
+@robot_command("exec")
 def exec_(
     statement: Annotated[str, typer.Argument(help='One statement, e.g. "MOV P1" or "OVRD 20".')],
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Execute one MELFA BASIC statement now; returns when accepted (the arm may still move)."""
     if not statement.strip():
         raise _fail("empty statement", EXIT_USAGE)
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.exec(statement)
     _out.print("accepted")
 
 
-@app.command()
+@robot_command()
 def pose(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Show the tool pose (X Y Z mm, A B C deg, flags) and the joints J1–J6 (deg)."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         tool = session.pose()
         joints = session.joints()
@@ -452,19 +471,14 @@ class HandAction(enum.StrEnum):
     CLOSE = "close"
 
 
-@app.command()
+@robot_command()
 def hand(
     action: Annotated[HandAction, typer.Argument(help="open or close.")],
     number: Annotated[int, typer.Argument(min=1, max=8, help="Hand number 1–8.")] = 1,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Open or close a hand (EXECHOPEN n / EXECHCLOSE n)."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.hand(action is HandAction.OPEN, number)
     _out.print(f"hand {number} {action.value}")
@@ -475,34 +489,24 @@ class OnOff(enum.StrEnum):
     OFF = "off"
 
 
-@app.command()
+@robot_command()
 def servo(
     state: Annotated[OnOff, typer.Argument(help="on or off.")],
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Switch the servo power on (needed before any move) or off."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         session.servo(state is OnOff.ON)
     _out.print(f"servo {state.value}")
 
 
-@app.command()
+@robot_command()
 def reset(
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Clear the active alarm (RSTALRM), e.g. after a refused move; exit 1 if one remains."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         before = session.active_alarm()
         after = session.reset_alarm()
@@ -515,18 +519,13 @@ def reset(
     _out.print(f"cleared {before.detail}" if before is not None else "no alarm was active")
 
 
-@app.command()
+@robot_command()
 def status(
     as_json: Annotated[bool, typer.Option("--json", help="Print JSON.")] = False,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """Show whether a program runs (and which line), servo, override and any active alarm."""
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     with _session(target) as session:
         report = session.status()
     if as_json:
@@ -626,7 +625,7 @@ JOG_KEY_MAP = (
 )
 
 
-@app.command(
+@robot_command(
     help="Jog from the keyboard: hold w/s (±X), a/d (±Y), up/down (±Z); space opens or "
     "closes the hand; q quits. The arm moves only while a key is held. Needs an interactive "
     "terminal (not a pipe or a script)."
@@ -636,12 +635,8 @@ def jog(
         int, typer.Option("--override", min=1, max=100, help="Jog speed override, %.")
     ] = 10,
     hand_number: Annotated[int, typer.Option("--hand", min=1, max=8, help="Hand for space.")] = 1,
-    robot: RobotOpt = None,
-    baud: BaudOpt = 9600,
-    parity: ParityOpt = "E",
-    stopbits: StopbitsOpt = 2,
-    timeout: TimeoutOpt = DEFAULT_TIMEOUT_S,
-    trace: TraceOpt = False,
+    *,
+    target: Target,
 ) -> None:
     """See the help text above."""
     if not sys.stdin.isatty():
@@ -654,7 +649,6 @@ def jog(
     import termios
     import tty
 
-    target = _target(robot, baud, parity, stopbits, timeout, trace)
     fd = sys.stdin.fileno()
     saved = termios.tcgetattr(fd)
     _out.print(JOG_KEY_MAP)
