@@ -10,6 +10,7 @@ from melfa.protocol import (
     ErrorStatus,
     OpenBanner,
     Position,
+    PositionUnknown,
     RemoteProtocolError,
     ReplyReader,
     RunStatus,
@@ -51,8 +52,9 @@ def test_position_tolerates_missing_axis_extra_axes_and_crlf() -> None:
     assert p["J4"] is None
     assert p["J7"] == 7.5
     assert p.names[-1] == "J8"
-    with pytest.raises(RemoteProtocolError, match="J4 as"):
+    with pytest.raises(PositionUnknown, match=r"position unknown .* J4 shows"):
         p.values("J4")
+    assert not p.unknown
     with pytest.raises(RemoteProtocolError, match="no axis L1"):
         p.values("L1")
 

@@ -16,6 +16,7 @@ from melfa.protocol import (
     RunStatus,
     error_text,
 )
+from melfa.protocol.error_table import DURING_ERROR
 from melfa.robot import (
     ControllerError,
     JogMethod,
@@ -24,7 +25,6 @@ from melfa.robot import (
     Stopped,
     UploadRefused,
 )
-from melfa.robot.client import DURING_ERROR
 from melfa.sim import PtyServer, SimConfig, VirtualController
 from tests.robot.conftest import LINK
 from tests.robot.fake import wait_for

@@ -57,8 +57,8 @@ from melfa.protocol import (
     LocalProtocolError,
     RemoteProtocolError,
 )
+from melfa.protocol.error_table import DURING_ERROR, PROGRAM_NOT_FOUND
 from melfa.robot import ControllerError, Robot, RobotError, Stopped
-from melfa.robot.client import DURING_ERROR, NOT_FOUND
 from melfa.robot.status import Alarm
 
 EXIT_REFUSED = 1
@@ -218,7 +218,7 @@ SIM_HINT = (
 
 def _refusal_message(exc: ControllerError, robot: Robot | None, target: Target) -> str:
     text = str(exc)
-    if exc.number == NOT_FOUND and target.spec == SIM_SPEC:
+    if exc.number == PROGRAM_NOT_FOUND and target.spec == SIM_SPEC:
         return f"{text}\n{SIM_HINT}"
     if robot is None or not (exc.alarm or exc.number == DURING_ERROR):
         return text

@@ -1,7 +1,10 @@
 """The CR2B-574 R-protocol, sans-I/O: bytes in, typed values out, and back.
 
-What it does: build and check requests (``<robot>;<slot>;<COMMAND>`` + CR, ≤ 255 bytes),
-decode the four reply forms (QoK/Qok/QeR/Qer) and the edit refusal, cut a byte stream into
+What it does: hold the controller's facts in one place (error numbers and texts in
+`error_table`, the command table in `commands`, the JOG watchdog in `jog`, STATE fields in
+`answers`), build and check requests (``<robot>;<slot>;<COMMAND>`` + CR, ≤ 255 bytes),
+decode the four reply forms (QoK/Qok/QeR/Qer, 4- or 9-digit error numbers) and the edit
+refusal, read ERRORRD/PDIR/PAR answers (`listings`), cut a byte stream into
 replies (bounded), read the OPEN/JPOSF/PPOSF/STATE/DSTATE/ERROR answers, pack programs into
 EMDAT requests, encode JOG, and name error numbers. The simulator uses the same code to read
 requests and write replies, so the two sides cannot drift apart.
@@ -16,21 +19,36 @@ Reference: ``docs/protocol.md`` (source tags such as [DOC S1 p.8] are quoted in 
 from melfa.protocol.answers import (
     JOINT_NAMES,
     POSE_NAMES,
+    POSITION_UNKNOWN_TEXT,
     DState,
     ErrorLevel,
     ErrorStatus,
+    ModeKey,
     OpenBanner,
     Position,
+    PositionUnknown,
     RunStatus,
     State,
     Status,
     StopStatus,
 )
-from melfa.protocol.connection import OVERTAKING_COMMANDS, ClientConnection, ClientState
+from melfa.protocol.commands import (
+    COMMANDS,
+    OVERTAKING_COMMANDS,
+    CommandSpec,
+    Evidence,
+    Kind,
+    SlotForm,
+    changes_nothing,
+    lookup,
+    needs_rights,
+)
+from melfa.protocol.connection import ClientConnection, ClientState
 from melfa.protocol.emdat import EmdatChunk, chunk_emdat
-from melfa.protocol.error_table import ERROR_MESSAGES, ErrorInfo, error_text
+from melfa.protocol.error_table import ERROR_MESSAGES, ErrorCode, ErrorInfo, error_text
 from melfa.protocol.errors import LocalProtocolError, ProtocolError, RemoteProtocolError
 from melfa.protocol.jog import JOG_WATCHDOG_S, Jog, JogInch, JogMode, axis_mask
+from melfa.protocol.listings import ErrorLogEntry, Parameter, ProgramEntry
 from melfa.protocol.messages import (
     CR,
     EDIT_SLOT,
@@ -50,6 +68,7 @@ from melfa.protocol.messages import (
 from melfa.protocol.reader import MAX_REPLY_BYTES, LineSplitter, ReplyReader, RequestReader
 
 __all__ = [
+    "COMMANDS",
     "CR",
     "EDIT_SLOT",
     "ERROR_MESSAGES",
@@ -59,25 +78,35 @@ __all__ = [
     "MAX_REPLY_BYTES",
     "OVERTAKING_COMMANDS",
     "POSE_NAMES",
+    "POSITION_UNKNOWN_TEXT",
     "REQUEST_LIMIT",
     "TERMINATOR_COUNTS_TOWARDS_LIMIT",
     "VT",
     "ClientConnection",
     "ClientState",
+    "CommandSpec",
     "DState",
     "EditRefused",
     "EmdatChunk",
+    "ErrorCode",
     "ErrorInfo",
     "ErrorLevel",
+    "ErrorLogEntry",
     "ErrorStatus",
+    "Evidence",
     "Jog",
     "JogInch",
     "JogMode",
+    "Kind",
     "LineSplitter",
     "LocalProtocolError",
+    "ModeKey",
     "Ok",
     "OpenBanner",
+    "Parameter",
     "Position",
+    "PositionUnknown",
+    "ProgramEntry",
     "ProtocolError",
     "Refused",
     "RemoteProtocolError",
@@ -86,13 +115,17 @@ __all__ = [
     "Request",
     "RequestReader",
     "RunStatus",
+    "SlotForm",
     "State",
     "Status",
     "StopStatus",
     "axis_mask",
+    "changes_nothing",
     "chunk_emdat",
     "decode_reply",
     "encode_reply",
     "error_text",
+    "lookup",
+    "needs_rights",
     "parse_request",
 ]

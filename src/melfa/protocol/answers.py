@@ -21,6 +21,18 @@ from dataclasses import dataclass, field
 
 from melfa.protocol.errors import RemoteProtocolError
 
+POSITION_UNKNOWN_TEXT = "position unknown (origin or encoder not set)"
+"""How a ``****`` position reads to a person [TRACE K9b-C4]."""
+
+
+class PositionUnknown(ValueError):
+    """The controller shows ``****`` for an axis: it does not know the position (origin or
+    encoder not set, or the axis is absent). A state of the robot, not a garbled reply."""
+
+    def __init__(self, axis: str) -> None:
+        super().__init__(f"{POSITION_UNKNOWN_TEXT}: axis {axis} shows ****")
+        self.axis = axis
+
 
 def _strip(answer: str) -> str:
     return answer.rstrip("\r\n")
@@ -154,8 +166,15 @@ class Position:
         """Axis names in reply order."""
         return tuple(name for name, _ in self.axes)
 
+    @property
+    def unknown(self) -> bool:
+        """Every axis shows ``****``: the controller does not know where the arm is (origin
+        or encoders not set) [TRACE K9b-C4]. Not a garbled reply."""
+        return all(value is None for _, value in self.axes)
+
     def values(self, *names: str) -> tuple[float, ...]:
-        """The named axes as floats; `RemoteProtocolError` if one is absent or ``****``."""
+        """The named axes as floats. `PositionUnknown` if a named axis shows ``****``
+        (origin or encoder not set), `RemoteProtocolError` if it is absent."""
         out = []
         for name in names:
             try:
@@ -163,7 +182,7 @@ class Position:
             except KeyError:
                 raise RemoteProtocolError(f"position answer has no axis {name}") from None
             if value is None:
-                raise RemoteProtocolError(f"position answer shows axis {name} as ****")
+                raise PositionUnknown(name)
             out.append(value)
         return tuple(out)
 
@@ -241,7 +260,8 @@ class RunStatus(enum.IntFlag):
 
 
 class StopStatus(enum.IntFlag):
-    """Stop-status byte [DOC S1 p.55]."""
+    """Stop-status byte [DOC S1 p.55]. 0x80 is not in the manual's table; real controllers
+    set it with every TEACH reading on record (``09920``, ``39920``, ``08860``) [TRACE K9b]."""
 
     EMG = 0x01
     STOP = 0x02
@@ -249,6 +269,17 @@ class StopStatus(enum.IntFlag):
     STOP_SIGNAL = 0x08
     PROGRAM_SELECT = 0x10
     PSEUDO_INPUT = 0x40
+    TEACH_PENDANT = 0x80  # [GUESS from TRACE] T/B enabled: seen only with the TEACH bit
+
+
+class ModeKey(enum.Enum):
+    """The controller's MODE key, as far as STATE shows it [DOC S5 §4; DOC S1 p.55].
+
+    The run-status TEACH bit tells TEACH from AUTO; AUTO (Op.) and AUTO (Ext.) look the same
+    in STATE, so the client reports AUTO and learns the rest from refusals (6020)."""
+
+    TEACH = "TEACH"
+    AUTO = "AUTO"
 
 
 @dataclass(frozen=True)
@@ -265,6 +296,11 @@ class Status:
     run: RunStatus
     stop: StopStatus
     error: int = 0
+
+    @property
+    def mode(self) -> ModeKey:
+        """TEACH when the run-status TEACH bit is set, else AUTO."""
+        return ModeKey.TEACH if RunStatus.TEACH in self.run else ModeKey.AUTO
 
     @classmethod
     def parse(cls, text: str) -> Status:

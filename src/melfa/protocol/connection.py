@@ -31,15 +31,11 @@ from __future__ import annotations
 
 import enum
 from collections import deque
-from typing import Final
 
+from melfa.protocol.commands import OVERTAKING_COMMANDS
 from melfa.protocol.errors import LocalProtocolError, RemoteProtocolError
 from melfa.protocol.messages import Reply, Request
 from melfa.protocol.reader import MAX_REPLY_BYTES, ReplyReader
-
-OVERTAKING_COMMANDS: Final = frozenset({"STOP"})
-"""Commands that may be sent while another request is outstanding [DOC S5: STOP always
-allowed, needs no operation rights]."""
 
 
 class ClientState(enum.Enum):

@@ -1,20 +1,103 @@
-"""Controller error numbers with their level letter and message.
+"""Controller error numbers: the one home of their names, levels and texts.
 
-From BFP-A5993-M (S4) as quoted in protocol.md §2.3 and melfa-basic-iv.md §8. Replies carry
-the number without its letter (``QeR6020`` is L6020). The robot client prefers the
-controller's own text (``ERRORMES<n>``) and falls back to this table.
+Everything that knows an error number (client, virtual controller, service, CLI, the
+student-facing texts built on top) reads it here. Texts are the controller's own where real
+traffic recorded them (``ERRORMES`` answers and ``ERRORRD`` entries in
+``tests/fixtures/real_traffic.py`` [TRACE]), else BFP-A5993-M (S4) as quoted in protocol.md
+§2.3 and melfa-basic-iv.md §8 [DOC]. Replies carry the number without its letter
+(``QeR6020`` is L6020), in the manual's 4-digit form or the real controller's 9-digit form
+(`ErrorCode`: 4-digit number + 5 detail digits, ``602000000``).
 
 >>> ERROR_MESSAGES[6020]
 ErrorInfo(level='L', message='The Operation is disable')
 >>> error_text(6020)
 'L6020 The Operation is disable'
+>>> ErrorCode.parse("515000100")
+ErrorCode(number=5150, detail='00100')
+>>> ErrorCode.parse("6020").wire, ErrorCode(6020, "00000").wire
+('6020', '602000000')
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from types import MappingProxyType
-from typing import NamedTuple
+from typing import Final, NamedTuple
+
+# ------------------------------------------------------------------- named numbers
+# The numbers code branches on. [DOC S4] unless marked; [TRACE] = seen from a real controller.
+
+ILLEGAL_COMMAND: Final = 6010
+"""L6010: before OPEN, or unknown to this firmware [DOC S4]."""
+NO_RIGHTS: Final = 6020
+"""L6020 "The Operation is disable": no operation rights, or the mode key forbids it (a
+real CRn-5xx answers SLOTINIT in TEACH with it although CNTLON was accepted) [TRACE K9b-PROG]."""
+COMMAND_TOO_LONG: Final = 6080
+"""C6080 "Com mesg is too long" [DOC S4]."""
+COMMAND_SIZE_EXCEEDED: Final = 3270
+"""L3270 the command size is exceeded [DOC S4]."""
+BUSY: Final = 5640
+"""L5640 "Cannot execute during RUN": the arm still moves [DOC S4; CODE S6/S7]."""
+DURING_ERROR: Final = 5600
+"""L5600 "Cannot execute during an error": only RSTALRM helps [DOC S4]."""
+TB_ENABLED: Final = 5000
+"""H5000 "TB Enable key is ON": the teaching pendant holds the controller [TRACE K9b-C4]."""
+NOT_PSA: Final = 5120
+"""5120 "Cannot select program (not PSA)": RUN refused, program selection not enabled
+[TRACE K9b-RAW]."""
+ORIGIN_NOT_SET: Final = 5150
+"""L5150 "The origin has not been set" [TRACE K9b-C1]."""
+SERVO_ON_DURING_ERROR: Final = 1630
+"""C1630 cannot servo ON during an error [DOC S4]."""
+SERVO_OFF: Final = 2000
+"""L2000 "The servo is OFF" [DOC S4]."""
+JOG_REFUSED: Final = 2030
+"""L2030 "JOG operation cannot be accepted" [DOC S4]."""
+JOINT_LIMIT: Final = 2160
+"""H2160 "Joint angle exceeds the limit" [DOC S4]."""
+ARGUMENT_OUT_OF_RANGE: Final = 3110
+"""[GUESS] an argument outside its range (OVRD=0, HNDON9…): no public list names the error."""
+BAD_PROGRAM_NAME: Final = 4120
+"""L4120 illegal program name [melfa-basic-iv.md §8]."""
+PROGRAM_NOT_FOUND: Final = 4140
+"""L4140 "The program was not found" [DOC S4]."""
+PROGRAM_BEING_EDITED: Final = 4170
+"""L4170 "The program is being edited" [DOC S4]."""
+PROGRAM_RUNNING: Final = 4180
+"""L4180 "Program is running": a paused or running program holds the slot [DOC S4]."""
+SYNTAX: Final = 4220
+"""L4220 "Syntax error" [DOC S4]."""
+VARIABLE_NAME_TOO_LONG: Final = 4300
+"""L4300 variable name too long [DOC S4; TRACE K9b-C3]."""
+VARIABLE_NOT_DEFINED: Final = 4340
+"""L4340 "The variable is not defined" [DOC S4]."""
+
+JOG_NOT_ACCEPTED: Final = frozenset({JOG_REFUSED, ILLEGAL_COMMAND})
+"""Refusals of JOG meaning "this firmware does not take JOG here": fall back to steps."""
+
+
+@dataclass(frozen=True)
+class ErrorCode:
+    """An error number as the controller wrote it: 4 digits (manual), or 4 + 5 detail
+    digits (real CRn-5xx: ``602000000``, ERRORRD's ``515000100``) [TRACE K9b]."""
+
+    number: int
+    detail: str | None = None
+
+    @classmethod
+    def parse(cls, text: str) -> ErrorCode:
+        """``"6020"`` or ``"602000000"``; `ValueError` for anything else."""
+        if not text.isascii() or not text.isdigit() or len(text) not in (1, 2, 3, 4, 9):
+            raise ValueError(f"{text[:20]!r} is not a 4- or 9-digit error number")
+        if len(text) == 9:
+            return cls(int(text[:4]), text[4:])
+        return cls(int(text))
+
+    @property
+    def wire(self) -> str:
+        """The digits as sent, for ``ERRORMES``: ``6020`` or ``602000000``."""
+        return f"{self.number:04d}{self.detail or ''}"
 
 
 class ErrorInfo(NamedTuple):
@@ -45,7 +128,11 @@ _TABLE: dict[int, ErrorInfo] = {
     4180: ErrorInfo("L", "Program is running"),
     4220: ErrorInfo("L", "Syntax error"),
     4230: ErrorInfo("L", "The line No. does not exist"),
-    4300: ErrorInfo("L", "Variable name too long (max 8 characters)"),
+    # The controller's own texts, from real ERRORMES answers / ERRORRD entries [TRACE K9b].
+    4300: ErrorInfo("L", "Too longvariable name"),
+    5000: ErrorInfo("H", "TB Enable key is ON"),
+    5120: ErrorInfo("L", "Cannot select program (not PSA)"),
+    5150: ErrorInfo("L", "The origin has not been set"),
     4340: ErrorInfo("L", "The variable is not defined"),
     6080: ErrorInfo("C", "Com mesg is too long"),
     # melfa-basic-iv.md §8

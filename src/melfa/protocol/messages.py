@@ -20,7 +20,11 @@ Request(command='EMDAT10 MOV P1\\x0b20 END', robot=1, slot=9)
 >>> decode_reply(b"Qok4140;2")
 Ok(answer='4140;2', alarm=True)
 >>> decode_reply(b"Qer4220;2;5")
-EditRefused(error=4220, item=2, column=5, alarm=True)
+EditRefused(error=4220, item=2, column=5, alarm=True, detail=None)
+>>> decode_reply(b"QeR602000000")  # the real controller's 9-digit form
+Refused(error=6020, alarm=False, detail='00000')
+>>> decode_reply(b"QeR602000000").code.wire
+'602000000'
 
 Strings in the API, bytes on the wire; the conversion happens only here. No I/O, no clock.
 """
@@ -31,6 +35,7 @@ import re
 from dataclasses import dataclass
 from typing import Final
 
+from melfa.protocol.error_table import ErrorCode
 from melfa.protocol.errors import LocalProtocolError, RemoteProtocolError
 
 CR: Final = b"\r"
@@ -50,8 +55,9 @@ REQUEST_LIMIT: Final = MAX_COMMAND_BYTES - (1 if TERMINATOR_COUNTS_TOWARDS_LIMIT
 
 ROBOT_NUMBERS: Final = range(4)
 """0–3; 0 means all robots for some commands [DOC S1 §3.3.1]."""
-SLOT_NUMBERS: Final = range(34)
-"""0–33; 0 means all slots (``1;0;STOP``) [DOC S1 §3.3.1, CODE S12/S18]."""
+SLOT_NUMBERS: Final = range(-1, 34)
+"""0–33; 0 means all slots (``1;0;STOP``) [DOC S1 §3.3.1, CODE S12/S18]; -1 is what RT
+ToolBox sends for position reads (``1;-1;PPOSF``) and the controller answers [TRACE K9b-PROG]."""
 EDIT_SLOT: Final = 9
 """TASKMAX + 1 with the default TASKMAX 8 [DOC S1; TRACE S10 OPEN banner ends ``;8;``]."""
 
@@ -92,7 +98,7 @@ class Request:
         if self.robot not in ROBOT_NUMBERS:
             raise LocalProtocolError(f"robot number {self.robot} is outside 0–3")
         if self.slot not in SLOT_NUMBERS:
-            raise LocalProtocolError(f"slot number {self.slot} is outside 0–33")
+            raise LocalProtocolError(f"slot number {self.slot} is outside -1–33")
         if not self.command:
             raise LocalProtocolError("empty command")
         size = len(_check_text(self.command, "command")) + len(self.prefix)
@@ -122,7 +128,7 @@ class Request:
         return (self.prefix + self.command).encode("ascii") + CR
 
 
-_PREFIX = re.compile(r"(\d*);(\d*);")
+_PREFIX = re.compile(r"(\d*);(-?\d*);")
 
 
 def parse_request(data: bytes) -> Request:
@@ -173,14 +179,36 @@ class Ok:
 
 @dataclass(frozen=True)
 class Refused:
-    """``QeR<error>`` or, with an alarm active, ``Qer<error>``. Data, not an exception."""
+    """``QeR<error>`` or, with an alarm active, ``Qer<error>``. Data, not an exception.
+
+    ``detail`` is None for the manual's 4-digit form (``QeR6020``) and the 5 detail digits
+    of the real controller's 9-digit form (``QeR602000000`` -> 6020, ``"00000"``) [TRACE
+    K9b]. `code` gives the number exactly as received, for ``ERRORMES``.
+    """
 
     error: int
     alarm: bool = False
+    detail: str | None = None
 
     def __post_init__(self) -> None:
-        if not 0 <= self.error <= 9999:
-            raise LocalProtocolError(f"error number {self.error} is not 0–9999")
+        _check_code(self.error, self.detail)
+
+    @property
+    def code(self) -> ErrorCode:
+        """Number and detail digits, as the controller sent them."""
+        return ErrorCode(self.error, self.detail)
+
+    @classmethod
+    def of(cls, code: ErrorCode, *, alarm: bool = False) -> Refused:
+        """The refusal carrying ``code`` (4- or 9-digit form as ``code`` has it)."""
+        return cls(code.number, alarm, code.detail)
+
+
+def _check_code(error: int, detail: str | None) -> None:
+    if not 0 <= error <= 9999:
+        raise LocalProtocolError(f"error number {error} is not 0–9999")
+    if detail is not None and not (len(detail) == 5 and detail.isdigit() and detail.isascii()):
+        raise LocalProtocolError(f"error detail {detail!r} is not 5 digits")
 
 
 @dataclass(frozen=True)
@@ -197,10 +225,15 @@ class EditRefused:
     item: int | None
     column: int
     alarm: bool = True
+    detail: str | None = None
+
+    @property
+    def code(self) -> ErrorCode:
+        """Number and detail digits, as the controller sent them."""
+        return ErrorCode(self.error, self.detail)
 
     def __post_init__(self) -> None:
-        if not 0 <= self.error <= 9999:
-            raise LocalProtocolError(f"error number {self.error} is not 0–9999")
+        _check_code(self.error, self.detail)
         if self.column < 0 or (self.item is not None and self.item < 0):
             raise LocalProtocolError("edit refusal positions must be ≥ 0")
 
@@ -209,7 +242,7 @@ Reply = Ok | Refused | EditRefused
 
 _HEADS: Final = {"QoK": (True, False), "Qok": (True, True), "QeR": (False, False)}
 _HEADS_ALL: Final = {**_HEADS, "Qer": (False, True)}
-_REFUSAL = re.compile(r"(\d{1,4})(?:;(\d{1,6}))?(?:;(\d{1,6}))?")
+_REFUSAL = re.compile(r"(\d{9}|\d{1,4})(?:;(\d{1,6}))?(?:;(\d{1,6}))?")
 
 
 def decode_reply(line: bytes) -> Reply:
@@ -230,12 +263,14 @@ def decode_reply(line: bytes) -> Reply:
     match = _REFUSAL.fullmatch(body)
     if match is None:
         raise RemoteProtocolError(f"refusal without a valid error number: {line[:40]!r}")
-    error = int(match.group(1))
+    code = ErrorCode.parse(match.group(1))
     if match.group(3) is not None:
-        return EditRefused(error, int(match.group(2)), int(match.group(3)), alarm)
+        return EditRefused(
+            code.number, int(match.group(2)), int(match.group(3)), alarm, code.detail
+        )
     if match.group(2) is not None:
-        return EditRefused(error, None, int(match.group(2)), alarm)
-    return Refused(error, alarm)
+        return EditRefused(code.number, None, int(match.group(2)), alarm, code.detail)
+    return Refused(code.number, alarm, code.detail)
 
 
 def encode_reply(reply: Reply, terminator: bytes = CR) -> bytes:
@@ -245,9 +280,9 @@ def encode_reply(reply: Reply, terminator: bytes = CR) -> bytes:
         return (head + reply.answer).encode(ENCODING) + terminator
     head = "Qer" if reply.alarm else "QeR"
     if isinstance(reply, EditRefused):
-        fields = [str(reply.error)]
+        fields = [reply.code.wire]
         if reply.item is not None:
             fields.append(str(reply.item))
         fields.append(str(reply.column))
         return (head + ";".join(fields)).encode("ascii") + terminator
-    return f"{head}{reply.error:04d}".encode("ascii") + terminator
+    return f"{head}{reply.code.wire}".encode("ascii") + terminator

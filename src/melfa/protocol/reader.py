@@ -13,7 +13,7 @@ Ok(answer='1;2', alarm=False)
 True
 >>> reader.feed(b"R6020\\r")
 >>> list(reader)
-[Refused(error=6020, alarm=False)]
+[Refused(error=6020, alarm=False, detail=None)]
 """
 
 from __future__ import annotations

@@ -10,12 +10,10 @@ even while another request is in flight.
 
 from melfa.robot.channel import Channel
 from melfa.robot.client import (
-    RIGHTS_PREFIXES,
     Progress,
     Robot,
     UploadItem,
     UploadReport,
-    needs_rights,
     point_items,
     program_items,
 )
@@ -26,7 +24,6 @@ from melfa.robot.status import Alarm, ControllerStatus
 from melfa.robot.text import to_controller_ascii
 
 __all__ = [
-    "RIGHTS_PREFIXES",
     "Alarm",
     "Channel",
     "ControllerError",
@@ -41,7 +38,6 @@ __all__ = [
     "UploadItem",
     "UploadRefused",
     "UploadReport",
-    "needs_rights",
     "open_robot_link",
     "point_items",
     "program_items",

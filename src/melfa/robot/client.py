@@ -43,6 +43,14 @@ from melfa.protocol import (
     error_text,
 )
 from melfa.protocol.answers import RunStatus
+from melfa.protocol.commands import needs_rights
+from melfa.protocol.error_table import (
+    BUSY,
+    JOG_NOT_ACCEPTED,
+    NO_RIGHTS,
+    PROGRAM_NOT_FOUND,
+    PROGRAM_RUNNING,
+)
 from melfa.robot.channel import Channel
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
@@ -52,37 +60,6 @@ from melfa.robot.text import to_controller_ascii
 Progress = Callable[[int, int], None]
 """``progress(bytes_sent, bytes_total)`` during an upload."""
 
-RIGHTS_PREFIXES: Final = (
-    "EXEC",
-    "STEP",
-    "PRGLOAD=",
-    "PRGUP",
-    "PRGDOWN",
-    "LINENO=",
-    "SRVON",
-    "OVRD=",
-    "RUN",
-    "ALIGN",
-    "MOVSP",
-    "JOG",
-    "BREAKON",
-    "HOME",
-    "DATINST",
-    "RSTALRM",
-)
-"""Commands marked `*` in the manual's command list [DOC S1/S2 §5.1], plus RSTALRM
-[DOC S5: alarm reset needs the rights]. STOP and SRVOFF never need them."""
-
-NO_RIGHTS: Final = 6020
-DURING_ERROR: Final = 5600
-"""L5600 "Cannot execute during an error": only RSTALRM helps."""
-BUSY: Final = 5640
-NOT_FOUND: Final = 4140
-PROGRAM_RUNNING: Final = 4180
-JOG_NOT_ACCEPTED: Final = (2030, 6010)
-"""Refusals that mean "this firmware does not take JOG here" [DOC S4 L2030; 6010 unknown
-command]; `JogMethod.AUTO` then falls back to step moves."""
-
 JOG_JOINT_VARIABLE: Final = "JMJOG"
 """Joint variable the step jog assigns (≤ 8 characters, L4300; leading J = joint type)."""
 
@@ -91,12 +68,6 @@ COMMAND_SHOWN: Final = 80
 
 _NUMBERED = re.compile(r"\s*\d+(\s|$)")
 _DEF_POINT = re.compile(r"\s*DEF\s+(POS|JNT)\s+", re.IGNORECASE)
-
-
-def needs_rights(command: str) -> bool:
-    """Whether ``command`` needs the operation rights."""
-    upper = command.upper()
-    return upper.startswith(RIGHTS_PREFIXES) and not upper.startswith("JOGST")
 
 
 @dataclass(frozen=True)
@@ -286,7 +257,7 @@ class Robot:
             try:
                 self._call(f"FDEL{self.settings.program}")
             except ControllerError as exc:
-                if exc.number != NOT_FOUND:
+                if exc.number != PROGRAM_NOT_FOUND:
                     raise
 
     def run(self) -> None:

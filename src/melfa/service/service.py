@@ -35,8 +35,8 @@ from typing import Any
 
 from melfa.link import Link, LinkSettings
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
+from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
-from melfa.robot.client import BUSY
 from melfa.robot.opener import open_robot_link
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription

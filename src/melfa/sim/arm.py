@@ -42,6 +42,8 @@ from melfa.kin import (
     ik,
     pose_mul,
 )
+from melfa.protocol.error_table import BUSY, JOG_REFUSED, JOINT_LIMIT, SERVO_OFF
+from melfa.protocol.jog import JOG_WATCHDOG_S
 from melfa.sim import motion
 from melfa.sim.motion import Frames, IllegalMove, JogMode, MoveKind, Plan, Profile, Speeds
 
@@ -73,17 +75,15 @@ __all__ = [
     "from_kinematics",
 ]
 
-ERR_SERVO_OFF = 2000
-ERR_JOG_REFUSED = 2030
-ERR_JOINT_LIMIT = 2160
+ERR_SERVO_OFF = SERVO_OFF
+ERR_JOG_REFUSED = JOG_REFUSED
+ERR_JOINT_LIMIT = JOINT_LIMIT
 ERR_OUT_OF_RANGE = 2600
 ERR_ILLEGAL_POSITION = 2800
-ERR_BUSY = 5640
+ERR_BUSY = BUSY
 
 HAND_COUNT = 8
 """Hands 1..8 [DOC S1 HOPEN/HCLOSE]."""
-JOG_WATCHDOG_S = 0.14
-"""[DOC S1 §5.2.59] a JOG not repeated within about 140 ms stops by itself."""
 JOG_STEP_S = 0.02
 """Integration step of continuous jog (Cartesian jog solves IK at each step)."""
 INCH_HIGH = 1.0

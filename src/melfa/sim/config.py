@@ -11,10 +11,7 @@ import datetime as dt
 from dataclasses import dataclass, field
 
 # --- timing --------------------------------------------------------------------------------
-
-JOG_WATCHDOG_S = 0.140
-"""[DOC S1 §5.2.59] "If the command is not received between about 140 msec, the jog
-operation is automatically stopped." Motion continues while JOG requests keep arriving."""
+from melfa.protocol.jog import JOG_WATCHDOG_S  # the one home of the ~140 ms watchdog
 
 DEFAULT_REPLY_LATENCY_S = 0.1
 """Controller processing time added by the servers before a reply (not by the core).
