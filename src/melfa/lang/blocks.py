@@ -12,12 +12,11 @@ with no opener at all is reported and ignored.
 from __future__ import annotations
 
 import enum
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from melfa.lang import ast as A  # noqa: N812
-
-MAX_LOOP_DEPTH = 16  # FOR/WHILE nesting [S2c p.164], L3240
-MAX_IF_DEPTH = 8  # block IF nesting, L3253
+from melfa.lang.model import MAX_IF_DEPTH, MAX_LOOP_DEPTH
 
 
 class BlockKind(enum.Enum):
@@ -48,7 +47,9 @@ class BlockStructure:
     * ``if_else[if] = else`` and ``if_endif[if] = endif`` for block IFs, ``else_endif``;
     * ``select_cases[select] = (case or default, …)`` in text order, ``select_end``,
       ``case_select[case or default or end select] = select``;
-    * ``break_target[break] = line`` of the END SELECT (or NEXT/WEND) it leaves by.
+    * ``break_target[break] = line`` of the END SELECT (or NEXT/WEND) it leaves by, and
+      ``break_block[break] = (kind, opener)``, the block it leaves. A one-line
+      ``IF … THEN BREAK`` is a BREAK too.
     """
 
     for_next: dict[int, int] = field(default_factory=dict)
@@ -62,6 +63,7 @@ class BlockStructure:
     select_end: dict[int, int] = field(default_factory=dict)
     case_select: dict[int, int] = field(default_factory=dict)
     break_target: dict[int, int] = field(default_factory=dict)
+    break_block: dict[int, tuple[BlockKind, int]] = field(default_factory=dict)
     problems: list[BlockProblem] = field(default_factory=list)
 
 
@@ -199,9 +201,8 @@ class _Matcher:
                 out.while_wend[block.line] = index
                 out.wend_while[index] = block.line
                 self.resolve_breaks(block, index)
-        elif isinstance(stmt, A.If):
-            if stmt.is_block:
-                self.push(_Open(BlockKind.IF, index, _keyword_span(span, 2)))
+        elif isinstance(stmt, A.If) and stmt.is_block:
+            self.push(_Open(BlockKind.IF, index, _keyword_span(span, 2)))
         elif isinstance(stmt, A.Else):
             top = self.stack[-1] if self.stack else None
             if top is not None and top.kind is BlockKind.IF and top.else_line is not None:
@@ -265,7 +266,10 @@ class _Matcher:
                 out.select_cases[block.line] = tuple(block.cases)
                 out.case_select[index] = block.line
                 self.resolve_breaks(block, index)
-        elif isinstance(stmt, A.Break):
+        elif isinstance(stmt, A.Break) or (
+            isinstance(stmt, A.If)
+            and (isinstance(stmt.then, A.Break) or isinstance(stmt.else_, A.Break))
+        ):
             # BREAK leaves the innermost SELECT (or loop, in V programs).
             if not self.stack:
                 self.problem(
@@ -280,6 +284,7 @@ class _Matcher:
                 for block in reversed(self.stack):
                     if block.kind is not BlockKind.IF:
                         block.breaks.append(index)
+                        out.break_block[index] = (block.kind, block.line)
                         break
                 else:
                     self.problem(
@@ -342,8 +347,14 @@ def match_blocks(program: A.Program) -> BlockStructure:
     >>> blocks.for_next, blocks.while_wend, blocks.problems
     ({0: 3}, {1: 2}, [])
     """
+    return match_statements([line.statement for line in program.lines])
+
+
+def match_statements(statements: Sequence[A.Statement | None]) -> BlockStructure:
+    """The same pairing over a list of statements (the interpreter's steps, in run order);
+    indices are positions in `statements`."""
     matcher = _Matcher()
-    for index, line in enumerate(program.lines):
-        if line.statement is not None:
-            matcher.line(index, line.statement)
+    for index, stmt in enumerate(statements):
+        if stmt is not None:
+            matcher.line(index, stmt)
     return matcher.finish()

@@ -35,31 +35,29 @@ from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.blocks import match_blocks
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
+from melfa.lang.model import (
+    MAX_DEF_LENGTH,
+    MAX_DIM_SIZE,
+    MAX_DIMENSIONS,
+    MAX_LINE_LENGTH,
+    MAX_LINE_NUMBER,
+    MAX_NAME_LENGTH,
+    MAX_ON_TARGETS,
+    MIN_DLY,
+    RANGES,
+)
 from melfa.lang.parser import parse_tokens
 from melfa.lang.typos import suggest
-
-MAX_LINE_LENGTH = 127  # characters a step, without the terminator [S2 p.141], L4210
-MAX_DEF_LENGTH = 123  # a DEF POS/JNT/INTE/FLOAT/DOUBLE/CHAR list, from DEF on [S1 DEF …]
-MAX_NAME_LENGTH = 8  # variable names and labels (IV) [S3 L4300], [S1 "* (Label)"]
-MAX_LINE_NUMBER = 32767  # [S3 L4420]
-MAX_ON_TARGETS = 32  # [S3 L3251]
-MAX_DIMENSIONS = 3  # DIM name(a, b, c) [S1 DIM]
-MAX_DIM_SIZE = 999  # DIM sizes are constants 1…999 [S1 DIM]
-MIN_DLY = 0.05  # seconds, the IV minimum [S1 DLY]
 
 E, W = Severity.ERROR, Severity.WARNING
 _MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
 
-# Constant arguments with a range: (low, high, what) for the first argument [S1].
+# Constant arguments with a range: (low, high, what) for the first argument (§4.2–§4.6).
 _COMMAND_RANGES: dict[A.CommandKind, tuple[float, float, str]] = {
-    A.CommandKind.OVRD: (1, 100, "OVRD takes 1 to 100 (%)"),
-    A.CommandKind.JOVRD: (1, 100, "JOVRD takes 1 to 100 (%)"),
-    A.CommandKind.HOPEN: (1, 8, "Hand numbers are 1 to 8"),
-    A.CommandKind.HCLOSE: (1, 8, "Hand numbers are 1 to 8"),
-    A.CommandKind.ERROR: (9000, 9299, "User error numbers are 9000 to 9299"),
+    kind: RANGES[kind.name] for kind in A.CommandKind if kind.name in RANGES
 }
-_PALLETS = (1, 8, "Pallet numbers are 1 to 8")
+_PALLETS = RANGES["PLT"]
 
 
 # Which block family each structural word and each block rule belongs to.

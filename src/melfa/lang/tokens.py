@@ -11,6 +11,8 @@ from __future__ import annotations
 import enum
 from typing import NamedTuple
 
+from melfa.lang import model as _model
+
 
 class TokenKind(enum.Enum):
     """What a token is. Keywords and identifiers are told apart by the word lists below."""
@@ -79,16 +81,9 @@ SECONDARY_KEYWORDS: frozenset[str] = _words(
 )
 """`BIT`…`DWORD` are the DEF IO types (`DEF IO MSENSOR = BIT, 900`) [S1 DEF IO]; DWORD is V's."""
 
-#: Built-in functions (COSIMIR list plus SETJNT/SETPOS); lexed as keywords.
-FUNCTIONS: frozenset[str] = _words(
-    """
-    ABS ASC CINT CKSUM CVD CVI CVS DEG EXP FIX INT LEN LN LOG MAX MIN RAD RND SGN SQR
-    STRPOS VAL SIN COS TAN ATN ATN2
-    BIN$ CHR$ HEX$ LEFT$ MID$ MIRROR$ MKI$ MKS$ MKD$ RIGHT$ STR$
-    DIST FRAM INV JTOP PTOJ POSCQ POSMID ALIGN ZONE ZONE2 CALARC
-    RDFL1 SETFL1 RDFL2 SETFL2 SETJNT SETPOS
-    """
-)
+#: Built-in functions (COSIMIR list plus SETJNT/SETPOS); lexed as keywords. Their arities and
+#: argument kinds are in `melfa.lang.model.FUNCTIONS`, the one home of that knowledge.
+FUNCTIONS: frozenset[str] = frozenset(_model.FUNCTIONS)
 
 #: Every reserved word (a KEYWORD token).
 KEYWORDS: frozenset[str] = STATEMENT_KEYWORDS | SECONDARY_KEYWORDS | FUNCTIONS

@@ -1,8 +1,9 @@
 """Built-in functions that need nothing but their arguments (melfa-basic-iv.md §5).
 
 Trig is in radians. Functions that need the robot (PTOJ, JTOP, POSCQ) or the program
-(pallets, user FN) live in the compiler. Each entry of `FUNCTIONS` is
-``name -> (function, min args, max args)``.
+(pallets, user FN) live in the compiler. `IMPLEMENTATIONS` maps a name to how it computes;
+which functions exist and how many arguments each takes is the language's knowledge, read
+from `melfa.lang.model.FUNCTIONS`.
 """
 
 from __future__ import annotations
@@ -341,55 +342,49 @@ def _setjnt(args: Sequence[Value]) -> Value:
     return Joints(tuple(float(num(a, "SETJNT")) for a in args))
 
 
-FUNCTIONS: dict[str, tuple[Builtin, int, int]] = {
-    "ABS": (_abs, 1, 1),
-    "ASC": (_asc, 1, 1),
-    "CINT": (_cint, 1, 1),
-    "DEG": (_deg, 1, 1),
-    "EXP": (_exp, 1, 1),
-    "FIX": (_fix, 1, 1),
-    "INT": (_int, 1, 1),
-    "LEN": (_len, 1, 1),
-    "LN": (_ln, 1, 1),
-    "LOG": (_log, 1, 1),
-    "MAX": (_max, 1, 32),
-    "MIN": (_min, 1, 32),
-    "RAD": (_rad, 1, 1),
-    "SGN": (_sgn, 1, 1),
-    "SQR": (_sqr, 1, 1),
-    "STRPOS": (_strpos, 2, 2),
-    "VAL": (_val, 1, 1),
-    "SIN": (_trig(math.sin, "SIN"), 1, 1),
-    "COS": (_trig(math.cos, "COS"), 1, 1),
-    "TAN": (_tan, 1, 1),
-    "ATN": (_trig(math.atan, "ATN"), 1, 1),
-    "ATN2": (_atn2, 2, 2),
-    "BIN$": (_radix(2, "BIN$"), 1, 2),
-    "CHR$": (_chr, 1, 1),
-    "HEX$": (_radix(16, "HEX$"), 1, 2),
-    "LEFT$": (_left, 2, 2),
-    "MID$": (_mid, 2, 3),
-    "MIRROR$": (_mirror, 1, 1),
-    "RIGHT$": (_right, 2, 2),
-    "STR$": (_str, 1, 1),
-    "DIST": (_dist, 2, 2),
-    "INV": (_inv, 1, 1),
-    "RDFL1": (_rdfl1, 2, 2),
-    "SETFL1": (_setfl1, 2, 2),
-    "RDFL2": (_rdfl2, 2, 2),
-    "SETFL2": (_setfl2, 3, 3),
-    "POSMID": (_posmid, 2, 4),
-    "FRAM": (_fram, 3, 3),
-    "ZONE": (_zone, 3, 3),
-    "SETPOS": (_setpos, 1, 8),
-    "SETJNT": (_setjnt, 1, 8),
+IMPLEMENTATIONS: dict[str, Builtin] = {
+    "ABS": _abs,
+    "ASC": _asc,
+    "CINT": _cint,
+    "DEG": _deg,
+    "EXP": _exp,
+    "FIX": _fix,
+    "INT": _int,
+    "LEN": _len,
+    "LN": _ln,
+    "LOG": _log,
+    "MAX": _max,
+    "MIN": _min,
+    "RAD": _rad,
+    "SGN": _sgn,
+    "SQR": _sqr,
+    "STRPOS": _strpos,
+    "VAL": _val,
+    "SIN": _trig(math.sin, "SIN"),
+    "COS": _trig(math.cos, "COS"),
+    "TAN": _tan,
+    "ATN": _trig(math.atan, "ATN"),
+    "ATN2": _atn2,
+    "BIN$": _radix(2, "BIN$"),
+    "CHR$": _chr,
+    "HEX$": _radix(16, "HEX$"),
+    "LEFT$": _left,
+    "MID$": _mid,
+    "MIRROR$": _mirror,
+    "RIGHT$": _right,
+    "STR$": _str,
+    "DIST": _dist,
+    "INV": _inv,
+    "RDFL1": _rdfl1,
+    "SETFL1": _setfl1,
+    "RDFL2": _rdfl2,
+    "SETFL2": _setfl2,
+    "POSMID": _posmid,
+    "FRAM": _fram,
+    "ZONE": _zone,
+    "SETPOS": _setpos,
+    "SETJNT": _setjnt,
 }
-
-#: Functions of the IV list that the simulator does not compute; calling one stops the
-#: program with a clear message instead of a wrong value.
-UNSUPPORTED_FUNCTIONS = frozenset(
-    {"CKSUM", "CVD", "CVI", "CVS", "MKI$", "MKS$", "MKD$", "ALIGN", "ZONE2", "CALARC"}
-)
 
 
 class Rnd:

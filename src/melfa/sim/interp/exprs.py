@@ -13,6 +13,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from melfa.lang import ast
+from melfa.lang import model as lang_model
 from melfa.sim.interp import builtins, errors, posmath
 from melfa.sim.interp.values import (
     Joints,
@@ -428,34 +429,33 @@ class ExprCompiler:
         if e.user or name.startswith("FN"):
             return self.user_call(e)
         args = [self.value(a) for a in e.args]
+        spec = lang_model.FUNCTIONS.get(name)  # which functions exist, and their arities
+        if spec is None or not spec.min_args <= len(args) <= spec.max_args:
+            why = (
+                f"takes {spec.arity_text} arguments, got {len(args)}"
+                if spec is not None
+                else "is not a MELFA BASIC IV function"
+            )
+
+            def wrong() -> Value:
+                raise errors.RunError(errors.SYNTAX_ERROR, f"{name} {why}")
+
+            return wrong
         special = self.it.robot_function(name, args)
         if special is not None:
             return special
         if name == "RND":
             rnd = self.it.rnd
             return lambda: rnd([f() for f in args])
-        entry = builtins.FUNCTIONS.get(name)
-        if entry is None:
-            why = (
-                "is not supported by the simulator"
-                if name in builtins.UNSUPPORTED_FUNCTIONS
-                else "is not a MELFA BASIC IV function"
-            )
+        fn = builtins.IMPLEMENTATIONS.get(name)
+        if fn is None:
 
-            def unknown() -> Value:
-                raise errors.RunError(errors.NOT_SUPPORTED, f"{name} {why}")
-
-            return unknown
-        fn, lo, hi = entry
-        if not lo <= len(args) <= hi:
-            count = str(lo) if lo == hi else f"{lo} to {hi}"
-
-            def wrong() -> Value:
+            def unsupported() -> Value:
                 raise errors.RunError(
-                    errors.SYNTAX_ERROR, f"{name} takes {count} arguments, got {len(args)}"
+                    errors.NOT_SUPPORTED, f"{name} is not supported by the simulator"
                 )
 
-            return wrong
+            return unsupported
         if len(args) == 1:
             a0 = args[0]
             return lambda: fn((a0(),))

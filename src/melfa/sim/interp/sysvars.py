@@ -2,7 +2,8 @@
 
 `SystemVariables.getter(name, args)` gives a closure reading the variable (None when the
 name is not a system variable, so it is an ordinary user/global variable like ``M_01``);
-`setter` gives one that writes it (None: read-only or not a system variable).
+`setter` gives one that writes it (None: not a system variable). Which variables exist and
+which a program may assign is the language's knowledge (`melfa.lang.model`).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import datetime as dt
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
+from melfa.lang.model import SYSTEM_VARIABLES
 from melfa.sim.interp import errors
 from melfa.sim.interp.values import Position, Value, round_half_away, type_name
 
@@ -26,10 +28,8 @@ TIMER_UNIT_S = 1.0
 HAND_CHECK_MEANS_CLOSED = True
 """[GUESS] M_HNDCQ(n) reads 1 while hand n is closed (gripping), 0 while open."""
 
-IO_WIDTHS = {
-    "M_IN": 1, "M_INB": 8, "M_IN8": 8, "M_INW": 16, "M_IN16": 16, "M_IN32": 32,
-    "M_OUT": 1, "M_OUTB": 8, "M_OUT8": 8, "M_OUTW": 16, "M_OUT16": 16, "M_OUT32": 32,
-}  # fmt: skip
+#: Bits read or written from the index on, per I/O variable (the language's fact).
+IO_WIDTHS = {v.name: v.io_width for v in SYSTEM_VARIABLES.values() if v.io_width}
 
 #: Status variables that exist on the controller but mean nothing in the simulator; reading
 #: one stops with a clear message rather than an invented value.
@@ -129,12 +129,13 @@ class SystemVariables:
     def setter(self, name: str, args: Sequence[Thunk]) -> Setter | None:
         if len(name) < 2 or name[1] != "_":
             return None
+        known = SYSTEM_VARIABLES.get(name)
+        if known is not None and not known.assignable:
+            return self._read_only(name)
         it = self.it
         robot = it.robot
         width = IO_WIDTHS.get(name)
         if width is not None:
-            if name.startswith("M_IN"):
-                return self._read_only(name)
             idx = self._one_arg(name, args)
             io = it.io
             if width == 1:
