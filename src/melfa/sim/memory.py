@@ -8,6 +8,7 @@ behave alike everywhere. For 9600-baud timing wrap the link in `melfa.link.Paced
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 
@@ -24,11 +25,13 @@ def open_sim_link(
     controller: VirtualController | None = None,
     config: SimConfig | None = None,
     clock: Callable[[], float] = time.monotonic,
+    lock: threading.Lock | None = None,
 ) -> MemoryLink:
     """A `Link` to a virtual controller in this process.
 
     `controller` lets a caller keep a handle on the simulator (to inspect the arm, or share
-    it with a server); `clock` lets tests drive time by hand.
+    it with a server); `clock` lets tests drive time by hand; `lock` guards the controller
+    against other threads that touch it directly (a debugger).
 
     >>> from melfa.protocol import Request
     >>> link = open_sim_link()
@@ -37,7 +40,7 @@ def open_sim_link(
     >>> link.close()
     """
     sim = controller if controller is not None else VirtualController(config)
-    session = WireSession(sim)
+    session = WireSession(sim, lock)
     origin = clock()
 
     def respond(line: bytes) -> bytes:

@@ -4,6 +4,7 @@ them again: the service stops polling, ends the lease and closes the link."""
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 from collections.abc import AsyncIterator
 
@@ -27,10 +28,12 @@ from melfa.web.routes import (
     pages,
     robot,
     session,
+    targets,
     users,
     workspaces,
 )
 from melfa.web.routes.pages import STATIC
+from melfa.web.targets import Targets as TargetRegistry
 from melfa.web.ws import router as ws_router
 
 TAGS = [
@@ -38,6 +41,7 @@ TAGS = [
     {"name": "workspaces", "description": "Program and points, saved with every revision."},
     {"name": "check", "description": "Diagnostics and step numbering."},
     {"name": "robot", "description": "Robot operations (lease, audit)."},
+    {"name": "targets", "description": "Which robot: the lab's, or your own simulator."},
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
     {"name": "users", "description": "Accounts (admins)."},
@@ -75,8 +79,20 @@ def create_app(
                     audit=ServiceAuditSink(the_store.audit),
                 )
                 await the_service.start()
-            app.state.web = WebContext(config, the_store, the_service)
-            yield
+            registry = TargetRegistry(
+                the_service,
+                idle_s=config.private_idle_s,
+                audit=ServiceAuditSink(the_store.audit),
+            )
+            app.state.web = WebContext(config, the_store, the_service, registry)
+            reaper = asyncio.create_task(_reap(registry), name="melfa-private-reaper")
+            try:
+                yield
+            finally:
+                reaper.cancel()
+                with contextlib.suppress(asyncio.CancelledError):
+                    await reaper
+                await registry.close()
         finally:
             if service is None and the_service is not None:
                 await the_service.close()
@@ -101,6 +117,7 @@ def create_app(
         workspaces.router,
         check.router,
         robot.router,
+        targets.router,
         lease.router,
         audit.router,
         users.router,
@@ -117,6 +134,13 @@ def create_app(
 
 
 __all__ = ["create_app", "operation_id"]
+
+
+async def _reap(targets: TargetRegistry) -> None:
+    """Free idle private simulators, checking a few times per idle period."""
+    while True:
+        await asyncio.sleep(min(60.0, targets.idle_s / 4))
+        await targets.reap()
 
 
 def _rosbridge() -> APIRouter:

@@ -31,10 +31,15 @@ class WebSettings:
     secure_cookies: bool | None = None
     """Mark cookies Secure: None decides per request (https → Secure)."""
     service_config: ServiceConfig = field(default_factory=ServiceConfig)
+    private_idle_s: float = 1800.0
+    """A private simulator nobody used (no request, no open socket) for this long is freed;
+    its owner's programs stay in the workspace and a new one is made on next use."""
 
     def __post_init__(self) -> None:
         if not 0.5 <= self.snapshot_hz <= 200:
             raise ValueError("snapshot_hz must be 0.5–200 per second")
+        if self.private_idle_s <= 0:
+            raise ValueError("private_idle_s must be positive")
 
 
 __all__ = [

@@ -1,5 +1,6 @@
-"""What every request can reach: the store, the robot service, the settings and the
-registry of open WebSockets (`app.state.web`)."""
+"""What every request can reach: the store, the lab's robot service, the targets (lab robot
+and private simulators), the settings and the registry of open WebSockets
+(`app.state.web`)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from typing import ParamSpec, TypeVar
 from melfa.service import Actor, RobotService
 from melfa.store import Store
 from melfa.web.config import WebSettings
+from melfa.web.targets import Targets
 
 P = ParamSpec("P")
 T = TypeVar("T")
@@ -46,6 +48,8 @@ class WebContext:
     settings: WebSettings
     store: Store
     service: RobotService
+    targets: Targets
+    """The lab robot (``service``) and every user's private simulator."""
     sockets: Sockets = field(default_factory=Sockets)
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:

@@ -14,9 +14,11 @@ from melfa.web.models import (
     RevisionInfoOut,
     RevisionOut,
     StateOut,
+    TargetOut,
     UserOut,
     WorkspaceOut,
 )
+from melfa.web.targets import Target
 
 
 def user_out(user: User) -> UserOut:
@@ -106,3 +108,21 @@ __all__ = [
     "user_out",
     "workspace_out",
 ]
+
+
+def target_out(target: Target, *, robot: str, exists: bool = True) -> TargetOut:
+    """How a client names and shows a target (the header's label and colour come from
+    ``kind``)."""
+    return TargetOut(
+        id=target.id,
+        kind=target.kind.value,
+        label=target.label,
+        shared=target.shared,
+        robot=robot,
+        exists=exists,
+        link=target.service.link_status.value if exists else None,
+    )
+
+
+def target_dict(target: Target) -> dict[str, Any]:
+    return {"id": target.id, "kind": target.kind.value, "label": target.label}

@@ -299,6 +299,26 @@ class StateOut(BaseModel):
     lease_holder: str | None
 
 
+class TargetOut(BaseModel):
+    """A robot the caller may drive (``id`` goes in ``?target=``)."""
+
+    id: str = Field(description="`lab` (the lab's robot) or `mine` (your own simulator).")
+    kind: str = Field(description="`lab` (shared, leased) or `private` (yours alone).")
+    label: str = Field(description="What the header shows: `Lab RV-6S` / `My simulator`.")
+    shared: bool
+    robot: str = Field(description="The `--robot` the target runs on (`sim` for simulators).")
+    exists: bool = Field(
+        description="False until your simulator is first used (or after "
+        "it was freed for being idle); using it makes it."
+    )
+    link: str | None
+
+
+class TargetsOut(BaseModel):
+    targets: list[TargetOut]
+    idle_s: float = Field(description="A private simulator unused this long is freed.")
+
+
 class LeaseOut(BaseModel):
     holder: ActorOut | None
     you: bool = Field(description="Whether this session holds it.")

@@ -1,4 +1,6 @@
-"""`/api/ws`: one WebSocket per browser tab for live state, events and the jog dead-man.
+"""`/api/ws`: one WebSocket per browser tab for live state, events and the jog dead-man, of
+one target (``/api/ws?target=mine`` for the user's private simulator; the lab robot
+by default).
 
 Server → client (JSON objects with a ``type``): ``hello``, ``state`` (throttled per socket
 to `WebSettings.snapshot_hz`, newest wins), ``link``, ``progress``, ``result``, ``lease``,
@@ -37,9 +39,10 @@ from melfa.service import (
 )
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
-from melfa.web.convert import actor_dict, state_dict
+from melfa.web.convert import actor_dict, state_dict, target_dict
 from melfa.web.deps import actor_of, find_session
 from melfa.web.errors import ApiError, from_robot
+from melfa.web.targets import LAB, Target, UnknownTarget
 
 router = APIRouter()
 _log = logging.getLogger("melfa.web.ws")
@@ -81,10 +84,14 @@ def origin_allowed(websocket: WebSocket, allowed: tuple[str, ...]) -> bool:
 class Connection:
     """One open socket: its sender (throttled snapshots) and its receiver (commands)."""
 
-    def __init__(self, websocket: WebSocket, context: WebContext, actor: Actor) -> None:
+    def __init__(
+        self, websocket: WebSocket, context: WebContext, actor: Actor, target: Target
+    ) -> None:
         self.websocket = websocket
         self.context = context
-        self.actor = actor
+        self.target = target
+        self.service = target.service
+        self.actor = target.actor(actor)
         self.interval = 1.0 / context.settings.snapshot_hz
         self.jogging = False
         self.sent_states = 0
@@ -152,7 +159,7 @@ class Connection:
 
     async def handle(self, message: dict[str, Any], request_id: Any) -> None:
         kind = message.get("type")
-        service = self.context.service
+        service = self.service
         actor = self.actor
         if kind == "ping":
             await self.send({"type": "pong", "id": request_id})
@@ -205,21 +212,31 @@ async def live(websocket: WebSocket) -> None:
     if session is None:
         await websocket.close(code=POLICY_VIOLATION, reason="sign in first")
         return
-    service = context.service
+    try:
+        target = await context.targets.get(
+            session.user.username, websocket.query_params.get("target", LAB)
+        )
+    except UnknownTarget:
+        await websocket.close(code=POLICY_VIOLATION, reason="unknown target (lab or mine)")
+        return
+    service = target.service
     try:
         sub = service.subscribe()
     except ServiceClosed:
         await websocket.close(code=GOING_AWAY, reason="server shutting down")
         return
     await websocket.accept()
-    actor = actor_of(session)
-    context.sockets.add(actor)
-    connection = Connection(websocket, context, actor)
+    connection = Connection(websocket, context, actor_of(session), target)
+    actor = connection.actor
+    if target.shared:
+        context.sockets.add(actor)
+    target.sockets += 1
     holder = service.lease_holder
     _log.info(
-        "websocket open for %s",
+        "websocket open for %s on %s",
         actor.user,
-        extra={"fields": {"user": actor.user, "session": actor.session_id}},
+        target.id,
+        extra={"fields": {"user": actor.user, "session": actor.session_id, "target": target.id}},
     )
     await connection.send(
         {
@@ -229,11 +246,12 @@ async def live(websocket: WebSocket) -> None:
             "role": session.user.role.value,
             "robot_role": actor.role.value,
             "session": actor.session_id,
-            "robot": context.settings.robot,
+            "robot": context.settings.robot if target.shared else "sim",
+            "target": target_dict(target),
             "link": service.link_status.value,
-            "lease_holder": actor_dict(holder),
+            "lease_holder": actor_dict(holder) if target.shared else None,
             "snapshot_hz": context.settings.snapshot_hz,
-            "jog_override_ceiling": context.settings.service_config.jog_override_ceiling,
+            "jog_override_ceiling": service.config.jog_override_ceiling,
         }
     )
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
@@ -257,10 +275,14 @@ async def live(websocket: WebSocket) -> None:
 
 
 async def _goodbye(context: WebContext, connection: Connection) -> None:
-    """The dead-man: a jog started here stops; the actor's last socket ends its lease."""
-    service = context.service
+    """The dead-man: a jog started here stops; the actor's last socket ends its lease (on
+    the lab robot; a private simulator has no lease, only its owner)."""
+    service = connection.service
     actor = connection.actor
-    left = context.sockets.remove(actor)
+    target = connection.target
+    target.sockets -= 1
+    context.targets.touch(target)
+    left = context.sockets.remove(actor) if target.shared else target.sockets
     with contextlib.suppress(Exception):
         if left == 0 and not service.closed:
             await service.disconnect(actor)  # ends its jog ("client disconnected") and lease

@@ -16,7 +16,7 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.service import Actor
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
-from melfa.web.deps import ActorDep, ContextDep, SessionDep
+from melfa.web.deps import ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.logs import robot_log
 from melfa.web.models import (
@@ -36,6 +36,7 @@ from melfa.web.models import (
 )
 from melfa.web.routes.check import check_texts
 from melfa.web.routes.workspaces import default_workspace, open_workspace
+from melfa.web.target_deps import DriveDep
 
 router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
 
@@ -127,15 +128,16 @@ def _upload_out(report: object) -> UploadOut:
 
 @router.post("/project", response_model=UploadOut, summary="Load program and points")
 async def load_project(
-    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+    body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
     """Program and points into the controller in one session (from the body, else the
     workspace). A program with errors is refused before anything is sent."""
+    actor = drive.actor
     program, points = await _sources(context, session, body)
     assert program is not None and points is not None
     lines = _points_for_upload(points)
     await _checked_program(context, program, points, body.check)
-    service = context.service
+    service = drive.service
     report = await operate(
         actor, "load_project", lambda: service.load_project(actor, program, lines)
     )
@@ -144,72 +146,81 @@ async def load_project(
 
 @router.post("/program", response_model=UploadOut, summary="Upload the program only")
 async def upload_program(
-    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+    body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
+    actor = drive.actor
     program, points = await _sources(context, session, body)
     assert program is not None and points is not None
     await _checked_program(context, program, points, body.check)
-    service = context.service
+    service = drive.service
     report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
     return _upload_out(report)
 
 
 @router.post("/points", response_model=UploadOut, summary="Upload the points only")
 async def upload_points(
-    body: SourceIn, session: SessionDep, actor: ActorDep, context: ContextDep
+    body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
+    actor = drive.actor
     _, points = await _sources(context, session, body)
     assert points is not None
     lines = _points_for_upload(points)
     if not lines:
         raise ApiError(422, "no-points", "there are no points to upload")
-    service = context.service
+    service = drive.service
     report = await operate(actor, "upload_points", lambda: service.upload_points(actor, lines))
     return _upload_out(report)
 
 
 @router.delete("/program", response_model=Ok, summary="Delete the program")
-async def delete_program(actor: ActorDep, context: ContextDep) -> Ok:
-    await operate(actor, "delete", lambda: context.service.delete(actor))
+async def delete_program(drive: DriveDep) -> Ok:
+    actor = drive.actor
+    await operate(actor, "delete", lambda: drive.service.delete(actor))
     return Ok()
 
 
 @router.post("/run", response_model=Ok, summary="Run the program")
-async def run(actor: ActorDep, context: ContextDep) -> Ok:
-    await operate(actor, "run", lambda: context.service.run(actor))
+async def run(drive: DriveDep) -> Ok:
+    actor = drive.actor
+    await operate(actor, "run", lambda: drive.service.run(actor))
     return Ok()
 
 
 @router.post("/stop", response_model=Ok, summary="Stop everything (anyone)")
-async def stop(actor: ActorDep, context: ContextDep) -> Ok:
+async def stop(drive: DriveDep) -> Ok:
     """Overtakes every queued command; allowed to every signed-in user."""
-    await operate(actor, "stop", lambda: context.service.stop(actor))
+    actor = drive.actor
+    await operate(actor, "stop", lambda: drive.service.stop(actor))
     return Ok()
 
 
 @router.post("/reset-program", response_model=Ok, summary="Back to the first line")
-async def reset_program(actor: ActorDep, context: ContextDep) -> Ok:
-    await operate(actor, "reset_program", lambda: context.service.reset_program(actor))
+async def reset_program(drive: DriveDep) -> Ok:
+    actor = drive.actor
+    await operate(actor, "reset_program", lambda: drive.service.reset_program(actor))
     return Ok()
 
 
 @router.post("/reset-alarm", response_model=Ok, summary="Reset the alarm")
-async def reset_alarm(actor: ActorDep, context: ContextDep) -> Ok:
-    await operate(actor, "reset_alarm", lambda: context.service.reset_alarm(actor))
+async def reset_alarm(drive: DriveDep) -> Ok:
+    actor = drive.actor
+    await operate(actor, "reset_alarm", lambda: drive.service.reset_alarm(actor))
     return Ok()
 
 
 @router.post("/exec", response_model=Ok, summary="Execute one statement")
-async def exec_statement(body: ExecIn, actor: ActorDep, context: ContextDep) -> Ok:
+async def exec_statement(body: ExecIn, drive: DriveDep) -> Ok:
+    actor = drive.actor
     if any(c in body.statement for c in "\r\n"):
         raise ApiError(422, "invalid-value", "one statement only: no line breaks")
-    await operate(actor, "exec", lambda: context.service.exec(actor, body.statement))
+    await operate(actor, "exec", lambda: drive.service.exec(actor, body.statement))
     return Ok()
 
 
 @router.post("/hand", response_model=HandOut, summary="Open, close or toggle a hand")
-async def hand(body: HandIn, actor: ActorDep, context: ContextDep) -> HandOut:
-    service = context.service
+async def hand(body: HandIn, drive: DriveDep) -> HandOut:
+    actor = drive.actor
+    service = drive.service
     if body.action == "toggle":
         is_open = await operate(actor, "hand", lambda: service.hand_toggle(actor, body.hand))
     else:
@@ -219,13 +230,14 @@ async def hand(body: HandIn, actor: ActorDep, context: ContextDep) -> HandOut:
 
 
 @router.post("/move", response_model=Ok, summary="Move to a point or a pose")
-async def move(body: MoveIn, session: SessionDep, actor: ActorDep, context: ContextDep) -> Ok:
+async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: ContextDep) -> Ok:
     """``point``: a name from the workspace's points (its values are sent, so what moves
     is what the student sees); ``pose``: X, Y, Z, A, B, C; ``joints``: J1…J6."""
+    actor = drive.actor
     given = [x for x in (body.point, body.pose, body.joints) if x is not None]
     if len(given) != 1:
         raise ApiError(422, "invalid-value", "give exactly one of point, pose or joints")
-    service = context.service
+    service = drive.service
     flags = (body.flags[0], body.flags[1])
     if body.point is not None:
         source = SourceIn(
@@ -266,21 +278,24 @@ async def move(body: MoveIn, session: SessionDep, actor: ActorDep, context: Cont
 
 
 @router.post("/servo", response_model=Ok, summary="Servo on or off")
-async def servo(body: ServoIn, actor: ActorDep, context: ContextDep) -> Ok:
-    await operate(actor, "servo", lambda: context.service.servo(actor, body.on))
+async def servo(body: ServoIn, drive: DriveDep) -> Ok:
+    actor = drive.actor
+    await operate(actor, "servo", lambda: drive.service.servo(actor, body.on))
     return Ok()
 
 
 @router.post("/override", response_model=OverrideOut, summary="Set the speed override")
-async def override(body: OverrideIn, actor: ActorDep, context: ContextDep) -> OverrideOut:
-    value = await operate(actor, "override", lambda: context.service.override(actor, body.percent))
+async def override(body: OverrideIn, drive: DriveDep) -> OverrideOut:
+    actor = drive.actor
+    value = await operate(actor, "override", lambda: drive.service.override(actor, body.percent))
     return OverrideOut(percent=value)
 
 
 @router.post("/jog-step", response_model=Ok, summary="One jog increment")
-async def jog_step(body: JogStepIn, actor: ActorDep, context: ContextDep) -> Ok:
+async def jog_step(body: JogStepIn, drive: DriveDep) -> Ok:
     """For hold-to-move use the WebSocket (``jog_start`` / ``jog_heartbeat``)."""
-    service = context.service
+    actor = drive.actor
+    service = drive.service
     await operate(
         actor,
         "jog_step",
@@ -290,21 +305,23 @@ async def jog_step(body: JogStepIn, actor: ActorDep, context: ContextDep) -> Ok:
 
 
 @router.get("/state", response_model=StateOut, summary="Latest state (no round trip)")
-async def get_state(session: SessionDep, context: ContextDep) -> StateOut:
+async def get_state(drive: DriveDep) -> StateOut:
     """The latest snapshot; reading it keeps the service polling at full rate for a while,
     so a client that polls this endpoint sees fresh state (its ``at`` says how fresh)."""
-    return state_out(context.service.want_state())
+    return state_out(drive.service.want_state())
 
 
 @router.get("/joints", response_model=ValuesOut, summary="Read the joints now")
-async def read_joints(actor: ActorDep, context: ContextDep) -> ValuesOut:
-    values = await operate(actor, "read_joints", lambda: context.service.read_joints(actor))
+async def read_joints(drive: DriveDep) -> ValuesOut:
+    actor = drive.actor
+    values = await operate(actor, "read_joints", lambda: drive.service.read_joints(actor))
     return ValuesOut(names=list(JOINT_NAMES)[: len(values)], values=list(values))
 
 
 @router.get("/pose", response_model=ValuesOut, summary="Read the pose now")
-async def read_pose(actor: ActorDep, context: ContextDep) -> ValuesOut:
-    values = await operate(actor, "read_pose", lambda: context.service.read_pose(actor))
+async def read_pose(drive: DriveDep) -> ValuesOut:
+    actor = drive.actor
+    values = await operate(actor, "read_pose", lambda: drive.service.read_pose(actor))
     return ValuesOut(names=list(POSE_NAMES)[: len(values)], values=list(values))
 
 
