@@ -24,7 +24,7 @@ def variables(*lines: str) -> dict[str, Value]:
     r = run(*lines)
     assert r.interp.error is None, r.interp.error
     assert r.interp.status is RunnerStatus.FINISHED
-    return r.interp.vars
+    return r.interp.state.vars
 
 
 def fails(*lines: str) -> tuple[int, int | None]:
@@ -301,14 +301,14 @@ def test_user_error() -> None:
     assert fails("M1 = 1", "ERROR 9100", "END") == (9100, 20)
     r = run("ERROR 9200", "M1 = 5", "END")  # caution level: recorded, the program goes on
     assert r.interp.status is RunnerStatus.FINISHED
-    assert r.interp.caution is not None
-    assert r.interp.caution.number == 9200
+    assert r.interp.state.caution is not None
+    assert r.interp.state.caution.number == 9200
     assert fails("ERROR 5")[0] == errors.ARGUMENT_OUT_OF_RANGE
 
 
 def test_end_stops_and_lines_run_in_step_number_order() -> None:
     r = simulate("30 M1 = M1 * 10\n10 M1 = 1\n20 M1 = M1 + 1\n40 END\n50 M1 = 0\n")
-    assert r.interp.vars["M1"] == 20
+    assert r.interp.state.vars["M1"] == 20
     assert r.interp.line == 40
 
 
@@ -326,15 +326,15 @@ def test_outputs_inputs_and_widths() -> None:
     r = run("M_OUT(3) = 1", "M_OUT8(16) = &H0F", "M1 = M_IN8(8)", "M2 = M_IN(8)", "END", io=io)
     assert io.output(3) == 1
     assert io.read_outputs(16, 8) == 0x0F
-    assert r.interp.vars["M1"] == 0xA5
-    assert r.interp.vars["M2"] == 1
+    assert r.interp.state.vars["M1"] == 0xA5
+    assert r.interp.state.vars["M2"] == 1
 
 
 def test_pulse_output_resets_after_its_time() -> None:
     io = IOState()
     r = run("M_OUT(17) = 1 DLY 0.5", "M1 = M_OUT(17)", "DLY 1", "M2 = M_OUT(17)", "END", io=io)
-    assert r.interp.vars["M1"] == 1
-    assert r.interp.vars["M2"] == 0
+    assert r.interp.state.vars["M1"] == 1
+    assert r.interp.state.vars["M2"] == 0
 
 
 def test_def_io_variables() -> None:
@@ -342,7 +342,7 @@ def test_def_io_variables() -> None:
     io.set_input(4, 1)
     r = run("DEF IO LAMP = BIT, 6", "LAMP = 1", "DEF IO SENS = BIT, 4", "M1 = SENS", "END", io=io)
     assert io.output(6) == 1
-    assert r.interp.vars["M1"] == 1
+    assert r.interp.state.vars["M1"] == 1
 
 
 def test_timer_is_settable_and_counts_simulated_seconds() -> None:

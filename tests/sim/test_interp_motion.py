@@ -128,7 +128,7 @@ def test_pyramid_places_six_blocks_where_the_offsets_say() -> None:
     r = simulate(PYRAMID, PYRAMID_POINTS)
     assert r.interp.error is None
     assert r.interp.status is RunnerStatus.FINISHED
-    assert r.interp.vars["MN"] == 6
+    assert r.interp.state.vars["MN"] == 6
     assert_at(r.arm.pose, Pose(300, 0, 500, 180, 0, 180))
     assert r.arm.hands[0] is HandState.OPEN
     # expected drop points, computed from the base point and the block size
@@ -162,7 +162,7 @@ def test_mvs_offset_and_tool_frame_multiplication() -> None:
         "50 MOV P1 * (10, 0, 0, 0, 0, 0)\n60 END\n",
         ["P1=(400,0,400,180,0,180)(7,0)"],
     )
-    assert r.interp.vars["M1"] == pytest.approx(380.0, abs=0.01)
+    assert r.interp.state.vars["M1"] == pytest.approx(380.0, abs=0.01)
     expected = pose_mul(Pose(400, 0, 400, 180, 0, 180), Pose(10, 0, 0, 0, 0, 0))
     assert_at(r.arm.pose, expected)
 
@@ -171,7 +171,7 @@ def test_joint_targets_and_j_curr() -> None:
     r = simulate(
         "10 SERVO ON\n20 J1 = (10, 0, 90, 0, 90, 0)\n30 MOV J1\n40 M1 = DEG(J_CURR.J1)\n50 END\n"
     )
-    assert r.interp.vars["M1"] == pytest.approx(10.0)
+    assert r.interp.state.vars["M1"] == pytest.approx(10.0)
 
 
 def test_arc_and_arch_moves_end_where_they_should() -> None:
@@ -214,7 +214,7 @@ def test_wthif_skip_stops_the_move_when_the_input_comes() -> None:
     it.advance(0.1)
     run_fast(it, max_time=10)
     assert it.status is RunnerStatus.FINISHED
-    assert it.vars["M1"] == 1
+    assert it.state.vars["M1"] == 1
     assert arm_of(it).pose.z > 300.5  # stopped before the target
 
 
@@ -267,19 +267,19 @@ def test_real_time_move_blocks_until_its_end() -> None:
     assert end is not None and end > 0.1
     it.advance(end / 2)
     assert it.line == 20
-    assert "M1" not in it.vars
+    assert "M1" not in it.state.vars
     it.advance(end)
     assert it.status is RunnerStatus.FINISHED
-    assert it.vars["M1"] == 1
+    assert it.state.vars["M1"] == 1
 
 
 def test_dly_waits_simulated_seconds() -> None:
     it = make("10 DLY 0.5\n20 M1 = 1\n30 END\n")
     it.start(0.0)
     it.advance(0.4)
-    assert (it.line, "M1" in it.vars) == (10, False)
+    assert (it.line, "M1" in it.state.vars) == (10, False)
     it.advance(0.5)
-    assert it.vars["M1"] == 1
+    assert it.state.vars["M1"] == 1
 
 
 def test_stop_pauses_and_run_resumes_the_interrupted_move() -> None:
@@ -298,12 +298,12 @@ def test_stop_pauses_and_run_resumes_the_interrupted_move() -> None:
     it.advance(stop_end + 1.0)
     assert not arm.is_moving()
     assert it.status is RunnerStatus.PAUSED
-    assert "M1" not in it.vars
+    assert "M1" not in it.state.vars
     it.resume(stop_end + 1.0)
     run_fast(it)
     assert it.status is RunnerStatus.FINISHED
     assert_at(arm.pose, Pose(400, 0, 300, 180, 0, 180))
-    assert it.vars["M1"] == 1
+    assert it.state.vars["M1"] == 1
 
 
 def test_rstprg_resets_line_variables_and_speeds() -> None:
@@ -315,7 +315,7 @@ def test_rstprg_resets_line_variables_and_speeds() -> None:
     it.reset()
     assert it.status is RunnerStatus.IDLE
     assert it.line == 10
-    assert "M1" not in it.vars
+    assert "M1" not in it.state.vars
     assert arm_of(it).speeds.ovrd == 100.0
 
 
@@ -323,10 +323,10 @@ def test_hlt_pauses_and_run_continues_at_the_next_line() -> None:
     it = make("10 M1 = 1\n20 HLT\n30 M1 = 2\n40 END\n")
     it.start(0.0)
     run_fast(it)
-    assert (it.status, it.line, it.vars["M1"]) == (RunnerStatus.PAUSED, 20, 1)
+    assert (it.status, it.line, it.state.vars["M1"]) == (RunnerStatus.PAUSED, 20, 1)
     it.resume(1.0)
     run_fast(it)
-    assert (it.status, it.vars["M1"]) == (RunnerStatus.FINISHED, 2)
+    assert (it.status, it.state.vars["M1"]) == (RunnerStatus.FINISHED, 2)
 
 
 def test_wait_blocks_until_the_input_and_shows_waiting() -> None:
@@ -349,10 +349,10 @@ def test_runaway_loop_does_not_freeze_the_controller() -> None:
     it.start(0.0)
     it.advance(0.0)
     assert it.status is RunnerStatus.RUNNING
-    first = it.vars["M1"]
+    first = it.state.vars["M1"]
     assert isinstance(first, int) and 0 < first <= it.max_statements
     it.advance(0.01)
-    assert it.vars["M1"] > first  # type: ignore[operator]
+    assert it.state.vars["M1"] > first  # type: ignore[operator]
 
 
 def test_cycle_false_repeats_the_program() -> None:
@@ -361,7 +361,7 @@ def test_cycle_false_repeats_the_program() -> None:
     it.start(0.0, cycle=False)
     it.advance(0.0)
     assert it.status is RunnerStatus.RUNNING
-    assert it.vars["M1"] > 1  # type: ignore[operator]
+    assert it.state.vars["M1"] > 1  # type: ignore[operator]
 
 
 # --- interrupts and EXEC ------------------------------------------------------------------------
@@ -383,7 +383,7 @@ def test_def_act_interrupt_gosub_and_return() -> None:
     it.advance(2.6)
     it.advance(4.0)
     assert it.status is RunnerStatus.FINISHED
-    assert it.vars["M2"] == 1
+    assert it.state.vars["M2"] == 1
 
 
 def test_execute_runs_one_statement_in_the_slot_variables() -> None:
@@ -391,7 +391,7 @@ def test_execute_runs_one_statement_in_the_slot_variables() -> None:
     it.start(0.0)
     run_fast(it)
     it.execute("M3 = M1 * 21", 1.0)
-    assert it.vars["M3"] == 42
+    assert it.state.vars["M3"] == 42
     it.execute("SERVO ON", 1.0)
     it.execute("P9 = (400, 0, 400, 180, 0, 180)(7, 0)", 1.0)
     it.execute("MOV P9", 1.0)

@@ -159,7 +159,7 @@ def test_mixing_types_is_a_type_combination_error() -> None:
 
 def test_position_constants_are_degrees_and_elements_radians() -> None:
     it = interp()
-    it.vars["P1"] = ev("(100, 200, 300, 90, -45, 180)(7, 0)", it)
+    it.state.vars["P1"] = ev("(100, 200, 300, 90, -45, 180)(7, 0)", it)
     assert ev("P1.X", it) == 100.0
     assert ev("P1.A", it) == pytest.approx(math.pi / 2)
     assert ev("P1.B", it) == pytest.approx(-math.pi / 4)
@@ -172,14 +172,14 @@ def test_joint_constants_take_their_type_from_the_variable() -> None:
     it.load("10 J1 = (10, 20, 30, 40, 50, 60)\n20 M1 = J1.J3\n30 END\n")
     it.start(0.0)
     it.advance(0.0)
-    assert isinstance(it.vars["J1"], Joints)
-    assert it.vars["M1"] == pytest.approx(math.radians(30))
+    assert isinstance(it.state.vars["J1"], Joints)
+    assert it.state.vars["M1"] == pytest.approx(math.radians(30))
 
 
 def test_position_addition_is_element_wise_in_world() -> None:
     it = interp()
-    it.vars["P1"] = Position.from_degrees([100, 0, 300, 180, 0, 90])
-    it.vars["P2"] = Position.from_degrees([10, 20, 30, 0, 0, 10])
+    it.state.vars["P1"] = Position.from_degrees([100, 0, 300, 180, 0, 90])
+    it.state.vars["P2"] = Position.from_degrees([10, 20, 30, 0, 0, 10])
     p = ev("P1 + P2", it)
     assert isinstance(p, Position)
     assert (p.x, p.y, p.z) == (110.0, 20.0, 330.0)
@@ -191,18 +191,18 @@ def test_position_addition_is_element_wise_in_world() -> None:
 
 def test_position_multiplication_is_in_the_tool_frame() -> None:
     it = interp()
-    it.vars["P1"] = Position.from_degrees([400, 0, 645, 180, 0, 180])
+    it.state.vars["P1"] = Position.from_degrees([400, 0, 645, 180, 0, 180])
     p = ev("P1 * (0, 0, -50, 0, 0, 0)", it)  # hand down: tool -Z is world +Z
     assert isinstance(p, Position)
     assert (p.x, p.y, p.z) == pytest.approx((400.0, 0.0, 695.0))
     back = ev("(P1 * (10, 20, 30, 0, 0, 45)) / (10, 20, 30, 0, 0, 45)", it)
     assert isinstance(back, Position)
-    assert back.to_degrees() == pytest.approx(it.vars["P1"].to_degrees(), abs=1e-9)
+    assert back.to_degrees() == pytest.approx(it.state.vars["P1"].to_degrees(), abs=1e-9)
 
 
 def test_position_times_number_scales() -> None:
     it = interp()
-    it.vars["P1"] = Position.from_degrees([10, 20, 30, 0, 0, 0])
+    it.state.vars["P1"] = Position.from_degrees([10, 20, 30, 0, 0, 0])
     p = ev("P1 * 2", it)
     assert isinstance(p, Position)
     assert (p.x, p.y, p.z) == (20.0, 40.0, 60.0)
@@ -210,17 +210,17 @@ def test_position_times_number_scales() -> None:
 
 def test_inv_and_dist() -> None:
     it = interp()
-    it.vars["P1"] = Position.from_degrees([100, 50, 300, 30, 20, 10])
+    it.state.vars["P1"] = Position.from_degrees([100, 50, 300, 30, 20, 10])
     ident = ev("P1 * INV(P1)", it)
     assert isinstance(ident, Position)
     assert ident.to_degrees() == pytest.approx((0, 0, 0, 0, 0, 0), abs=1e-9)
-    it.vars["P2"] = Position.from_degrees([103, 54, 300, 0, 0, 0])
+    it.state.vars["P2"] = Position.from_degrees([103, 54, 300, 0, 0, 0])
     assert ev("DIST(P1, P2)", it) == pytest.approx(5.0)
 
 
 def test_flag_functions() -> None:
     it = interp()
-    it.vars["P1"] = Position.from_degrees([0, 0, 0, 0, 0, 0], 7, 0x00100000)
+    it.state.vars["P1"] = Position.from_degrees([0, 0, 0, 0, 0, 0], 7, 0x00100000)
     assert ev("RDFL1(P1, 0)", it) == "R"
     assert ev('RDFL1(SETFL1(P1, "LBF"), 1)', it) == "B"
     assert ev("RDFL2(P1, 6)", it) == 1

@@ -17,6 +17,7 @@ from melfa.sim.arm import ArmError, SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.robot import ArcKind
 from melfa.sim.interp.values import Joints, Position
+from melfa.sim.motion import SPD_DEFAULT
 
 T = TypeVar("T")
 
@@ -132,8 +133,6 @@ class ArmPort:
         return (s.ovrd, s.jovrd, s.spd, s.op_override)
 
     def default_speed(self) -> float:
-        from melfa.sim.motion import SPD_DEFAULT
-
         return SPD_DEFAULT
 
     def set_hand(self, hand: int, open_: bool, now: float) -> None:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import random
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 
 from melfa.sim.interp import errors, posmath
 from melfa.sim.interp.values import (
@@ -309,8 +310,6 @@ def _setfl2(args: Sequence[Value]) -> Value:
 
 
 def _with(p: Position, **changes: int) -> Position:
-    from dataclasses import replace
-
     return replace(p, **changes)
 
 

@@ -139,7 +139,7 @@ class _Tracer:
 
     def on_step(self, step: Step) -> None:
         self.flush(self.it.now)
-        self.pending = _Pending(step, self.it.now, len(self.it.console))
+        self.pending = _Pending(step, self.it.now, len(self.it.state.console))
 
     def flush(self, end: float) -> None:
         p = self.pending
@@ -154,7 +154,7 @@ class _Tracer:
             f"{p.start:9.3f} {took_cell} {line:>5}  {text:<{STATEMENT_WIDTH}} "
             f"{_pose_cells(self.arm.pose)}  {_hands(self.arm)}\n"
         )
-        for printed in self.it.console[p.printed :]:
+        for printed in self.it.state.console[p.printed :]:
             self.out.write(f"{'':>25}PRINT> {printed}\n")
 
 
@@ -227,7 +227,7 @@ def run_and_trace(
     except KeyboardInterrupt:
         interrupted = True
     it.on_step = None
-    ended = it.stopped_at if it.stopped_at is not None else it.now
+    ended = it.state.stopped_at if it.state.stopped_at is not None else it.now
     tracer.flush(ended)
     return _summary(it, arm, out, Path(program_path), ended, max_time, interrupted)
 
@@ -246,7 +246,7 @@ def _summary(
     err = it.error
     if err is not None:
         out.write(f"stopped by an error at {where} after {ended:.3f} s (simulated): {state}\n")
-        step = it.steps[min(it.current, len(it.steps) - 1)]
+        step = it.state.steps[min(it.state.current, len(it.state.steps) - 1)]
         source = (
             it.source[step.text_line - 1].strip() if 0 < step.text_line <= len(it.source) else ""
         )

@@ -16,28 +16,23 @@ The statement compilers live in one module per subject and are mixed in here:
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from melfa.lang import ast
 from melfa.sim.interp import errors
 from melfa.sim.interp.definitions import DefinitionStatements
 from melfa.sim.interp.flow import FlowStatements
 from melfa.sim.interp.motion_stmts import MotionStatements
+from melfa.sim.interp.state import Step
 from melfa.sim.interp.stmt_base import Run, fail, nothing
 from melfa.sim.interp.structure import match_blocks
-from melfa.sim.interp.values import Value
+from melfa.sim.interp.values import Value, VarType
 from melfa.sim.interp.variables import VariableStatements
-
-if TYPE_CHECKING:
-    from melfa.sim.interp.interpreter import Step
 
 
 class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableStatements):
     """Compiles a parsed program for one interpreter."""
 
     def compile_program(self, program: ast.Program, points: dict[str, Value]) -> list[Step]:
-        from melfa.sim.interp.interpreter import Step
-
         lines = [ln for ln in program.lines if ln.number is not None or ln.label is not None
                  or ln.statement is not None]  # fmt: skip
         numbered = any(ln.number is not None for ln in lines)
@@ -45,7 +40,7 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
         for ln in lines:
             if numbered and ln.number is None:
                 if ln.statement is not None and self._is_point(ln.statement):
-                    self.it._take_point(ln.statement, points, ln.span.line)
+                    self.take_point(ln.statement, points, ln.span.line)
                     continue
                 if ln.statement is None:
                     continue
@@ -81,8 +76,25 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
                 run = nothing
             else:
                 run = self.statement(ln.statement, i)
-            steps.append(Step(self._shown(ln), run, ln.span.line))
+            steps.append(Step(self._shown(ln), run, ln.span.line, ln.label))
         return steps
+
+    def take_point(self, stmt: ast.Statement, points: dict[str, Value], line: int) -> None:
+        """A ``Name=(…)`` point definition (points file or unnumbered program line)."""
+        target: ast.Name | None = None
+        value: ast.Expr | None = None
+        if isinstance(stmt, ast.Assign) and isinstance(stmt.target, ast.Name):
+            target, value = stmt.target, stmt.value
+        elif isinstance(stmt, ast.DefVar) and len(stmt.names) == 1 and stmt.value is not None:
+            target, value = stmt.names[0], stmt.value
+        if target is None or not isinstance(value, ast.PositionLiteral):
+            raise errors.RunError(
+                errors.SYNTAX_ERROR,
+                f"position line {line} is not a point definition Name=(…)",
+                line=line,
+            )
+        hint = VarType.JOINT if target.name.startswith("J") else VarType.POSITION
+        points[target.name] = self.exprs.value(value, hint)()
 
     @staticmethod
     def _shown(ln: ast.Line) -> int:
@@ -99,7 +111,7 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
     def compile_single(self, stmt: ast.Statement) -> Run:
         """One statement outside the program (EXEC); jumps are refused by the caller."""
         self._declare([stmt])
-        return self.statement(stmt, self.it.current)
+        return self.statement(stmt, self.st.current)
 
     def statement(self, s: ast.Statement, i: int) -> Run:
         method = _DISPATCH.get(type(s))

@@ -12,6 +12,7 @@ from collections.abc import Callable
 from melfa.lang import ast
 from melfa.sim.interp import errors
 from melfa.sim.interp.exprs import Thunk
+from melfa.sim.interp.state import MAX_DIM_SIZE, ActDef, Array, PalletDef
 from melfa.sim.interp.stmt_base import CompilerBase, Run, integer, nothing
 from melfa.sim.interp.values import (
     Joints,
@@ -48,16 +49,16 @@ class DefinitionStatements(CompilerBase):
         for s in stmts:
             if isinstance(s, ast.DefVar):
                 for n in s.names:
-                    self.it.types[n.name] = _DECLARED[s.type]
+                    self.st.types[n.name] = _DECLARED[s.type]
             elif isinstance(s, ast.DefIO):
-                self.it.types[s.name.name] = VarType.IO
+                self.st.types[s.name.name] = VarType.IO
             elif isinstance(s, ast.DefFn):
-                self.it.user_functions[s.name.name] = self._user_function(s)
+                self.st.user_functions[s.name.name] = self._user_function(s)
 
     def _user_function(self, s: ast.DefFn) -> Callable[[list[Value]], Value]:
         params = [p.name for p in s.params]
         body = self.exprs.value(s.body)
-        store = self.it.vars
+        store = self.st.vars
         name = s.name.name
         depth = [0]
 
@@ -85,8 +86,8 @@ class DefinitionStatements(CompilerBase):
         return call
 
     def _defvar(self, s: ast.DefVar, i: int) -> Run:
-        it = self.it
-        store = it.vars
+        st = self.st
+        store = st.vars
         vtype = _DECLARED[s.type]
         names = [n.name for n in s.names]
         put = self.setter(s.names[0]) if s.value is not None else None
@@ -124,13 +125,13 @@ class DefinitionStatements(CompilerBase):
 
     def _defplt(self, s: ast.DefPlt, i: int) -> Run:
         it = self.it
+        st = self.st
         num = self.exprs.value(s.number)
         pts = [self.exprs.value(e, VarType.POSITION) for e in (s.start, s.end_a, s.end_b)]
         diag = self.exprs.value(s.diagonal, VarType.POSITION) if s.diagonal is not None else None
         ca = self.exprs.value(s.count_a)
         cb = self.exprs.value(s.count_b)
         direction = self.exprs.value(s.direction)
-        from melfa.sim.interp.interpreter import PalletDef
 
         def pos(f: Thunk) -> Position:
             v = f()
@@ -160,20 +161,19 @@ class DefinitionStatements(CompilerBase):
                 raise errors.RunError(
                     errors.ARGUMENT_OUT_OF_RANGE, "pallet counts must be 1 or more"
                 )
-            it.pallets[n] = PalletDef(
+            st.pallets[n] = PalletDef(
                 pos(pts[0]), pos(pts[1]), pos(pts[2]), pos(diag) if diag else None, na, nb, d
             )
 
         return run
 
     def _defact(self, s: ast.DefAct, i: int) -> Run:
-        it = self.it
+        st = self.st
         prio = self.exprs.value(s.priority)
         cond = self.exprs.cond(s.condition)
         dest = self.target(s.target)
         gosub = s.kind is ast.JumpKind.GOSUB
         mode = s.mode.upper() if s.mode else None
-        from melfa.sim.interp.interpreter import ActDef
 
         def run() -> None:
             n = integer(prio(), "DEF ACT")
@@ -181,13 +181,13 @@ class DefinitionStatements(CompilerBase):
                 raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"ACT priority {n} is not 1..8")
             if isinstance(dest, errors.RunError):
                 raise errors.RunError(errors.JUMP_DESTINATION_MISSING, dest.message)
-            old = it.acts.get(n)
-            it.acts[n] = ActDef(n, cond, gosub, dest, mode, old.enabled if old else False)
+            old = st.acts.get(n)
+            st.acts[n] = ActDef(n, cond, gosub, dest, mode, old.enabled if old else False)
 
         return run
 
     def _actset(self, s: ast.ActSet, i: int) -> Run:
-        it = self.it
+        st = self.st
         num = self.exprs.value(s.number)
         value = self.exprs.value(s.value)
 
@@ -195,9 +195,9 @@ class DefinitionStatements(CompilerBase):
             n = integer(num(), "ACT")
             on = integer(value(), "ACT") != 0
             if n == 0:
-                it.acts_master = on
+                st.acts_master = on
                 return
-            act = it.acts.get(n)
+            act = st.acts.get(n)
             if act is None:
                 raise errors.RunError(errors.VARIABLE_NOT_DEFINED, f"ACT {n} has no DEF ACT {n}")
             act.enabled = on
@@ -205,24 +205,22 @@ class DefinitionStatements(CompilerBase):
         return run
 
     def _dim(self, s: ast.Dim, i: int) -> Run:
-        it = self.it
-        from melfa.sim.interp.interpreter import MAX_DIM_SIZE, Array
-
+        st = self.st
         specs = []
         for a in s.arrays:
             sizes = [self.exprs.value(e) for e in a.sizes]
             name = a.name.name
-            specs.append((name, sizes, it.types.get(name) or implied_type(name)))
+            specs.append((name, sizes, st.types.get(name) or implied_type(name)))
 
         def run() -> None:
             for name, sizes, vtype in specs:
-                if name in it.arrays:
+                if name in st.arrays:
                     raise errors.RunError(errors.DUPLICATE_DEFINITION, f"{name} is already DIMmed")
                 dims = tuple(integer(f(), "DIM") for f in sizes)
                 if not 1 <= len(dims) <= 3 or any(not 1 <= d <= MAX_DIM_SIZE for d in dims):
                     raise errors.RunError(
                         errors.ARRAY_ELEMENT, f"DIM {name}: 1 to 3 sizes of 1..{MAX_DIM_SIZE}"
                     )
-                it.arrays[name] = Array(dims, vtype)
+                st.arrays[name] = Array(dims, vtype)
 
         return run

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from melfa.lang import ast
 from melfa.lang import model as lang_model
 from melfa.sim.interp import builtins, errors, posmath
+from melfa.sim.interp.machine import Machine
+from melfa.sim.interp.robot import robot_function
 from melfa.sim.interp.values import (
     Joints,
     Position,
@@ -26,9 +27,6 @@ from melfa.sim.interp.values import (
     truthy,
     type_name,
 )
-
-if TYPE_CHECKING:
-    from melfa.sim.interp.interpreter import Interpreter
 
 Thunk = Callable[[], Value]
 Cond = Callable[[], bool]
@@ -223,8 +221,11 @@ def static_type(expr: ast.Expr) -> VarType | None:
 class ExprCompiler:
     """Turns expressions into closures bound to one interpreter's variables."""
 
-    def __init__(self, it: Interpreter) -> None:
+    def __init__(self, it: Machine, io_reader: Callable[[str], Thunk]) -> None:
         self.it = it
+        self.st = it.state
+        self.io_reader = io_reader
+        """Reads a DEF IO variable (the statement compilers know the DEF IO table)."""
 
     # -- values --------------------------------------------------------------------------
     def value(self, e: ast.Expr, hint: VarType | None = None) -> Thunk:
@@ -262,9 +263,9 @@ class ExprCompiler:
         sysvar = self.it.sysvars.getter(name, ())
         if sysvar is not None:
             return sysvar
-        if self.it.types.get(name) is VarType.IO:
-            return self.it.compiler.io_reader(name)
-        store = self.it.vars
+        if self.st.types.get(name) is VarType.IO:
+            return self.io_reader(name)
+        store = self.st.vars
 
         def read() -> Value:
             try:
@@ -280,7 +281,7 @@ class ExprCompiler:
         sysvar = self.it.sysvars.getter(name, args)
         if sysvar is not None:
             return sysvar
-        arrays = self.it.arrays
+        arrays = self.st.arrays
 
         def read() -> Value:
             arr = arrays.get(name)
@@ -385,7 +386,7 @@ class ExprCompiler:
 
     def _positional(self, e: ast.Expr) -> VarType | None:
         """POSITION or JOINT when `e` is known to be one (by DEF or by its name), else None."""
-        declared = self.it.types.get(e.name) if isinstance(e, ast.Name) else None
+        declared = self.st.types.get(e.name) if isinstance(e, ast.Name) else None
         kind = declared or static_type(e)
         return kind if kind in (VarType.POSITION, VarType.JOINT) else None
 
@@ -441,7 +442,7 @@ class ExprCompiler:
                 raise errors.RunError(errors.SYNTAX_ERROR, f"{name} {why}")
 
             return wrong
-        special = self.it.robot_function(name, args)
+        special = robot_function(self.it.robot, name, args)
         if special is not None:
             return special
         if name == "RND":
@@ -462,12 +463,12 @@ class ExprCompiler:
         return lambda: fn([f() for f in args])
 
     def user_call(self, e: ast.Call) -> Thunk:
-        it = self.it
+        st = self.st
         name = e.name
         args = [self.value(a) for a in e.args]
 
         def call() -> Value:
-            fn = it.user_functions.get(name)
+            fn = st.user_functions.get(name)
             if fn is None:
                 raise errors.RunError(
                     errors.VARIABLE_NOT_DEFINED, f"function {name} is not defined (DEF {name})"
@@ -479,13 +480,13 @@ class ExprCompiler:
     def pallet(self, e: ast.Pallet) -> Thunk:
         number = self.value(e.pallet)
         index = self.value(e.index)
-        it = self.it
+        st = self.st
 
         def grid() -> Value:
             n = number()
             k = index()
             if not isinstance(n, int | float) or not isinstance(k, int | float):
                 raise type_error("PLT needs a pallet number and a grid number")
-            return it.pallet_point(round_half_away(n), round_half_away(k))
+            return st.pallet_point(round_half_away(n), round_half_away(k))
 
         return grid

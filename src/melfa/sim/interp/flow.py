@@ -1,7 +1,7 @@
 """Control flow: jumps, subroutines, IF, loops, SELECT, BREAK and WAIT.
 
 Jumps and block ends are resolved at compile time to step indices (`Structure`), so a
-running program only assigns `it.pc`. Loops keep their state on the interpreter's loop
+running program only assigns `st.pc`. Loops keep their state on the interpreter's loop
 stack, which GOSUB/RETURN trim, as the controller does.
 """
 
@@ -11,6 +11,8 @@ from collections.abc import Callable
 
 from melfa.lang import ast
 from melfa.sim.interp import errors
+from melfa.sim.interp.exprs import compare
+from melfa.sim.interp.state import Loop, WaitCond
 from melfa.sim.interp.stmt_base import CompilerBase, Run, fail, integer, nothing, number, raiser
 from melfa.sim.interp.values import Value
 
@@ -35,10 +37,10 @@ class FlowStatements(CompilerBase):
         dest = self.target(t)
         if isinstance(dest, errors.RunError):
             return raiser(dest)
-        it = self.it
+        st = self.st
 
         def run() -> None:
-            it.pc = dest
+            st.pc = dest
 
         return run
 
@@ -49,11 +51,11 @@ class FlowStatements(CompilerBase):
         dest = self.target(s.target)
         if isinstance(dest, errors.RunError):
             return raiser(dest)
-        it = self.it
-        return lambda: it.gosub(dest)
+        st = self.st
+        return lambda: st.gosub(dest)
 
     def _on_jump(self, s: ast.OnJump, i: int) -> Run:
-        it = self.it
+        st = self.st
         sel = self.exprs.value(s.selector)
         dests = [self.target(t) for t in s.targets]
         gosub = s.kind is ast.JumpKind.GOSUB
@@ -68,23 +70,23 @@ class FlowStatements(CompilerBase):
             if isinstance(d, errors.RunError):
                 raise d
             if gosub:
-                it.gosub(d)
+                st.gosub(d)
             else:
-                it.pc = d
+                st.pc = d
 
         return run
 
     def _return(self, s: ast.Return, i: int) -> Run:
-        it = self.it
+        st = self.st
         mode = self.exprs.value(s.mode) if s.mode is not None else None
 
         def run() -> None:
-            it.return_(integer(mode(), "RETURN") if mode is not None else None)
+            st.return_(integer(mode(), "RETURN") if mode is not None else None)
 
         return run
 
     def _if(self, s: ast.If, i: int) -> Run:
-        it = self.it
+        st = self.st
         cond = self.exprs.cond(s.condition)
         if s.is_block:
             els = self.structure.if_else.get(i)
@@ -95,7 +97,7 @@ class FlowStatements(CompilerBase):
 
             def block_if() -> None:
                 if not cond():
-                    it.pc = skip_to
+                    st.pc = skip_to
 
             return block_if
         then = self._branch(s.then, i)
@@ -121,16 +123,16 @@ class FlowStatements(CompilerBase):
         end = self.structure.else_end.get(i)
         if end is None:
             return fail(errors.IF_ELSE_UNMATCH, "ELSE without a block IF")
-        it = self.it
+        st = self.st
         dest = end + 1
 
         def run() -> None:
-            it.pc = dest
+            st.pc = dest
 
         return run
 
     def _for(self, s: ast.For, i: int) -> Run:
-        it = self.it
+        st = self.st
         match = self.structure.for_next.get(i)
         if match is None:
             return fail(errors.FOR_NEXT_UNMATCH, "FOR without NEXT")
@@ -140,8 +142,7 @@ class FlowStatements(CompilerBase):
         start = self.exprs.value(s.start)
         end = self.exprs.value(s.end)
         step = self.exprs.value(s.step) if s.step is not None else (lambda: 1)
-        loops = it.loops
-        from melfa.sim.interp.interpreter import Loop
+        loops = st.loops
 
         def run() -> None:
             a = start()
@@ -155,8 +156,8 @@ class FlowStatements(CompilerBase):
                     break
             av = float(a)  # type: ignore[arg-type]
             if (d >= 0 and av > b) or (d < 0 and av < b):
-                it.pc = next_index + 1  # zero-trip: on after the NEXT (and its other loops)
-                handler = it.next_handlers.get(next_index)
+                st.pc = next_index + 1  # zero-trip: on after the NEXT (and its other loops)
+                handler = st.next_handlers.get(next_index)
                 if handler is not None:
                     handler(k + 1)
                 return
@@ -167,11 +168,11 @@ class FlowStatements(CompilerBase):
         return run
 
     def _next(self, s: ast.Next, i: int) -> Run:
-        it = self.it
+        st = self.st
         names: list[str | None] = [c.name for c in s.counters] or [None]
         setters = {c.name: self.setter(c) for c in s.counters}
-        store = it.vars
-        loops = it.loops
+        store = st.vars
+        loops = st.loops
 
         def run_from(k: int) -> None:
             for name in names[k:]:
@@ -196,22 +197,21 @@ class FlowStatements(CompilerBase):
                 else:
                     store[cname] = v
                 if (loop.step >= 0 and v <= loop.end) or (loop.step < 0 and v >= loop.end):
-                    it.pc = loop.start + 1
+                    st.pc = loop.start + 1
                     return
                 loops.pop()
 
-        it.next_handlers[i] = run_from
+        st.next_handlers[i] = run_from
         return lambda: run_from(0)
 
     def _while(self, s: ast.While, i: int) -> Run:
-        it = self.it
+        st = self.st
         cond = self.exprs.cond(s.condition)
         wend = self.structure.while_wend.get(i)
         if wend is None:
             return fail(errors.WHILE_WEND_UNMATCH, "WHILE without WEND")
-        loops = it.loops
+        loops = st.loops
         after = wend + 1
-        from melfa.sim.interp.interpreter import Loop
 
         def run() -> None:
             top = loops[-1] if loops else None
@@ -226,26 +226,26 @@ class FlowStatements(CompilerBase):
             else:
                 if looping:
                     loops.pop()
-                it.pc = after
+                st.pc = after
 
         return run
 
     def _wend(self, s: ast.Wend, i: int) -> Run:
-        it = self.it
+        st = self.st
         start = self.structure.wend_while.get(i)
         if start is None:
             return fail(errors.WHILE_WEND_UNMATCH, "WEND without WHILE")
-        loops = it.loops
+        loops = st.loops
 
         def run() -> None:
             if not loops or loops[-1].start != start:
                 raise errors.RunError(errors.WHILE_WEND_UNMATCH, "WEND without WHILE")
-            it.pc = start
+            st.pc = start
 
         return run
 
     def _select(self, s: ast.Select, i: int) -> Run:
-        it = self.it
+        st = self.st
         subject = self.exprs.value(s.subject)
         end = self.structure.select_end.get(i)
         if end is None:
@@ -267,9 +267,9 @@ class FlowStatements(CompilerBase):
                     if default is None:
                         default = dest
                 elif test(v):
-                    it.pc = dest
+                    st.pc = dest
                     return
-            it.pc = default if default is not None else after
+            st.pc = default if default is not None else after
 
         return run
 
@@ -277,8 +277,6 @@ class FlowStatements(CompilerBase):
         return self._stmts[index]
 
     def _case_test(self, c: ast.Case) -> Callable[[Value], bool]:
-        from melfa.sim.interp.exprs import compare
-
         lo = self.exprs.value(c.value)
         if c.kind is ast.CaseKind.RANGE and c.high is not None:
             hi = self.exprs.value(c.high)
@@ -287,7 +285,7 @@ class FlowStatements(CompilerBase):
         return lambda v: compare(op, v, lo())
 
     def _break(self, s: ast.Break, i: int) -> Run:
-        it = self.it
+        st = self.st
         inner = self.structure.breaks.get(i)
         if inner is None:
             return fail(errors.SELECT_UNMATCH, "BREAK outside SELECT/FOR/WHILE")
@@ -302,7 +300,7 @@ class FlowStatements(CompilerBase):
         if end is None:
             return fail(errors.SELECT_UNMATCH, "BREAK in an unclosed block")
         dest = end + 1
-        loops = it.loops
+        loops = st.loops
 
         def run() -> None:
             if kind != "SELECT":
@@ -310,17 +308,16 @@ class FlowStatements(CompilerBase):
                     if loops[j].start == opener:
                         del loops[j:]
                         break
-            it.pc = dest
+            st.pc = dest
 
         return run
 
     def _wait(self, s: ast.Wait, i: int) -> Run:
-        it = self.it
+        st = self.st
         cond = self.exprs.cond(s.condition)
-        from melfa.sim.interp.interpreter import WaitCond
 
         def run() -> None:
             if not cond():
-                it.block = WaitCond(cond)
+                st.block = WaitCond(cond)
 
         return run

@@ -12,7 +12,8 @@ from collections.abc import Callable
 
 from melfa.lang import ast
 from melfa.sim.interp import errors, posmath
-from melfa.sim.interp.robot import ArcKind
+from melfa.sim.interp.robot import ArcKind, set_speed
+from melfa.sim.interp.state import Delay
 from melfa.sim.interp.stmt_base import CompilerBase, Run, fail, integer, nothing, number
 from melfa.sim.interp.values import Joints, Position, Value, VarType, type_name
 
@@ -97,13 +98,14 @@ class MotionStatements(CompilerBase):
         if a is None:
             return None, None
         it = self.it
+        st = self.st
         act = a.action
         if isinstance(act, ast.Command) and act.kind is ast.CommandKind.SKIP:
             action: Run = it.skip_motion
         elif isinstance(act, ast.Command) and act.kind is ast.CommandKind.HLT:
 
             def action() -> None:
-                it._halt(it.now)
+                it.halt(st.now)
 
         else:
             action = self.statement(act, i)
@@ -157,6 +159,7 @@ class MotionStatements(CompilerBase):
 
     def _command(self, s: ast.Command, i: int) -> Run:
         it = self.it
+        st = self.st
         robot = it.robot
         k = s.kind
         args = [self.exprs.value(a) if a is not None else None for a in s.args]
@@ -179,7 +182,7 @@ class MotionStatements(CompilerBase):
             first = args[0] if args else None
             if first is None:
                 return fail(errors.SYNTAX_ERROR, f"{what} needs a value")
-            return lambda: it.set_speed(what, first())
+            return lambda: set_speed(robot, what, first())
         if k is ast.CommandKind.ACCEL:
 
             def accel() -> None:
@@ -199,7 +202,7 @@ class MotionStatements(CompilerBase):
                     raise errors.RunError(
                         errors.ARGUMENT_OUT_OF_RANGE, f"hand number must be 1..8, got {n}"
                     )
-                robot.set_hand(n, opening, it.now)
+                robot.set_hand(n, opening, st.now)
 
             return hand
         if k in (ast.CommandKind.TOOL, ast.CommandKind.BASE):
@@ -228,16 +231,14 @@ class MotionStatements(CompilerBase):
         if k is ast.CommandKind.END:
             return it.end
         if k is ast.CommandKind.HLT:
-            return it.hold
+            return st.hold
         if k is ast.CommandKind.DLY:
 
             def delay() -> None:
-                from melfa.sim.interp.interpreter import Delay
-
                 t = arg(0, "a time in seconds")
                 if t < 0:
                     raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, "DLY time is negative")
-                it.block = Delay(it.now + t)
+                st.block = Delay(st.now + t)
 
             return delay
         if k is ast.CommandKind.ERROR:
@@ -254,7 +255,7 @@ class MotionStatements(CompilerBase):
         if k is ast.CommandKind.RESET_ERR:
 
             def reset_err() -> None:
-                it.caution = None
+                st.caution = None
 
             return reset_err
         if k is ast.CommandKind.CLR:
@@ -265,5 +266,6 @@ class MotionStatements(CompilerBase):
         if s.kind is not ast.SwitchKind.SERVO:
             return nothing
         it = self.it
+        st = self.st
         on = s.on
-        return lambda: it.robot.set_servo(on, it.now)
+        return lambda: it.robot.set_servo(on, st.now)

@@ -10,9 +10,11 @@ implements it on `melfa.sim.arm.SimulatedArm`.
 from __future__ import annotations
 
 import enum
+from collections.abc import Callable
 from typing import Protocol
 
-from melfa.sim.interp.values import Joints, Position
+from melfa.sim.interp import errors
+from melfa.sim.interp.values import Joints, Position, Value, type_name
 
 
 class ArcKind(enum.Enum):
@@ -101,3 +103,66 @@ class RobotPort(Protocol):
 
     def set_line(self, line: int | None) -> None:
         """Tell the trajectory recorder which program line is executing."""
+
+
+def set_speed(robot: RobotPort, what: str, value: Value) -> None:
+    """OVRD/JOVRD (1..100 %) and SPD (> 0 mm/s), from a statement or a system variable."""
+    if not isinstance(value, int | float):
+        raise errors.RunError(errors.TYPE_COMBINATION, f"{what} needs a number")
+    v = float(value)
+    if what in ("OVRD", "JOVRD"):
+        if not 0 < v <= 100:  # OVRD 0 or >100 is an error [S1 OVRD]
+            raise errors.RunError(
+                errors.ARGUMENT_OUT_OF_RANGE, f"{what} must be 1..100 %, got {value}"
+            )
+        if what == "OVRD":
+            robot.set_speeds(ovrd=v)
+        else:
+            robot.set_speeds(jovrd=v)
+    elif what == "SPD":
+        if v <= 0:
+            raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"SPD must be > 0, got {value}")
+        robot.set_speeds(spd=v)
+
+
+def robot_function(
+    robot: RobotPort, name: str, args: list[Callable[[], Value]]
+) -> Callable[[], Value] | None:
+    """Functions that need the arm's kinematics: PTOJ, JTOP, POSCQ (None for others)."""
+    if name not in ("PTOJ", "JTOP", "POSCQ") or len(args) != 1:
+        return None
+    arg = args[0]
+    if name == "PTOJ":
+
+        def ptoj() -> Value:
+            p = arg()
+            if not isinstance(p, Position):
+                raise errors.RunError(errors.TYPE_COMBINATION, "PTOJ needs a position")
+            return robot.to_joints(p)
+
+        return ptoj
+    if name == "JTOP":
+
+        def jtop() -> Value:
+            j = arg()
+            if not isinstance(j, Joints):
+                raise errors.RunError(errors.TYPE_COMBINATION, "JTOP needs a joint position")
+            return robot.to_position(j)
+
+        return jtop
+
+    def poscq() -> Value:
+        p = arg()
+        if isinstance(p, Joints):
+            p = robot.to_position(p)
+        if not isinstance(p, Position):
+            raise errors.RunError(
+                errors.TYPE_COMBINATION, f"POSCQ needs a position, not a {type_name(p)}"
+            )
+        try:
+            robot.to_joints(p)
+        except errors.RunError:
+            return 0
+        return 1
+
+    return poscq

@@ -11,16 +11,13 @@ its own.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING
 
 from melfa.lang import ast
 from melfa.sim.interp import errors
-from melfa.sim.interp.exprs import ExprCompiler
+from melfa.sim.interp.exprs import ExprCompiler, Thunk
+from melfa.sim.interp.machine import Machine
 from melfa.sim.interp.structure import Structure
 from melfa.sim.interp.values import Value, round_half_away, type_name
-
-if TYPE_CHECKING:
-    from melfa.sim.interp.interpreter import Interpreter
 
 Run = Callable[[], None]
 Setter = Callable[[Value], None]
@@ -66,9 +63,10 @@ def refuse_set(message: str) -> Setter:
 class CompilerBase:
     """State shared by the statement compilers of one interpreter."""
 
-    def __init__(self, it: Interpreter) -> None:
+    def __init__(self, it: Machine) -> None:
         self.it = it
-        self.exprs = ExprCompiler(it)
+        self.st = it.state
+        self.exprs = ExprCompiler(it, self.io_reader)
         self.numbers: dict[int, int] = {}
         self.labels: dict[str, int] = {}
         self.structure = Structure()
@@ -86,4 +84,7 @@ class CompilerBase:
         raise NotImplementedError
 
     def goto(self, t: ast.LineRef | ast.LabelRef) -> Run:
+        raise NotImplementedError
+
+    def io_reader(self, name: str) -> Thunk:
         raise NotImplementedError

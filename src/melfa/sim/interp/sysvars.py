@@ -10,14 +10,13 @@ from __future__ import annotations
 
 import datetime as dt
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
 
 from melfa.lang.model import SYSTEM_VARIABLES
 from melfa.sim.interp import errors
+from melfa.sim.interp.io import IOState
+from melfa.sim.interp.robot import RobotPort, set_speed
+from melfa.sim.interp.state import ProgramState
 from melfa.sim.interp.values import Position, Value, round_half_away, type_name
-
-if TYPE_CHECKING:
-    from melfa.sim.interp.interpreter import Interpreter
 
 Thunk = Callable[[], Value]
 Setter = Callable[[Value], None]
@@ -45,10 +44,12 @@ def _num(value: Value, what: str) -> int:
 
 
 class SystemVariables:
-    """The status variables of one slot, bound to its interpreter (robot, I/O, clock)."""
+    """The status variables of one slot, bound to its program state, arm and I/O."""
 
-    def __init__(self, it: Interpreter) -> None:
-        self.it = it
+    def __init__(self, state: ProgramState, robot: RobotPort, io: IOState) -> None:
+        self.state = state
+        self.robot = robot
+        self.io = io
         self.timers: dict[int, tuple[float, float]] = {}  # n -> (set at, value then)
         self.clock_origin = dt.datetime(2024, 1, 1)
 
@@ -59,12 +60,12 @@ class SystemVariables:
     def getter(self, name: str, args: Sequence[Thunk]) -> Thunk | None:
         if len(name) < 2 or name[1] != "_":
             return None
-        it = self.it
-        robot = it.robot
+        st = self.state
+        robot = self.robot
         width = IO_WIDTHS.get(name)
         if width is not None:
             idx = self._one_arg(name, args)
-            io = it.io
+            io = self.io
             if name.startswith("M_IN"):
                 if width == 1:
                     return lambda: io.input(self._bit(idx()))
@@ -92,11 +93,11 @@ class SystemVariables:
             "P_NTOOL": lambda: Position(fl1=0),
             "P_NBASE": lambda: Position(fl1=0),
             "M_SVO": lambda: 1 if robot.servo_on else 0,
-            "M_RUN": lambda: 1 if it.is_running else 0,
-            "M_WAI": lambda: 1 if it.waiting else 0,
-            "M_ERR": lambda: 1 if it.caution is not None else 0,
-            "M_ERRNO": lambda: it.caution.number if it.caution is not None else 0,
-            "M_SKIPCQ": lambda: it.skipped,
+            "M_RUN": lambda: 1 if st.is_running else 0,
+            "M_WAI": lambda: 1 if st.waiting else 0,
+            "M_ERR": lambda: 1 if st.caution is not None else 0,
+            "M_ERRNO": lambda: st.caution.number if st.caution is not None else 0,
+            "M_SKIPCQ": lambda: st.skipped,
             "M_OVRD": lambda: robot.speeds()[0],
             "M_JOVRD": lambda: robot.speeds()[1],
             "M_SPD": lambda: robot.speeds()[2],
@@ -104,10 +105,10 @@ class SystemVariables:
             "M_NOVRD": lambda: 100,
             "M_NJOVRD": lambda: 100,
             "M_NSPD": robot.default_speed,
-            "C_TIME": lambda: (self.clock_origin + dt.timedelta(seconds=it.now)).strftime(
+            "C_TIME": lambda: (self.clock_origin + dt.timedelta(seconds=st.now)).strftime(
                 "%H:%M:%S"
             ),
-            "C_DATE": lambda: (self.clock_origin + dt.timedelta(seconds=it.now)).strftime(
+            "C_DATE": lambda: (self.clock_origin + dt.timedelta(seconds=st.now)).strftime(
                 "%Y/%m/%d"
             ),
         }
@@ -132,12 +133,12 @@ class SystemVariables:
         known = SYSTEM_VARIABLES.get(name)
         if known is not None and not known.assignable:
             return self._read_only(name)
-        it = self.it
-        robot = it.robot
+        st = self.state
+        robot = self.robot
         width = IO_WIDTHS.get(name)
         if width is not None:
             idx = self._one_arg(name, args)
-            io = it.io
+            io = self.io
             if width == 1:
                 return lambda v: io.set_output(self._bit(idx()), _num(v, name) & 1)
             return lambda v: io.write_outputs(self._bit(idx()), width, _num(v, name))
@@ -147,7 +148,7 @@ class SystemVariables:
             def set_timer(v: Value) -> None:
                 if not isinstance(v, int | float):
                     raise errors.RunError(errors.TYPE_COMBINATION, "M_TIMER needs a number")
-                self.timers[_num(idx(), "M_TIMER")] = (it.now, float(v))
+                self.timers[_num(idx(), "M_TIMER")] = (st.now, float(v))
 
             return set_timer
         if name == "P_TOOL":
@@ -155,18 +156,18 @@ class SystemVariables:
         if name == "P_BASE":
             return lambda v: robot.set_base(_position(v, name))
         if name == "M_OVRD":
-            return lambda v: it.set_speed("OVRD", v)
+            return lambda v: set_speed(robot, "OVRD", v)
         if name == "M_JOVRD":
-            return lambda v: it.set_speed("JOVRD", v)
+            return lambda v: set_speed(robot, "JOVRD", v)
         if name in ("M_SPD", "M_NSPD"):
-            return lambda v: it.set_speed("SPD", v)
+            return lambda v: set_speed(robot, "SPD", v)
         if self.getter(name, args) is not None:
             return self._read_only(name)
         return None
 
     def timer(self, n: int) -> float:
         set_at, value = self.timers.get(n, (0.0, 0.0))
-        return value + (self.it.now - set_at) / TIMER_UNIT_S
+        return value + (self.state.now - set_at) / TIMER_UNIT_S
 
     # ------------------------------------------------------------------ helpers
     @staticmethod

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from melfa.lang import ast
 from melfa.sim.interp import errors
+from melfa.sim.interp.builtins import format_number
 from melfa.sim.interp.exprs import Thunk
 from melfa.sim.interp.stmt_base import CompilerBase, Run, Setter, integer, number, refuse_set
 from melfa.sim.interp.values import Value, VarType, coerce, implied_type, set_element
@@ -22,6 +23,7 @@ class VariableStatements(CompilerBase):
 
     def setter(self, target: ast.AssignTarget, hint_value: ast.Expr | None = None) -> Setter:
         it = self.it
+        st = self.st
         if isinstance(target, ast.Element):
             base = target.base
             if not isinstance(base, ast.Name | ast.Index):
@@ -40,7 +42,7 @@ class VariableStatements(CompilerBase):
             sys_set = it.sysvars.setter(name, args)
             if sys_set is not None:
                 return sys_set
-            arrays = it.arrays
+            arrays = st.arrays
 
             def set_item(v: Value) -> None:
                 arr = arrays.get(name)
@@ -56,8 +58,8 @@ class VariableStatements(CompilerBase):
         sys_set = it.sysvars.setter(name, ())
         if sys_set is not None:
             return sys_set
-        vtype = it.types.get(name) or implied_type(name)
-        store = it.vars
+        vtype = st.types.get(name) or implied_type(name)
+        store = st.vars
         if vtype is VarType.IO:
             return self._io_setter(name)
         if vtype is VarType.NUMBER:
@@ -113,14 +115,14 @@ class VariableStatements(CompilerBase):
         tgt = s.target
         hint = None
         if isinstance(tgt, ast.Name):
-            hint = self.it.types.get(tgt.name) or implied_type(tgt.name)
+            hint = self.st.types.get(tgt.name) or implied_type(tgt.name)
         value = self.exprs.value(s.value, hint)
         put = self.setter(tgt)
         if s.pulse is None:
             return lambda: put(value())
         read_old = self.exprs.value(tgt) if not isinstance(tgt, ast.Element) else None
         pulse = self.exprs.value(s.pulse)
-        it = self.it
+        st = self.st
 
         def pulsed() -> None:
             try:
@@ -129,21 +131,19 @@ class VariableStatements(CompilerBase):
                 old = 0
             put(value())
             seconds = number(pulse(), "DLY")
-            it.pulses.append((it.now + seconds, lambda: put(old)))
+            st.pulses.append((st.now + seconds, lambda: put(old)))
 
         return pulsed
 
     def _print(self, s: ast.Print, i: int) -> Run:
-        it = self.it
+        st = self.st
         items = [self.exprs.value(e) for e in s.items]
 
         def run() -> None:
-            from melfa.sim.interp.builtins import format_number
-
             parts = []
             for f in items:
                 v = f()
                 parts.append(format_number(v) if isinstance(v, int | float) else str(v))
-            it.console.append(",".join(parts))
+            st.console.append(",".join(parts))
 
         return run
