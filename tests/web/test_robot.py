@@ -178,3 +178,21 @@ def test_health(web: Web) -> None:
     body = web.client.get("/api/health").json()
     assert body["status"] == "ok" and body["store"] == "ok"
     assert body["robot"] == {**body["robot"], "link": "connected", "robot": "sim"}
+
+
+def test_a_move_with_the_servo_off_is_refused_until_the_operator_asks_for_it(
+    web: Web, ws_id: int
+) -> None:
+    ann = web.ann
+    error = assert_error(ann.post("/api/robot/move", json={"point": "JHOME"}), 409)
+    assert error["code"] == "controller-refused", error
+    assert error["detail"]["number"] == 2000
+    assert ok(ann.get("/api/robot/state"))["alarm"] is None  # nothing was sent
+    assert_error(ann.post("/api/robot/run", json={}), 409)
+    assert ok(ann.post("/api/robot/move", json={"point": "P1", "servo_on": True})) == {"ok": True}
+    settle(ann)
+    state = ok(ann.get("/api/robot/state"))
+    assert state["servo"] is True and abs(state["pose"][0] - 300) < 0.5
+    entries = web.ivy.get("/api/audit").json()["entries"]
+    servo = [e for e in entries if e["action"] == "robot.servo"]
+    assert any("before move_to" in str(e["details"]) for e in servo)

@@ -45,6 +45,7 @@ from melfa.service.events import (
 from melfa.service.jog import JogRequest
 from melfa.service.lease import Lease
 from melfa.service.service import RobotService
+from melfa.service.servo import ServoOff, ServoPolicy
 from melfa.service.thesis import ThesisMessages, ThesisState
 
 __all__ = [
@@ -75,6 +76,8 @@ __all__ = [
     "ServiceClosed",
     "ServiceConfig",
     "ServiceError",
+    "ServoOff",
+    "ServoPolicy",
     "StateSnapshot",
     "Subscription",
     "ThesisMessageError",

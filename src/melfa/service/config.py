@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from melfa.protocol.jog import JOG_WATCHDOG_S
+from melfa.service.servo import ServoPolicy
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,11 @@ class ServiceConfig:
     restored before the next user command that moves the arm [design.md: jog speed capped]."""
     step_waits_for_motion: bool = False
     """Step jog: also wait in the worker until the step has finished moving."""
+
+    motion_servo: ServoPolicy = ServoPolicy.LEAVE
+    """What a moving command does with the servo off when its caller did not say
+    (`melfa.service.servo`). The web API always says (``servo_on``: TURN_ON, else ASK);
+    the default leaves the controller to refuse, as before."""
 
     lease_idle_timeout_s: float | None = None
     """End a lease after this long without a command from its holder (None: never)."""

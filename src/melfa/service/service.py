@@ -63,6 +63,7 @@ from melfa.service.events import (
 )
 from melfa.service.jog import JogKeeper, JogRequest
 from melfa.service.lease import Lease, LeaseChange
+from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
 
 HOUSEKEEPING_S = 0.05
@@ -326,20 +327,27 @@ class RobotService:
         """Add or replace positions, keeping the steps."""
         return await self._upload(actor, "upload_points", lambda r, p: r.upload_points(points, p))
 
-    async def run(self, actor: Actor) -> None:
-        """Start the program (``RUN<program>;1``)."""
-        await self._command(actor, "run", "", lambda r: r.run(), restore=True)
+    async def run(self, actor: Actor, *, servo: ServoPolicy | None = None) -> None:
+        """Start the program (``RUN<program>;1``). ``servo``: what to do when the servo is
+        off (`melfa.service.servo`; default `ServiceConfig.motion_servo`)."""
+        policy = self._motion(servo)
+        await self._command(actor, "run", "", lambda r: r.run(), restore=True, servo=policy)
 
     async def delete(self, actor: Actor) -> None:
         """Delete the program and its points."""
         await self._command(actor, "delete", "", lambda r: r.delete(), moves=False)
 
-    async def exec(self, actor: Actor, statement: str) -> None:
-        """Execute one MELFA BASIC statement now (``EXEC``)."""
+    async def exec(
+        self, actor: Actor, statement: str, *, servo: ServoPolicy = ServoPolicy.LEAVE
+    ) -> None:
+        """Execute one MELFA BASIC statement now (``EXEC``). A statement may not move, so
+        the servo is left alone unless ``servo`` says otherwise."""
         statement = statement.strip()
         if not statement:
             raise ValueError("nothing to execute: the statement is empty")
-        await self._command(actor, "exec", statement, lambda r: r.exec(statement), restore=True)
+        await self._command(
+            actor, "exec", statement, lambda r: r.exec(statement), restore=True, servo=servo
+        )
 
     async def hand(self, actor: Actor, open_: bool, number: int = 1) -> None:
         """Open or close hand ``number`` (1–8)."""
@@ -368,9 +376,10 @@ class RobotService:
         linear: bool = False,
         joints: bool = False,
         flags: tuple[int, int] = (7, 0),
+        servo: ServoPolicy | None = None,
     ) -> None:
         """Move to a point name (``MOV P1``) or explicit values: six joint angles with
-        ``joints=True`` or X, Y, Z, A, B, C; ``linear`` uses MVS."""
+        ``joints=True`` or X, Y, Z, A, B, C; ``linear`` uses MVS. ``servo`` as in `run`."""
         verb = "MVS" if linear else "MOV"
         if isinstance(target, str):
             name = target.strip()
@@ -394,7 +403,9 @@ class RobotService:
             for statement in statements:
                 robot.exec(statement)
 
-        await self._command(actor, "move_to", "; ".join(statements), move, restore=True)
+        await self._command(
+            actor, "move_to", "; ".join(statements), move, restore=True, servo=self._motion(servo)
+        )
 
     async def servo(self, actor: Actor, on: bool) -> None:
         """Servo on (needs rights) or off."""
@@ -437,15 +448,23 @@ class RobotService:
     # ================================================================== jog
 
     async def jog_start(
-        self, actor: Actor, frame: JogFrame | str, axis: int | str, direction: int | str
+        self,
+        actor: Actor,
+        frame: JogFrame | str,
+        axis: int | str,
+        direction: int | str,
+        *,
+        servo: ServoPolicy | None = None,
     ) -> JogMethod:
         """Begin hold-to-move: sends the first JOG (after capping the OP override at
         `ServiceConfig.jog_override_ceiling`) and returns the method the controller took
         (JOG, or step moves when it refuses JOG). Keep calling `jog_heartbeat` every
-        ≤ 100 ms while the key is held; call `jog_release` when it is let go."""
+        ≤ 100 ms while the key is held; call `jog_release` when it is let go. ``servo`` as
+        in `run`."""
         self._check_open()
         request = JogRequest.make(frame, axis, direction)
         command_id = next(self._ids)
+        first = self._servo_first(actor, "jog", self._motion(servo), self._renew_jog)
         self._check_lease(actor, command_id, "jog", request.label)
         self._audit(actor, command_id, "jog", request.label, "accepted")
         self._jog.begin(actor, request, command_id, self._clock())
@@ -460,7 +479,7 @@ class RobotService:
             )
         )
         self._update()
-        future = self._require_worker().submit(Job("jog", Priority.JOG, self._renew_jog))
+        future = self._require_worker().submit(Job("jog", Priority.JOG, first))
         try:
             method = await asyncio.wrap_future(future)
         except BaseException as exc:
@@ -507,6 +526,7 @@ class RobotService:
         direction: int | str,
         *,
         wait: bool | None = None,
+        servo: ServoPolicy | None = None,
     ) -> None:
         """One increment per press (``RobotSettings.jog_step_mm`` / ``jog_step_deg``).
         Refused with `JogBusy` while the previous step is queued or still moving: never a
@@ -533,7 +553,14 @@ class RobotService:
 
         self._step_busy = True
         try:
-            await self._command(actor, "jog_step", request.label, step, priority=Priority.JOG)
+            await self._command(
+                actor,
+                "jog_step",
+                request.label,
+                step,
+                priority=Priority.JOG,
+                servo=self._motion(servo),
+            )
         finally:
             self._step_busy = False
 
@@ -573,12 +600,15 @@ class RobotService:
         restore: bool = False,
         busy: str | None = None,
         command_id: int | None = None,
+        servo: ServoPolicy | None = None,
     ) -> Any:
         self._check_open()
         command_id = command_id if command_id is not None else next(self._ids)
         self._check_lease(actor, command_id, command, detail)
         self._audit(actor, command_id, command, detail, "accepted", moves)
         work = self._restoring(fn) if restore else fn
+        if servo is not None:
+            work = self._servo_first(actor, command, servo, work)
         job = Job(command, priority, work, moves=moves, busy=busy)
         future = self._require_worker().submit(job)
         try:
@@ -620,6 +650,25 @@ class RobotService:
         self._check_open()
         job = Job(name, Priority.USER, fn, moves=False)
         return await asyncio.wrap_future(self._require_worker().submit(job))
+
+    def _motion(self, servo: ServoPolicy | None) -> ServoPolicy:
+        return servo if servo is not None else self.config.motion_servo
+
+    def _servo_first(
+        self,
+        actor: Actor,
+        command: str,
+        policy: ServoPolicy,
+        fn: Callable[[Robot], Any],
+    ) -> Callable[[Robot], Any]:
+        """Before a move: the servo rule of `melfa.service.servo` (audited when it acts)."""
+
+        def work(robot: Robot) -> Any:
+            if ensure_servo(robot, policy, command):
+                self._post("servo_on", actor, command)
+            return fn(robot)
+
+        return work
 
     def _restoring(self, fn: Callable[[Robot], Any]) -> Callable[[Robot], Any]:
         """Before a user move: give back the OP override the jog ceiling lowered."""
@@ -789,6 +838,10 @@ class RobotService:
             self._update(link=status)
         elif kind == "event":
             self._bus.publish(args[0])
+        elif kind == "servo_on":
+            actor, command = args
+            self._audit(actor, next(self._ids), "servo", f"on, before {command}", "ok", False)
+            self._update(servo=True)
         elif kind == "jog_failed":
             exc = args[0]
             actor = self._jog.actor

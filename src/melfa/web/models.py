@@ -213,6 +213,18 @@ class UploadOut(BaseModel):
     seconds: float
 
 
+SERVO_ON_FIELD = Field(
+    False,
+    description="The operator asked to move: switch the servo on first if it is off "
+    "(audited). Otherwise a move with the servo off is refused with 409 "
+    "controller-refused, number 2000, and nothing is sent.",
+)
+
+
+class RunIn(Input):
+    servo_on: bool = SERVO_ON_FIELD
+
+
 class ExecIn(Input):
     statement: Annotated[str, Field(min_length=1, max_length=240), AfterValidator(_encodable)]
 
@@ -241,6 +253,7 @@ class MoveIn(Input):
     pose: Six | None = None
     joints: Six | None = None
     linear: bool = False
+    servo_on: bool = SERVO_ON_FIELD
     flags: Annotated[list[Annotated[int, Field(ge=0, le=7)]], Field(min_length=2, max_length=2)] = [
         7,
         0,
@@ -263,6 +276,7 @@ class JogStepIn(Input):
     frame: Literal["tool", "xyz", "joint"]
     axis: Annotated[int, Field(ge=0, le=5)]
     direction: Literal[-1, 1]
+    servo_on: bool = SERVO_ON_FIELD
 
 
 class ValuesOut(BaseModel):

@@ -32,6 +32,7 @@ from melfa.service import (
     LeaseChanged,
     LinkStatusChanged,
     ServiceClosed,
+    ServoPolicy,
     StateSnapshot,
     Subscription,
     UploadProgress,
@@ -176,9 +177,10 @@ class Connection:
                 raise ApiError(422, "invalid-value", "jog_start needs axis and direction")
             if not isinstance(frame, str):
                 raise ApiError(422, "invalid-value", "jog frame is tool, xyz or joint")
+            policy = ServoPolicy.TURN_ON if message.get("servo_on") is True else ServoPolicy.ASK
             self.jogging = True
             try:
-                method = await service.jog_start(actor, frame, axis, direction)
+                method = await service.jog_start(actor, frame, axis, direction, servo=policy)
             except BaseException:
                 self.jogging = False
                 raise

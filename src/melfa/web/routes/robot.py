@@ -13,7 +13,7 @@ from fastapi import APIRouter
 
 from melfa.lang.points import PointKind, parse_points, upload_lines
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
-from melfa.service import Actor
+from melfa.service import Actor, ServoPolicy
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
 from melfa.web.deps import ContextDep, SessionDep
@@ -28,6 +28,7 @@ from melfa.web.models import (
     Ok,
     OverrideIn,
     OverrideOut,
+    RunIn,
     ServoIn,
     SourceIn,
     StateOut,
@@ -179,10 +180,17 @@ async def delete_program(drive: DriveDep) -> Ok:
     return Ok()
 
 
+def servo_policy(servo_on: bool) -> ServoPolicy:
+    """A request's ``servo_on`` as the service's rule: the operator's explicit wish to
+    move switches the servo on; without it a move with the servo off is refused."""
+    return ServoPolicy.TURN_ON if servo_on else ServoPolicy.ASK
+
+
 @router.post("/run", response_model=Ok, summary="Run the program")
-async def run(drive: DriveDep) -> Ok:
+async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
     actor = drive.actor
-    await operate(actor, "run", lambda: drive.service.run(actor))
+    policy = servo_policy(body.servo_on if body is not None else False)
+    await operate(actor, "run", lambda: drive.service.run(actor, servo=policy))
     return Ok()
 
 
@@ -239,6 +247,7 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
         raise ApiError(422, "invalid-value", "give exactly one of point, pose or joints")
     service = drive.service
     flags = (body.flags[0], body.flags[1])
+    policy = servo_policy(body.servo_on)
     if body.point is not None:
         source = SourceIn(
             program="", points=body.points, workspace_id=body.workspace_id, check=False
@@ -262,7 +271,9 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
         await operate(
             actor,
             "move_to",
-            lambda: service.move_to(actor, target, linear=body.linear, joints=joints, flags=flags),
+            lambda: service.move_to(
+                actor, target, linear=body.linear, joints=joints, flags=flags, servo=policy
+            ),
         )
         return Ok()
     values6 = body.pose if body.pose is not None else body.joints
@@ -271,7 +282,12 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
         actor,
         "move_to",
         lambda: service.move_to(
-            actor, values6, linear=body.linear, joints=body.joints is not None, flags=flags
+            actor,
+            values6,
+            linear=body.linear,
+            joints=body.joints is not None,
+            flags=flags,
+            servo=policy,
         ),
     )
     return Ok()
@@ -299,7 +315,9 @@ async def jog_step(body: JogStepIn, drive: DriveDep) -> Ok:
     await operate(
         actor,
         "jog_step",
-        lambda: service.jog_step(actor, body.frame, body.axis, body.direction),
+        lambda: service.jog_step(
+            actor, body.frame, body.axis, body.direction, servo=servo_policy(body.servo_on)
+        ),
     )
     return Ok()
 
@@ -325,4 +343,4 @@ async def read_pose(drive: DriveDep) -> ValuesOut:
     return ValuesOut(names=list(POSE_NAMES)[: len(values)], values=list(values))
 
 
-__all__ = ["operate", "router"]
+__all__ = ["operate", "router", "servo_policy"]
