@@ -8,6 +8,7 @@ The defaults are what the public traces and drivers suggest.
 from __future__ import annotations
 
 import datetime as dt
+import enum
 from dataclasses import dataclass, field
 
 # --- timing --------------------------------------------------------------------------------
@@ -34,8 +35,9 @@ MAX_LINE_NUMBER = 32767
 
 @dataclass(frozen=True, slots=True)
 class Banner:
-    """The OPEN reply fields [DOC S1 §3.1; TRACE S10, S21]. Defaults follow the CRn-5xx traces
-    with the RV-6S as robot; the copyright field names the simulator so a client can tell."""
+    """The OPEN reply fields [DOC S1 §3.1; TRACE K4a-CR2B, K9b]. Defaults follow the CR2B
+    handshake on record (RV-3SB, `Ver.K4a`) with the RV-6S as robot; the copyright field names
+    the simulator so a client can tell."""
 
     xyz_axes: str = "3F"
     joint_axes: str = "3F"
@@ -46,8 +48,8 @@ class Banner:
     robot_type: str = "RV-6S"
     controller: str = "CRn-5xx"
     maker: str = "MELFA"
-    date: str = "09-08-08"  # [GUESS] firmware date of the lab's CR2B-574 is unknown
-    version: str = "Ver.K9b"  # [GUESS] the S21 trace's firmware; the lab's is unknown
+    date: str = "05-07-14"  # [TRACE K4a-CR2B] a CR2B's; the lab's CR2B-574's is unknown
+    version: str = "Ver.K4a"  # [TRACE K4a-CR2B] a CR2B's firmware; the lab's is unknown
     language: str = "ENG"
     copyright: str = "MELFA VIRTUAL CONTROLLER (SIMULATED CR2B-574)"
     robot_info: str = "1"
@@ -75,6 +77,16 @@ class Banner:
             str(self.taskmax),
         )
         return ";".join(fields) + ";"
+
+
+class KeySwitch(enum.Enum):
+    """The controller's MODE key [DOC S5 §4]. Only AUTO (Ext.) lets a computer on RS-232
+    operate the robot; in TEACH the teaching pendant, in AUTO (Op.) the operation panel holds
+    the operation rights."""
+
+    TEACH = "teach"
+    AUTO_OP = "auto-op"
+    AUTO_EXT = "auto-ext"
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,6 +132,24 @@ class SimConfig:
 
     clock_origin: dt.datetime = dt.datetime(2024, 1, 1, 0, 0, 0)
     """Wall-clock time at `now == 0`, for dates in PDIR and ERRORLOG (the core has no clock)."""
+
+    key: KeySwitch = KeySwitch.AUTO_EXT
+    """Where the MODE key stands at power-on (`VirtualController.turn_key` turns it later).
+    Outside AUTO (Ext.) `CNTLON` is accepted but every command that needs the operation
+    rights, and SLOTINIT/RSTPRG, is refused with 6020 "The Operation is disable" [TRACE
+    K9b-PROG: SLOTINIT -> QeR602000000 in TEACH after a QoK to CNTLON; GUESS for AUTO (Op.)]."""
+
+    origin_set: bool = True
+    """False: the origin (encoder data) is lost, as after a battery failure. Positions read
+    `****` and RUN, EXEC and JOG raise L5150 "The origin has not been set" [TRACE K9b-C1/C4]."""
+
+    nine_digit_errors: bool = False
+    """Refusals carry the real controller's 9 digits (`QeR602000000`: number + 5 detail
+    digits) [TRACE K9b]; False answers the manual's 4 digits (`QeR6020`) [DOC S1]."""
+
+    strict: bool = False
+    """Refuse (6010, in the real form) every command no real controller was seen to answer:
+    only commands with recorded answers or sent by real serial clients are served."""
 
     free_bytes: int = 225536
     """[TRACE S21] Free program memory shown by PDIR on an empty controller."""

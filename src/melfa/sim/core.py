@@ -44,6 +44,8 @@ class Slot:
     program: str | None = None
     runner: ProgramRunner | None = None
     cycle: bool = True
+    held_speeds: object | None = None
+    """The speed settings of a paused program, put aside until it resumes."""
 
     @property
     def state(self) -> SlotState:
@@ -218,8 +220,7 @@ class ControllerCore:
         self.jogging = None
         self.arm.stop(now)
         for slot in self.slots.values():
-            if slot.runner is not None and slot.runner.status is RunnerStatus.RUNNING:
-                slot.runner.pause(now)
+            self.pause_slot(slot, now)
         if alarm.level is ErrorLevel.HIGH:
             self.arm.set_servo(False, now)
 
@@ -247,6 +248,32 @@ class ControllerCore:
         runner.load(program.text(), program.positions)
         slot.program = name
         slot.runner = runner
+
+    def pause_slot(self, slot: Slot, now: float) -> None:
+        """STOP or an alarm: a running program halts at its line, resumable by RUN.
+
+        Its speed settings (SPD, OVRD, JOVRD, ACCEL) stay with it: what runs meanwhile
+        (EXEC, a step jog) runs at the defaults and the OP override, not at the speed the
+        paused program happened to set (issue 17: jog steps crawled at 2.7 mm/s after a STOP).
+        [GUESS] the real controller keeps speed settings per task slot."""
+        if slot.runner is not None and slot.runner.status is RunnerStatus.RUNNING:
+            slot.runner.pause(now)
+            slot.held_speeds = self.arm.hold_program_speeds()
+
+    def resume_slot(self, slot: Slot, now: float) -> None:
+        """RUN on a paused program: it goes on from its line with its own speed settings."""
+        assert slot.runner is not None
+        if slot.held_speeds is not None:
+            self.arm.restore_program_speeds(slot.held_speeds)
+            slot.held_speeds = None
+        slot.runner.resume(now)
+        self.run_slot(slot, now)
+
+    def reset_slot(self, slot: Slot) -> None:
+        """RSTPRG / SLOTINIT: the program goes back to its first line; settings to defaults."""
+        if slot.runner is not None:
+            slot.runner.reset()
+        slot.held_speeds = None
 
     def busy_with(self, name: str) -> bool:
         """A slot runs or holds paused the program `name` (it cannot be edited or deleted)."""

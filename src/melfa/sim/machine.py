@@ -15,6 +15,7 @@ from typing import Protocol
 from melfa.kin import JOINT_LIMITS, Pose
 from melfa.protocol.jog import Jog
 from melfa.sim.arm import ArmError, Inch, JogMode, SimulatedArm, directions_from_masks
+from melfa.sim.motion import Speeds
 
 
 class ArmFault(Exception):
@@ -56,6 +57,11 @@ class ControllerArm(Protocol):
 
     def set_hand(self, hand: int, opened: bool, now: float) -> None: ...
     def hand_open(self, hand: int) -> bool: ...
+    def hold_program_speeds(self) -> object:
+        """Put a paused program's speed settings (SPD, OVRD…) aside and use the defaults."""
+
+    def restore_program_speeds(self, held: object) -> None:
+        """Give a resumed program back the settings `hold_program_speeds` put aside."""
 
 
 HAND_CLOSED_BEFORE_USE = True
@@ -145,6 +151,17 @@ class SimArm:
     def hand_open(self, hand: int) -> bool:
         state = self.arm.hand_open(hand)
         return not HAND_CLOSED_BEFORE_USE if state is None else state
+
+    def hold_program_speeds(self) -> object:
+        held = self.arm.speeds
+        self.arm.reset_speeds()
+        return held
+
+    def restore_program_speeds(self, held: object) -> None:
+        if isinstance(held, Speeds):
+            self.arm.set_speeds(
+                ovrd=held.ovrd, jovrd=held.jovrd, spd=held.spd, accel=(held.accel, held.decel)
+            )
 
 
 def make_arm() -> SimArm:

@@ -12,7 +12,7 @@ from melfa.protocol.messages import Ok, Refused, Reply, Request
 from melfa.sim import errors as err
 from melfa.sim.core import Command, ControllerCore, JogState, Slot
 from melfa.sim.machine import ArmFault
-from melfa.sim.runner import RunnerStatus, StatementExecutor
+from melfa.sim.runner import StatementExecutor
 
 ALARM_BLOCKS = err.DURING_ERROR
 """L5600 "Cannot execute during an error": motion commands while an alarm is active [DOC S4]."""
@@ -181,8 +181,7 @@ def stop(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     c.arm.stop(now)
     slots = c.slots.values() if req.slot in (0, 9) else [c.slot(req)]
     for slot in slots:
-        if slot.runner is not None and slot.runner.status is RunnerStatus.RUNNING:
-            slot.runner.pause(now)
+        c.pause_slot(slot, now)
     return Ok()
 
 

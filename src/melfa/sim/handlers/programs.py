@@ -53,9 +53,7 @@ def run(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
             return Refused(err.PROGRAM_BEING_EDITED)
         if slot.state is SlotState.PAUSED and slot.program == name:
             slot.cycle = cycle
-            assert slot.runner is not None
-            slot.runner.resume(now)
-            c.run_slot(slot, now)
+            c.resume_slot(slot, now)
             return Ok()
         if slot.state is SlotState.PAUSED:
             return Refused(err.PROGRAM_RUNNING)
@@ -63,8 +61,7 @@ def run(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     elif slot.program is None or slot.runner is None:
         return Refused(err.PROGRAM_NOT_FOUND)
     elif slot.state is SlotState.PAUSED:
-        slot.runner.resume(now)
-        c.run_slot(slot, now)
+        c.resume_slot(slot, now)
         return Ok()
     assert slot.runner is not None
     slot.cycle = cycle
@@ -78,8 +75,7 @@ def rstprg(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     slot = c.slot(req)
     if slot.state is SlotState.RUNNING:
         return Refused(err.PROGRAM_RUNNING)
-    if slot.runner is not None:
-        slot.runner.reset()
+    c.reset_slot(slot)
     return Ok()
 
 
@@ -87,8 +83,7 @@ def slotinit(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     if c.program_running:
         return Refused(err.PROGRAM_RUNNING)
     for slot in c.slots.values():
-        if slot.runner is not None:
-            slot.runner.reset()
+        c.reset_slot(slot)
     return Ok()
 
 
