@@ -10,7 +10,7 @@ from melfa.sim import SimConfig, VirtualController
 from tests.fixtures_sim import Driver
 
 BANNER = (
-    b"QoK3F;3F;7,0;3,5,A,1E,32,46,64;MB4;PRM;RV-6S;CRn-5xx;MELFA;09-08-08;Ver.K9b;ENG;"
+    b"QoK3F;3F;7,0;3,5,A,1E,32,46,64;MB4;PRM;RV-6S;CRn-5xx;MELFA;05-07-14;Ver.K4a;ENG;"
     b"MELFA VIRTUAL CONTROLLER (SIMULATED CR2B-574);1;1;8;\r"
 )
 
@@ -20,7 +20,7 @@ BANNER = (
 
 def test_everything_before_open_is_illegal(drive: Driver) -> None:
     for command in ("STATE", "CNTLON", "JPOSF", "EXECMOV P1", "CLOSE"):
-        assert drive.send(command) == b"QeR6010\r"
+        assert drive.send(command) == b"QeR601000000\r"
 
 
 def test_open_answers_the_banner(drive: Driver) -> None:
@@ -29,17 +29,17 @@ def test_open_answers_the_banner(drive: Driver) -> None:
 
 def test_unknown_command_is_illegal(drive: Driver) -> None:
     drive.ok("OPEN=X")
-    assert drive.send("FROBNICATE") == b"QeR6010\r"
-    assert drive.send("STATEX") == b"QeR6010\r"
+    assert drive.send("FROBNICATE") == b"QeR601000000\r"
+    assert drive.send("STATEX") == b"QeR601000000\r"
 
 
 def test_close_ends_the_session_and_drops_rights(drive: Driver) -> None:
     drive.ok("OPEN=X")
     drive.ok("CNTLON")
     assert drive.send("CLOSE") == b"QoK\r"
-    assert drive.send("STATE") == b"QeR6010\r"
+    assert drive.send("STATE") == b"QeR601000000\r"
     drive.ok("OPEN=X")
-    assert drive.send("SRVON") == b"QeR6020\r"
+    assert drive.send("SRVON") == b"QeR602000000\r"
 
 
 @pytest.mark.parametrize(
@@ -56,7 +56,7 @@ def test_close_ends_the_session_and_drops_rights(drive: Driver) -> None:
 )
 def test_rights_are_needed(drive: Driver, command: str) -> None:
     drive.ok("OPEN=X")
-    assert drive.send(command) == b"QeR6020\r"
+    assert drive.send(command) == b"QeR602000000\r"
 
 
 @pytest.mark.parametrize("command", ["SRVOFF", "STOP", "STATE", "JPOSF", "HNDSTS", "SAVE"])
@@ -68,7 +68,7 @@ def test_rights_are_not_needed(drive: Driver, command: str) -> None:
 def test_rights_for_slot_reset_is_configurable() -> None:
     drive = Driver(VirtualController(SimConfig(rights_for_slot_reset=True)))
     drive.ok("OPEN=X")
-    assert drive.send("SLOTINIT") == b"QeR6020\r"
+    assert drive.send("SLOTINIT") == b"QeR602000000\r"
     drive.ok("CNTLON")
     assert drive.send("SLOTINIT") == b"QoK\r"
 
@@ -144,8 +144,8 @@ def test_exec_replies_on_accept_and_refuses_while_moving(ready: Driver) -> None:
     ready.ok("EXECJ1=(90,0,90,0,90,0)")
     ready.ok("EXECMOV J1")
     # 90° of J1 at 401 °/s: about 0.22 s. EXECREM while moving is the S6 busy test.
-    assert ready.send("EXECREM Waiting...") == b"QeR5640\r"
-    assert ready.send("EXECMOV J1") == b"QeR5640\r"
+    assert ready.send("EXECREM Waiting...") == b"QeR564000000\r"
+    assert ready.send("EXECMOV J1") == b"QeR564000000\r"
     assert State.parse(ready.ok("STATE")).status.run & 0x40
     ready.wait(0.1)
     j1 = Position.parse(ready.ok("JPOSF"))["J1"]
@@ -184,16 +184,16 @@ def test_exec_with_servo_off_raises_an_alarm(drive: Driver) -> None:
     drive.ok("OPEN=X")
     drive.ok("CNTLON")
     drive.ok("EXECJ1=(10,0,90,0,90,0)")
-    assert drive.send("EXECMOV J1") == b"Qer2000\r"
+    assert drive.send("EXECMOV J1") == b"Qer200000000\r"
     assert drive.send("STATE").startswith(b"Qok")
 
 
 def test_joint_limit_raises_an_alarm_until_rstalrm(ready: Driver) -> None:
     ready.ok("EXECJ1=(175,0,90,0,90,0)")
-    assert ready.send("EXECMOV J1") == b"Qer2160\r"
+    assert ready.send("EXECMOV J1") == b"Qer216000000\r"
     assert ready.send("ERROR") == b"Qok2160;1\r"  # H level
     assert ready.send("JPOSF").startswith(b"QokJ1;0.00;")
-    assert ready.send("EXECREM x") == b"Qer5600\r"
+    assert ready.send("EXECREM x") == b"Qer560000000\r"
     state = State.parse(ready.send("STATE")[3:-1].decode())
     assert state.status.error == 2160
     assert not state.status.run & 0x20  # an H-level error switches the servo off
@@ -205,16 +205,16 @@ def test_joint_limit_raises_an_alarm_until_rstalrm(ready: Driver) -> None:
 
 def test_rstalrm_needs_rights(ready: Driver) -> None:
     ready.ok("EXECJ1=(175,0,90,0,90,0)")
-    assert ready.send("EXECMOV J1") == b"Qer2160\r"
+    assert ready.send("EXECMOV J1") == b"Qer216000000\r"
     assert ready.send("CNTLOFF") == b"Qok\r"
-    assert ready.send("RSTALRM") == b"Qer6020\r"
+    assert ready.send("RSTALRM") == b"Qer602000000\r"
 
 
 def test_exec_needs_program_is_configurable() -> None:
     drive = Driver(VirtualController(SimConfig(exec_needs_program=True)))
     drive.ok("OPEN=X")
     drive.ok("CNTLON")
-    assert drive.send("EXECOVRD 10") == b"QeR4140\r"
+    assert drive.send("EXECOVRD 10") == b"QeR414000000\r"
     drive.ok("PRGLOAD=COSIROP")
     assert drive.send("EXECOVRD 10") == b"QoK\r"
 
@@ -257,14 +257,14 @@ def test_jog_zero_masks_stop_at_once(ready: Driver) -> None:
 def test_jog_refusals(drive: Driver) -> None:
     drive.ok("OPEN=X")
     drive.ok("CNTLON")
-    assert drive.send("JOG00;00;00;01;00") == b"QeR2000\r"
+    assert drive.send("JOG00;00;00;01;00") == b"QeR200000000\r"
     drive.ok("SRVON")
-    assert drive.send("JOG00;00;00") == b"QeR6010\r"
+    assert drive.send("JOG00;00;00") == b"QeR601000000\r"
     unsupported = Driver(VirtualController(SimConfig(jog_supported=False)))
     unsupported.ok("OPEN=X")
     unsupported.ok("CNTLON")
     unsupported.ok("SRVON")
-    assert unsupported.send("JOG00;00;00;01;00") == b"QeR2030\r"
+    assert unsupported.send("JOG00;00;00;01;00") == b"QeR203000000\r"
 
 
 # --------------------------------------------------------------------------- editing
@@ -314,10 +314,10 @@ def test_emdat_refuses_a_bad_line_with_its_index_and_column(drive: Driver) -> No
     drive.ok("OPEN=X")
     drive.ok("LOAD=B")
     assert drive.reply("EMDAT10 MOV P1\x0b20 MOV (\x0b30 END", slot=9) == EditRefused(
-        4220, 2, 8, alarm=True
+        4220, 2, 8, alarm=True, detail="00000"
     )
-    assert drive.send("EMDAT10 MOV P1\x0b20 MOV (", slot=9) == b"Qer4220;2;8\r"
-    assert drive.send("EMDAT40000 END", slot=9) == b"Qer4420;1;1\r"
+    assert drive.send("EMDAT10 MOV P1\x0b20 MOV (", slot=9) == b"Qer422000000;2;8\r"
+    assert drive.send("EMDAT40000 END", slot=9) == b"Qer442000000;1;1\r"
     # nothing of a refused batch was taken
     assert drive.send("LISTL<", slot=9) == b"QoK;0;0\r"
 
@@ -326,7 +326,7 @@ def test_save_of_a_broken_program_is_refused_and_keeps_the_old_one() -> None:
     drive = Driver(VirtualController(SimConfig(check_syntax_on_emdat=False)))
     drive.ok("OPEN=X")
     assert _upload(drive, "P", "10 MOV P1\x0b20 END") == b"QoK\r"
-    assert _upload(drive, "P", "10\x0b20", "10 MOV (\x0b20 END") == b"QeR4220\r"
+    assert _upload(drive, "P", "10\x0b20", "10 MOV (\x0b20 END") == b"QeR422000000\r"
     drive.ok("NEW")
     drive.ok("LOAD=P")
     assert drive.send("LISTL<", slot=9) == b"QoK10 MOV P1\x0b20 END;2;0\r"
@@ -342,7 +342,7 @@ def test_fdel(drive: Driver) -> None:
     _upload(drive, "GONE", "10 END")
     drive.ok("FDELGONE")
     assert drive.send("FCHECKGONE") == b"QoKF\r"
-    assert drive.send("FDELGONE") == b"QeR4140\r"
+    assert drive.send("FDELGONE") == b"QeR414000000\r"
 
 
 # --------------------------------------------------------------------------- running
@@ -353,12 +353,12 @@ def test_run_stop_resume(ready: Driver) -> None:
     ready.ok("RUNR;1")
     state = State.parse(ready.ok("STATE"))
     assert state.program == "R.MB4" and state.status.run & 0x40
-    assert ready.send("RUNR;1") == b"QeR4180\r"
-    assert ready.send("FDELR") == b"QeR4180\r"
-    assert ready.send("EXECOVRD 5") == b"QeR5640\r"
+    assert ready.send("RUNR;1") == b"QeR418000000\r"
+    assert ready.send("FDELR") == b"QeR418000000\r"
+    assert ready.send("EXECOVRD 5") == b"QeR564000000\r"
     ready.ok("STOP")
     paused = State.parse(ready.ok("STATE"))
-    assert not paused.status.run & 0x40 and paused.status.stop == 0x02
+    assert not paused.status.run & 0x40 and paused.status.stop == 0x06  # [TRACE K9b-RAW]
     ready.ok("RUNR;1")
     assert State.parse(ready.ok("STATE")).status.run & 0x40
     ready.wait(10)
@@ -366,25 +366,25 @@ def test_run_stop_resume(ready: Driver) -> None:
 
 
 def test_run_of_a_missing_program(ready: Driver) -> None:
-    assert ready.send("RUNNOPE;1") == b"QeR4140\r"
+    assert ready.send("RUNNOPE;1") == b"QeR414000000\r"
 
 
 def test_garbage_gets_a_clean_refusal(drive: Driver) -> None:
     drive.ok("OPEN=X")
     sim = drive.controller
-    assert sim.handle(b"\xff\xfe\x00garbage\r", 0.0) == b"QeR6010\r"
-    assert sim.handle(b"1;1;" + b"EXECREM " + b"x" * 300 + b"\r", 0.0) == b"QeR6080\r"
-    assert sim.handle(b"", 0.0) == b"QeR6010\r"
+    assert sim.handle(b"\xff\xfe\x00garbage\r", 0.0) == b"QeR601000000\r"
+    assert sim.handle(b"1;1;" + b"EXECREM " + b"x" * 300 + b"\r", 0.0) == b"QeR608000000\r"
+    assert sim.handle(b"", 0.0) == b"QeR601000000\r"
     assert drive.send("STATE").startswith(b"QoK")
 
 
 def test_too_long_error_is_configurable() -> None:
     sim = VirtualController(SimConfig(too_long_error=3270))
-    assert sim.handle(b"1;1;" + b"x" * 300, 0.0) == b"QeR3270\r"
+    assert sim.handle(b"1;1;" + b"x" * 300, 0.0) == b"QeR327000000\r"
 
 
 def test_replies_are_typed_the_same_way(drive: Driver) -> None:
-    assert drive.reply("STATE") == Refused(6010)
+    assert drive.reply("STATE") == Refused(6010, detail="00000")
     assert isinstance(drive.controller.respond("1;1;OPEN=X", 0.0), Ok)
 
 

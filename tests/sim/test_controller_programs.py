@@ -66,8 +66,8 @@ def test_exec_and_programs_share_one_io(ready: Driver) -> None:
 
 
 def test_io_commands_refuse_garbage(ready: Driver) -> None:
-    assert ready.send("INX") == b"QeR6010\r"
-    assert ready.send("OUT=3;ZZZZ") == b"QeR6010\r"
+    assert ready.send("INX") == b"QeR601000000\r"
+    assert ready.send("OUT=3;ZZZZ") == b"QeR601000000\r"
 
 
 # ----------------------------------------------------------------------------- STATE lines

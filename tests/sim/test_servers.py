@@ -74,13 +74,13 @@ def test_each_port_is_fresh_and_disconnect_ends_the_session() -> None:
         second = server.new_port()
         with serial.Serial(second, 9600, parity="E", stopbits=2, timeout=TIMEOUT_S) as port:
             port.write(b"1;1;STATE\r")
-            assert _read_reply(port) == b"QeR6010\r"
+            assert _read_reply(port) == b"QeR601000000\r"
 
 
 def test_serial_link_over_the_pty(sim_pty_path: str) -> None:
     with SerialLink(sim_pty_path, LinkSettings(timeout=TIMEOUT_S)) as link:
         assert isinstance(link.exchange(Request("OPEN=NARCUSR")), Ok)
-        assert link.exchange(Request("SRVON")) == Refused(6020)
+        assert link.exchange(Request("SRVON")) == Refused(6020, detail="00000")
 
 
 def test_paced_pty_reply_arrives() -> None:
@@ -117,7 +117,7 @@ def test_tcp_server_reports_its_url() -> None:
 def test_in_memory_link() -> None:
     sim = VirtualController()
     with open_sim_link(controller=sim) as link:
-        assert link.exchange(Request("STATE")) == Refused(6010)
+        assert link.exchange(Request("STATE")) == Refused(6010, detail="00000")
         assert isinstance(link.exchange(Request("OPEN=X")), Ok)
         assert isinstance(link.exchange(Request("CNTLON")), Ok)
         assert sim.rights
@@ -151,7 +151,7 @@ def test_split_input_gives_the_same_replies() -> None:
 def test_garbage_and_overlong_lines_get_one_refusal_each() -> None:
     session = _session()
     replies = _replies(session, [b"\xff\xfe\x80\r", b"x" * (MAX_LINE_BYTES + 10), b"tail\r"])
-    assert replies == [b"QeR6010\r", b"QeR6080\r"]
+    assert replies == [b"QeR601000000\r", b"QeR608000000\r"]
     assert _replies(session, [b"\r\n\r", b"1;1;OPEN=X\x00"])[0].startswith(b"QoK")
 
 

@@ -41,7 +41,7 @@ def deinit(drive: Driver) -> None:
 def wait_not_busy(drive: Driver) -> int:
     """S6 `isBusy()`: `EXECREM Waiting...` every 200 ms until it is not 5640."""
     polls = 0
-    while (reply := send(drive, "1;1;EXECREM Waiting...")) == b"QeR5640\r":
+    while (reply := send(drive, "1;1;EXECREM Waiting...")) == b"QeR564000000\r":
         polls += 1
         drive.wait(0.2)
         assert polls < 100

@@ -143,7 +143,7 @@ class SimConfig:
     """False: the origin (encoder data) is lost, as after a battery failure. Positions read
     `****` and RUN, EXEC and JOG raise L5150 "The origin has not been set" [TRACE K9b-C1/C4]."""
 
-    nine_digit_errors: bool = False
+    nine_digit_errors: bool = True
     """Refusals carry the real controller's 9 digits (`QeR602000000`: number + 5 detail
     digits) [TRACE K9b]; False answers the manual's 4 digits (`QeR6020`) [DOC S1]."""
 

@@ -6,38 +6,59 @@ same `melfa.protocol` code the client reads replies with, so the two cannot drif
 clock, tests pass numbers. Motion happens on a `SimulatedArm` advanced to `now` before each
 answer.
 
-This module only dispatches: it checks what every request needs (OPEN first: 6010; the
-operation rights: 6020), calls the handler of the command (`melfa.sim.handlers`, one module
-per job) and marks replies while an alarm is active (`Qok`/`Qer`). The state lives in
-`melfa.sim.core.ControllerCore`.
+This module only dispatches. It finds the command in the protocol's one command table
+(`melfa.protocol.commands`), checks what every request needs (OPEN first: 6010; the
+operation rights and the MODE key: 6020; in strict mode, real evidence: 6010), calls the
+handler of the command (`melfa.sim.handlers`, one module per job) and writes the refusal in
+the configured form (9 digits like a real CRn-5xx, or the manual's 4) and `Qok`/`Qer` while
+an alarm is active. The state lives in `melfa.sim.core.ControllerCore`.
 
 >>> c = VirtualController()
 >>> c.handle(b"1;1;STATE\\r", now=0.0)
-b'QeR6010\\r'
+b'QeR601000000\\r'
 >>> c.handle(b"1;1;OPEN=NARCUSR\\r", now=0.0)[:12]
 b'QoK3F;3F;7,0'
 >>> c.handle(b"1;1;SRVON\\r", now=0.1)
-b'QeR6020\\r'
+b'QeR602000000\\r'
 """
 
 from __future__ import annotations
 
+from melfa.protocol.commands import COMMANDS, CommandSpec, Evidence, SlotForm
+from melfa.protocol.commands import lookup as lookup_spec
+from melfa.protocol.error_table import ErrorCode
 from melfa.protocol.errors import RemoteProtocolError
-from melfa.protocol.messages import Ok, Refused, Reply, encode_reply, parse_request
+from melfa.protocol.messages import (
+    EditRefused,
+    Ok,
+    Refused,
+    Reply,
+    Request,
+    encode_reply,
+    parse_request,
+)
 from melfa.sim import errors as err
+from melfa.sim.config import KeySwitch
 from melfa.sim.core import ControllerCore
-from melfa.sim.handlers import SUPPORTED_COMMANDS, TABLE, lookup
+from melfa.sim.handlers import HANDLERS, SUPPORTED_COMMANDS
 from melfa.sim.runner import StepError
 
-# Commands that need the operation rights [DOC S1/S2 §5.1, the `*` list], plus RSTALRM
-# [DOC S5]. SRVOFF and STOP never need them [DOC S5].
-_RIGHTS_DOC = frozenset(
-    {"EXEC", "STEP", "PRGLOAD=", "LINENO=", "SRVON", "OVRD=", "RUN", "JOG", "RSTALRM"}
-)
 _SLOT_RESET = frozenset({"SLOTINIT", "RSTPRG"})
-assert all(c.rights == (c.name in _RIGHTS_DOC) for c in TABLE), "rights table drifted"
 
-__all__ = ["SUPPORTED_COMMANDS", "VirtualController"]
+STRICT_EVIDENCE = frozenset({Evidence.TRACE, Evidence.CLIENT})
+"""What strict mode serves: commands a real controller answered on record, or that real
+serial clients (the thesis, RT ToolBox, gerrard, ctu-mitsubishi) send to one."""
+
+DETAIL_DIGITS = "00000"
+"""The 5 digits after the error number in a 9-digit refusal: all refusals on record have
+`00000` (`QeR602000000`, `QeR512000000`, `Qer515000000`) [TRACE K9b]."""
+
+__all__ = ["STRICT_EVIDENCE", "SUPPORTED_COMMANDS", "VirtualController", "strict_commands"]
+
+
+def strict_commands() -> tuple[str, ...]:
+    """The command words strict mode answers (listed in docs/simulator.md)."""
+    return tuple(n for n in SUPPORTED_COMMANDS if COMMANDS[n].evidence in STRICT_EVIDENCE)
 
 
 class VirtualController(ControllerCore):
@@ -58,33 +79,60 @@ class VirtualController(ControllerCore):
             number = exc.error_number or err.ILLEGAL_COMMAND
             if number == err.COMMAND_TOO_LONG:
                 number = self.config.too_long_error
-            return self._refuse(number)
-        text = parsed.command
-        command = lookup(text)
-        if command is None:
-            return self._refuse(err.ILLEGAL_COMMAND)
-        if command.needs_open and not self.is_open:
-            return self._refuse(err.ILLEGAL_COMMAND)
-        needs_rights = command.rights or (
-            command.name in _SLOT_RESET and self.config.rights_for_slot_reset
-        )
-        if needs_rights and not self.rights:
-            return self._refuse(err.NO_RIGHTS)
-        argument = text[len(command.name) :]
+            return self._finish(Refused(number))
+        spec = lookup_spec(parsed.command)
+        handler = HANDLERS.get(spec.name) if spec is not None else None
+        if spec is None or handler is None:
+            return self._finish(Refused(err.ILLEGAL_COMMAND))
+        refusal = self._admit(spec, parsed)
+        if refusal is not None:
+            return self._finish(Refused(refusal))
+        argument = parsed.command[len(spec.name) :]
         try:
-            reply = command.handler(self, argument, parsed, now)
+            reply = handler(self, argument, parsed, now)
         except StepError as step:
             self.raise_alarm(step.number, now)
             reply = Refused(step.number)
-        return self._with_alarm(reply)
+        return self._finish(reply)
 
-    def _refuse(self, number: int) -> Reply:
-        return self._with_alarm(Refused(number))
+    def _admit(self, spec: CommandSpec, req: Request) -> int | None:
+        """The error number that refuses `req` before its handler runs, or None."""
+        if spec.name != "OPEN=" and not self.is_open:
+            return err.ILLEGAL_COMMAND
+        if self.config.strict and (
+            spec.evidence not in STRICT_EVIDENCE or self._slot_form(req) not in spec.slots
+        ):
+            return err.ILLEGAL_COMMAND
+        slot_reset = spec.name in _SLOT_RESET
+        if spec.rights and self.key is not KeySwitch.AUTO_EXT:
+            # [TRACE K9b-PROG] SLOTINIT in TEACH: QeR602000000 although CNTLON got QoK.
+            return err.NO_RIGHTS
+        needs_rights = spec.rights and (not slot_reset or self.config.rights_for_slot_reset)
+        if needs_rights and not self.rights:
+            return err.NO_RIGHTS
+        return None
 
-    def _with_alarm(self, reply: Reply) -> Reply:
+    def _slot_form(self, req: Request) -> SlotForm:
+        if req.slot == 0:
+            return SlotForm.ALL
+        if req.slot < 0:
+            return SlotForm.CURRENT
+        if req.slot == self.config.banner.taskmax + 1:
+            return SlotForm.EDIT
+        return SlotForm.TASK
+
+    def refuse(self, number: int) -> Reply:
+        """The refusal `number` as this controller writes it (servers' framing errors)."""
+        return self._finish(Refused(number))
+
+    def _finish(self, reply: Reply) -> Reply:
+        """Mark the reply while an alarm is active and write refusals in the set form."""
         alarm = self.alarm is not None
+        detail = DETAIL_DIGITS if self.config.nine_digit_errors else None
         if isinstance(reply, Ok):
             return Ok(reply.answer, alarm)
         if isinstance(reply, Refused):
-            return Refused(reply.error, alarm)
+            return Refused.of(ErrorCode(reply.error, detail), alarm=alarm)
+        if isinstance(reply, EditRefused):
+            return EditRefused(reply.error, reply.item, reply.column, reply.alarm, detail)
         return reply

@@ -14,10 +14,10 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 from melfa.protocol.answers import ErrorLevel
-from melfa.protocol.error_table import ERROR_MESSAGES
+from melfa.protocol.error_table import ERROR_MESSAGES, ORIGIN_NOT_SET
 from melfa.protocol.jog import Jog
 from melfa.protocol.messages import Reply, Request
-from melfa.sim.config import SimConfig
+from melfa.sim.config import KeySwitch, SimConfig
 from melfa.sim.interp.io import IOState
 from melfa.sim.machine import ArmFault, ControllerArm, SimArm, make_arm
 from melfa.sim.runner import (
@@ -28,6 +28,9 @@ from melfa.sim.runner import (
     StatementExecutor,
 )
 from melfa.sim.store import EditBuffer, Program, ProgramStore, classify_item, program_name
+
+ORIGIN_LOG_DETAIL = 100
+"""The detail digits of L5150 in the error log: `515000100` [TRACE K9b-C1]."""
 
 
 class SlotState(enum.Enum):
@@ -142,6 +145,10 @@ class ControllerCore:
         self.listp_cursor = 0
         self.jogging: JogState | None = None
         self.now = 0.0
+        self.key = self.config.key
+        """Where the MODE key stands (`turn_key`)."""
+        self.origin_set = self.config.origin_set
+        """False: encoder data lost; positions read `****`, motion raises L5150."""
 
     # ------------------------------------------------------------------ clock and events
 
@@ -234,6 +241,28 @@ class ControllerCore:
         self.is_open = False
         self.rights = False
 
+    def turn_key(self, key: KeySwitch, now: float) -> None:
+        """The operator turns the MODE key: a running program stops at its line, motion stops
+        and the computer's operation rights go (it must CNTLON again) [DOC S5 §4]."""
+        self.advance(now)
+        if key is self.key:
+            return
+        self.key = key
+        self.jogging = None
+        self.arm.stop(self.now)
+        for slot in self.slots.values():
+            self.pause_slot(slot, self.now)
+        self.rights = False
+
+    def origin_lost(self, now: float) -> bool:
+        """Motion asked for without an origin: L5150 becomes the alarm (once) and the
+        caller refuses with it, as a real CRn-5xx answers `RUN` [TRACE K9b-C1]."""
+        if self.origin_set:
+            return False
+        if self.alarm is None or self.alarm.number != ORIGIN_NOT_SET:
+            self.raise_alarm(ORIGIN_NOT_SET, now, detail=ORIGIN_LOG_DETAIL)
+        return True
+
     # ------------------------------------------------------------------------ slots
 
     def slot(self, req: Request) -> Slot:
@@ -289,19 +318,6 @@ class ControllerCore:
 
 Handler = Callable[[ControllerCore, str, Request, float], Reply]
 """A request handler: (controller, argument after the command word, request, time)."""
-
-
-@dataclass(frozen=True)
-class Command:
-    """One command word the controller answers and what it needs.
-
-    `exact`: the word takes no argument (`STATE` answers, `STATEX` is illegal)."""
-
-    name: str
-    handler: Handler
-    rights: bool = False
-    needs_open: bool = True
-    exact: bool = False
 
 
 def program_from_text(name: str, text: str, config: SimConfig) -> Program:

@@ -36,7 +36,7 @@ def open_sim_link(
     >>> from melfa.protocol import Request
     >>> link = open_sim_link()
     >>> link.exchange(Request("STATE"))
-    Refused(error=6010, alarm=False)
+    Refused(error=6010, alarm=False, detail='00000')
     >>> link.close()
     """
     sim = controller if controller is not None else VirtualController(config)

@@ -10,7 +10,7 @@ input is made here, once, for every transport:
 - A line longer than `MAX_LINE_BYTES` without a CR is answered once with the too-long error
   and the rest up to the next CR is thrown away; the session never holds unbounded input.
 - Bytes that are not a request (non-ASCII, NUL …) get the controller's answer to garbage,
-  `QeR6010`; nothing raises out of `receive`.
+  `QeR6010` (in the configured 4- or 9-digit form); nothing raises out of `receive`.
 - NUL also ends a line, so RoboDK-style clients (S12, a NUL after each command) work.
 """
 
@@ -20,7 +20,7 @@ import threading
 from dataclasses import dataclass
 
 from melfa.protocol.errors import RemoteProtocolError
-from melfa.protocol.messages import Refused, encode_reply
+from melfa.protocol.messages import encode_reply
 from melfa.protocol.reader import LineSplitter
 from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, SECONDS_PER_CHAR_9600_8E2
 from melfa.sim.controller import VirtualController
@@ -64,9 +64,8 @@ class WireSession:
                 line = self._lines.next_line()
             except RemoteProtocolError:
                 with self.lock:
-                    number = self.controller.config.too_long_error
-                    alarm = self.controller.alarm is not None
-                answers.append(Answer(encode_reply(Refused(number, alarm)), MAX_LINE_BYTES))
+                    reply = self.controller.refuse(self.controller.config.too_long_error)
+                answers.append(Answer(encode_reply(reply), MAX_LINE_BYTES))
                 continue
             if line is None:
                 return answers

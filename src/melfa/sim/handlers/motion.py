@@ -6,11 +6,12 @@ arm (L5640); STOP needs no rights and always answers [DOC S5].
 
 from __future__ import annotations
 
+from melfa.protocol.error_table import ORIGIN_NOT_SET
 from melfa.protocol.errors import RemoteProtocolError
 from melfa.protocol.jog import Jog
 from melfa.protocol.messages import Ok, Refused, Reply, Request
 from melfa.sim import errors as err
-from melfa.sim.core import Command, ControllerCore, JogState, Slot
+from melfa.sim.core import ControllerCore, Handler, JogState, Slot
 from melfa.sim.machine import ArmFault
 from melfa.sim.runner import StatementExecutor
 
@@ -116,6 +117,8 @@ def hndsts(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 
 def exec_(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     statement = arg.strip()
+    if c.origin_lost(now):
+        return Refused(ORIGIN_NOT_SET)
     if c.alarm is not None:
         return Refused(ALARM_BLOCKS)
     # [CODE S6/S7] any EXEC while the arm still moves is refused with 5640; S6 uses
@@ -150,6 +153,8 @@ def jog(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
         request = Jog.parse("JOG" + arg)
     except RemoteProtocolError:
         return Refused(err.ILLEGAL_COMMAND)
+    if c.origin_lost(now):
+        return Refused(ORIGIN_NOT_SET)
     if c.alarm is not None:
         return Refused(ALARM_BLOCKS)
     if c.program_running:
@@ -185,18 +190,18 @@ def stop(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     return Ok()
 
 
-COMMANDS = (
-    Command("SRVON", srvon, rights=True, exact=True),
-    Command("SRVOFF", srvoff, exact=True),
-    Command("OVRD=", ovrd_set, rights=True),
-    Command("IN", in_),
-    Command("OUT=", out_set),
-    Command("OUT", out_get),
-    Command("HNDON", hndon),
-    Command("HNDOFF", hndoff),
-    Command("HNDSTS", hndsts, exact=True),
-    Command("EXEC", exec_, rights=True),
-    Command("JOGST", jogst, exact=True),
-    Command("JOG", jog, rights=True),
-    Command("STOP", stop, exact=True),
-)
+HANDLERS: dict[str, Handler] = {
+    "SRVON": srvon,
+    "SRVOFF": srvoff,
+    "OVRD=": ovrd_set,
+    "IN": in_,
+    "OUT=": out_set,
+    "OUT": out_get,
+    "HNDON": hndon,
+    "HNDOFF": hndoff,
+    "HNDSTS": hndsts,
+    "EXEC": exec_,
+    "JOGST": jogst,
+    "JOG": jog,
+    "STOP": stop,
+}

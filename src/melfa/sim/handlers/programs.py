@@ -11,9 +11,10 @@ from __future__ import annotations
 import datetime as dt
 import re
 
+from melfa.protocol.error_table import NOT_PSA, ORIGIN_NOT_SET
 from melfa.protocol.messages import VT, EditRefused, Ok, Refused, Reply, Request
 from melfa.sim import errors as err
-from melfa.sim.core import Command, ControllerCore, Slot, SlotState
+from melfa.sim.core import ControllerCore, Handler, Slot, SlotState
 from melfa.sim.store import EditBuffer, EditError, classify_item, program_name
 from melfa.sim.syntax import first_syntax_error
 
@@ -41,6 +42,8 @@ def run(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     cycle = mode.strip() != "0"
     if slot.state is SlotState.RUNNING:
         return Refused(err.PROGRAM_RUNNING)
+    if c.origin_lost(now):
+        return Refused(ORIGIN_NOT_SET)
     if c.alarm is not None:
         return Refused(err.DURING_ERROR)
     if c.moving:
@@ -56,7 +59,9 @@ def run(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
             c.resume_slot(slot, now)
             return Ok()
         if slot.state is SlotState.PAUSED:
-            return Refused(err.PROGRAM_RUNNING)
+            # [TRACE K9b-RAW] a program paused mid-way holds the slot: another cannot be
+            # selected ("not PSA") until SLOTINIT.
+            return Refused(NOT_PSA)
         c.select(slot, name)
     elif slot.program is None or slot.runner is None:
         return Refused(err.PROGRAM_NOT_FOUND)
@@ -313,21 +318,21 @@ def fcheck(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     return Ok("N" if name is not None and name in c.store else "F")
 
 
-COMMANDS = (
-    Command("PRGLOAD=", prgload, rights=True),
-    Command("RUN", run, rights=True),
-    Command("RSTPRG", rstprg, exact=True),
-    Command("SLOTINIT", slotinit, exact=True),
-    Command("LOAD=", load),
-    Command("NEW", new, exact=True),
-    Command("ECLR", eclr, exact=True),
-    Command("EMDAT", emdat),
-    Command("EDATA", edata),
-    Command("SAVE", save, exact=True),
-    Command("LISTL", listl),
-    Command("LISTI", listi),
-    Command("LISTP", listp),
-    Command("PDIR", pdir),
-    Command("FDEL", fdel),
-    Command("FCHECK", fcheck),
-)
+HANDLERS: dict[str, Handler] = {
+    "PRGLOAD=": prgload,
+    "RUN": run,
+    "RSTPRG": rstprg,
+    "SLOTINIT": slotinit,
+    "LOAD=": load,
+    "NEW": new,
+    "ECLR": eclr,
+    "EMDAT": emdat,
+    "EDATA": edata,
+    "SAVE": save,
+    "LISTL": listl,
+    "LISTI": listi,
+    "LISTP": listp,
+    "PDIR": pdir,
+    "FDEL": fdel,
+    "FCHECK": fcheck,
+}

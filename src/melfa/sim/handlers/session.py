@@ -6,9 +6,10 @@ operation rights (CNTLON) are what the `rights=True` commands of the table need 
 
 from __future__ import annotations
 
+from melfa.protocol.listings import Parameter
 from melfa.protocol.messages import Ok, Refused, Reply, Request
 from melfa.sim import errors as err
-from melfa.sim.core import Command, ControllerCore
+from melfa.sim.core import ControllerCore, Handler
 
 
 def open_(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
@@ -44,38 +45,46 @@ def prtver(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 
 
 def par(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
+    """`PAR<name>` and `PNR<name>`: `<name>;<values>;<count>` [TRACE K4a-CR2B, K9b-C4]."""
     name = arg.strip().upper()
-    value = parameters(c).get(name)
-    if value is None:
+    values = parameters(c).get(name)
+    if values is None:
         return Refused(err.PARAMETER_NOT_FOUND)
-    values, count = value
-    return Ok(f"{name};{values};{count}")
+    return Ok(Parameter(name, values, len(values)).to_answer())
 
 
-def parameters(c: ControllerCore) -> dict[str, tuple[str, int]]:
-    """Read-only parameters PAR<name> answers [TRACE S10; DERIVED for MEJAR]."""
+def parameters(c: ControllerCore) -> dict[str, tuple[str, ...]]:
+    """The read-only parameters the simulator answers: the recorded ones with the values a
+    real controller showed [TRACE K4a-CR2B, K9b-C4], limits and tool from the arm, and the
+    serial settings the simulator itself uses."""
     limits = c.arm.joint_limits
     mejar = [f"{v:.2f}" for pair in limits for v in pair]
     mejar += ["0.00"] * (16 - len(mejar))
     return {
-        "RLNG": ("1", 1),
-        "MEXTL": (", ".join(f"{v:.2f}" for v in c.arm.tool_values), 6),
-        "MEJAR": (", ".join(mejar), 16),
-        "CBAU232": ("9600", 1),
-        "CPRTY232": ("2", 1),
-        "CSTOP232": ("2", 1),
-        "CTERM232": ("0", 1),
-        "CPRC232": ("0", 1),
-        "TASKMAX": (str(c.config.banner.taskmax), 1),
+        "RLNG": ("1",),
+        "LNG": (c.config.banner.language,),
+        "MEXTL": tuple(f"{v:.2f}" for v in c.arm.tool_values),
+        "MEJAR": tuple(mejar),
+        "RMTPSL": ("0",),
+        "OVRDMD": ("0", "0"),
+        "JOGJSP": ("0.10", "0.01", "10.00"),
+        "SRVON": ("4", "1"),
+        "CBAU232": ("9600",),
+        "CPRTY232": ("2",),
+        "CSTOP232": ("2",),
+        "CTERM232": ("0",),
+        "CPRC232": ("0",),
+        "TASKMAX": (str(c.config.banner.taskmax),),
     }
 
 
-COMMANDS = (
-    Command("OPEN=", open_, needs_open=False),
-    Command("CLOSE", close, exact=True),
-    Command("CNTLON", cntlon, exact=True),
-    Command("CNTLOFF", cntloff, exact=True),
-    Command("KEYWD", keywd),
-    Command("PRTVER", prtver),
-    Command("PAR", par),
-)
+HANDLERS: dict[str, Handler] = {
+    "OPEN=": open_,
+    "CLOSE": close,
+    "CNTLON": cntlon,
+    "CNTLOFF": cntloff,
+    "KEYWD": keywd,
+    "PRTVER": prtver,
+    "PAR": par,
+    "PNR": par,
+}
