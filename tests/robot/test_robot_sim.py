@@ -190,7 +190,7 @@ def test_stop_from_another_thread_interrupts_wait(
 
 
 def test_6010_before_open_and_unknown_command(robot: Robot, controller: VirtualController) -> None:
-    assert robot.channel.request(Request("STATE")) == Refused(6010)
+    assert robot.channel.request(Request("STATE")) == Refused(6010, detail="00000")
     with pytest.raises(ControllerError) as exc:
         robot.request("NOSUCHCOMMAND")
     assert exc.value.number == 6010
@@ -201,7 +201,7 @@ def test_6020_without_rights_and_rights_taken_again(
     robot: Robot, controller: VirtualController
 ) -> None:
     robot.connect()
-    assert robot.channel.request(Request("SRVON")) == Refused(6020)
+    assert robot.channel.request(Request("SRVON")) == Refused(6020, detail="00000")
     robot.servo(True)  # takes CNTLON
     robot.request("CNTLOFF")  # rights lost behind the client's back
     robot.servo(True)  # 6020, CNTLON again, retried

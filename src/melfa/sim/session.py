@@ -64,8 +64,8 @@ class WireSession:
                 line = self._lines.next_line()
             except RemoteProtocolError:
                 with self.lock:
-                    reply = self.controller.refuse(self.controller.config.too_long_error)
-                answers.append(Answer(encode_reply(reply), MAX_LINE_BYTES))
+                    too_long = self.controller.refuse(self.controller.config.too_long_error)
+                answers.append(Answer(encode_reply(too_long), MAX_LINE_BYTES))
                 continue
             if line is None:
                 return answers
