@@ -8,10 +8,12 @@ shuts down cleanly: the service stops polling, ends the lease and closes the lin
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import ipaddress
 import os
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.console import Console
@@ -20,6 +22,9 @@ from rich.markup import escape
 from melfa.cli.app import app
 from melfa.link import ROBOT_ENV
 from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
+
+if TYPE_CHECKING:
+    import uvicorn
 
 EXIT_USAGE = 2
 
@@ -59,6 +64,32 @@ def serve(
             file_okay=False,
         ),
     ] = None,
+    rosbridge_port: Annotated[
+        int | None,
+        typer.Option(
+            "--rosbridge-port",
+            help="Also serve rosbridge on this port (rosbridge_server's is 9090), at / and "
+            "/rosbridge, for roslibjs pages that connect to ws://host:port.",
+            min=1,
+            max=65535,
+        ),
+    ] = None,
+    rosbridge_mode: Annotated[
+        str,
+        typer.Option(
+            "--rosbridge-mode",
+            help="How that port's connections behave: melfa, or thesis (the thesis's "
+            "execute node; ?mode= in the URL chooses per connection).",
+        ),
+    ] = "melfa",
+    allowed_origins: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--allowed-origin",
+            help="A browser origin (https://lab.example:8000) besides the server's own whose "
+            "pages may use the sign-in cookie on WebSockets; repeatable.",
+        ),
+    ] = None,
 ) -> None:
     """Serve the web IDE and its API (docs at /docs)."""
     import uvicorn
@@ -96,7 +127,9 @@ def serve(
     robot_text = "virtual controller (in process)" if spec == "sim" else spec
     shown = f"[{host}]" if ":" in host else host
     _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
-    settings = WebSettings(data_dir=data_dir, robot=spec)
+    settings = WebSettings(
+        data_dir=data_dir, robot=spec, allowed_origins=tuple(allowed_origins or ())
+    )
     web_app = create_app(settings, store=store)
     config = uvicorn.Config(
         web_app,
@@ -106,10 +139,41 @@ def serve(
         access_log=False,
         timeout_graceful_shutdown=3,
     )
+    servers = [uvicorn.Server(config)]
+    if rosbridge_port is not None:
+        from melfa.web.rosbridge_app import create_rosbridge_app
+
+        try:
+            bridge = create_rosbridge_app(web_app, rosbridge_mode)
+        except ValueError as exc:
+            store.close()
+            _err.print(f"[bold red]error:[/] --rosbridge-mode: {escape(str(exc))}")
+            raise typer.Exit(EXIT_USAGE) from None
+        servers.append(
+            uvicorn.Server(
+                uvicorn.Config(bridge, host=host, port=rosbridge_port, log_level="warning")
+            )
+        )
+        _out.print(f"rosbridge on ws://{shown}:{rosbridge_port}/  (mode {rosbridge_mode})")
     try:
-        uvicorn.Server(config).run()
+        asyncio.run(_serve_all(servers))
     except KeyboardInterrupt:
         pass  # uvicorn re-raises Ctrl+C after its clean shutdown: that is the normal end
     finally:
         store.close()
     _out.print("melfa stopped")
+
+
+async def _serve_all(servers: list[uvicorn.Server]) -> None:
+    """Run the web server and the optional rosbridge server on one loop; the first one
+    handles Ctrl+C, and when it ends the others end too."""
+    first, *others = servers
+    for other in others:
+        other.capture_signals = contextlib.nullcontext  # type: ignore[method-assign,assignment]
+    tasks = [asyncio.create_task(other.serve()) for other in others]
+    try:
+        await first.serve()
+    finally:
+        for other in others:
+            other.should_exit = True
+        await asyncio.gather(*tasks, return_exceptions=True)

@@ -307,3 +307,57 @@ def import_users(
     _err.print(escape(summary))
     if report.generated and out is not None:
         _err.print(f"{len(report.generated)} generated password(s) written to {escape(str(out))}")
+
+
+@users_app.command("token")
+def token(
+    username: Annotated[str, typer.Argument()],
+    label: Annotated[
+        str, typer.Option("--label", help="What the token is for (shown in lists).")
+    ] = "",
+    data: DataOpt = Path("data"),
+) -> None:
+    """Make a personal access token for programs (roslibjs, roslibpy, curl) and print it
+    once: `?token=` in a WebSocket URL, rosbridge's auth op, or `Authorization: Bearer`."""
+    with _store(data, create=False) as store:
+        user = store.accounts.get_user(username)
+        made = store.tokens.create(user, label or "cli")
+    _err.print(
+        f"token {made.info.id} ({escape(made.info.label)}) for {escape(user.username)} "
+        "(shown only now; revoke it with `melfa users revoke-token`):"
+    )
+    _out.print(made.token)
+
+
+@users_app.command("tokens")
+def tokens(
+    username: Annotated[str, typer.Argument()],
+    data: DataOpt = Path("data"),
+) -> None:
+    """List a user's personal access tokens (never the tokens themselves)."""
+    with _store(data, create=False) as store:
+        user = store.accounts.get_user(username)
+        found = store.tokens.list(user)
+    if not found:
+        _err.print(f"{escape(user.username)} has no tokens")
+        return
+    table = Table("number", "label", "created", "last used")
+    for item in found:
+        used = item.last_used.strftime("%Y-%m-%d %H:%M") if item.last_used else "never"
+        table.add_row(
+            str(item.id), escape(item.label), item.created.strftime("%Y-%m-%d %H:%M"), used
+        )
+    _out.print(table)
+
+
+@users_app.command("revoke-token")
+def revoke_token(
+    username: Annotated[str, typer.Argument()],
+    number: Annotated[int, typer.Argument(help="The token's number (`melfa users tokens`).")],
+    data: DataOpt = Path("data"),
+) -> None:
+    """Revoke a token: it stops working at once, open connections included."""
+    with _store(data, create=False) as store:
+        user = store.accounts.get_user(username)
+        gone = store.tokens.revoke(user, number)
+    _err.print(f"revoked token {gone.id} ({escape(gone.label)}) of {escape(user.username)}")

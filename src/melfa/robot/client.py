@@ -431,13 +431,17 @@ class Robot:
             if self.jog_method is JogMethod.JOG:
                 self._call(Jog(JogMode.JOINT).command)
 
-    def step_statements(self, mode: JogMode, axis: int, direction: int) -> list[str]:
+    def step_statements(
+        self, mode: JogMode, axis: int, direction: int, step_mm: float | None = None
+    ) -> list[str]:
         """The relative move a step jog sends. Joint: ``JMJOG=(…)`` then
         ``MOV J_CURR+JMJOG`` (a bare ``(…)`` constant is a position, so joint offsets go
         through a J variable, as S18 does); world: ``MVS P_CURR+(…)`` [melfa-basic-iv §7];
-        tool frame: ``MVS P_CURR*(…)`` [CODE S19]."""
+        tool frame: ``MVS P_CURR*(…)`` [CODE S19]. ``step_mm`` overrides
+        `RobotSettings.jog_step_mm` (the thesis's node stepped 20 mm)."""
         size = self.settings.jog_step_deg if mode is JogMode.JOINT or axis >= 3 else None
-        step = (size if size is not None else self.settings.jog_step_mm) * direction
+        linear = self.settings.jog_step_mm if step_mm is None else step_mm
+        step = (size if size is not None else linear) * direction
         values = ["0"] * 6
         values[min(axis, 5)] = f"{step:g}"
         offset = "(" + ",".join(values) + ")"

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
 
+from melfa.lang.encoding import decode_text
 from melfa.robot import UploadReport
 from melfa.ros import interface as ri
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, StreamMessages
@@ -35,6 +36,7 @@ from melfa.service import (
     ThesisOutput,
 )
 from melfa.service.service import describe_error
+from melfa.service.thesis import MELFA, Dialect
 
 log = logging.getLogger(__name__)
 
@@ -86,6 +88,7 @@ class RosCore:
         *,
         frame_id: str = BASE_FRAME,
         max_rate_hz: float | None = None,
+        dialect: Dialect = MELFA,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         if max_rate_hz is not None and max_rate_hz <= 0:
@@ -97,7 +100,8 @@ class RosCore:
         self.frame_id = frame_id
         self.max_rate_hz = max_rate_hz
         self._clock = clock
-        self.thesis = ThesisMessages(service, actor)
+        self.dialect = dialect
+        self.thesis = ThesisMessages(service, actor, dialect=dialect)
         self._instructions: asyncio.Queue[str] = asyncio.Queue()
         self._tasks: list[asyncio.Task[None]] = []
         self._stream: asyncio.Task[None] | None = None
@@ -116,6 +120,9 @@ class RosCore:
             asyncio.create_task(self._handle_instructions(), name="ros-instructions"),
             asyncio.create_task(self._answers(), name="ros-answers"),
         ]
+        if self.dialect.servo_on_connect:
+            # The thesis's node switched the servo on whenever it connected to the robot.
+            self._instructions.put_nowait(_SERVO_ON)
         if stream:
             self.start_stream()
 
@@ -155,20 +162,29 @@ class RosCore:
     async def _handle_instructions(self) -> None:
         while True:
             text = await self._instructions.get()
-            self.instructions += 1
             try:
+                if text is _SERVO_ON:
+                    await self.thesis.servo(True)
+                    continue
+                self.instructions += 1
                 await self.thesis.feed(text)
             except Exception as exc:
-                self.errors += 1
-                reason = describe_error(exc)
-                self.output.log(logging.ERROR, f"execute_instruction {text!r}: {reason}")
-                self.output.text(ri.EXECUTE_ERROR, reason)
+                self.report(f"execute_instruction {text!r}", exc)
+
+    def report(self, what: str, exc: BaseException) -> None:
+        """A failure, on ``/execute_error`` and in the node's log (whose fault it is)."""
+        self.errors += 1
+        reason = describe_error(exc)
+        self.output.log(logging.ERROR, f"{what}: {reason}")
+        self.output.text(ri.EXECUTE_ERROR, reason)
 
     async def _answers(self) -> None:
         """The thesis adapter's REQUEST answers and jog errors, on their topics."""
         with self.service.subscribe(ThesisOutput) as sub:
             async for event in sub:
                 if isinstance(event, ThesisOutput) and event.actor == self.actor:
+                    if event.topic == ri.EXECUTE_ERROR:
+                        self.output.log(logging.ERROR, f"jog step: {event.text}")
                     self.output.text(event.topic, event.text)
 
     async def stream(self) -> None:
@@ -191,39 +207,53 @@ class RosCore:
         if messages.joint_states is None:
             return False
         self.output.joint_states(messages.joint_states)
-        if messages.joint_state_text is not None:
+        texts = self.dialect.streams_text
+        if texts and messages.joint_state_text is not None:
             self.output.text(ri.JOINT_STATE_TEXT, messages.joint_state_text)
         if messages.tool_pose_stamped is not None:
             self.output.tool_pose_stamped(messages.tool_pose_stamped)
-        if messages.tool_pose_text is not None:
+        if texts and messages.tool_pose_text is not None:
             self.output.text(ri.TOOL_POSE, messages.tool_pose_text)
         self.published += 1
         return True
 
     # ------------------------------------------------------------------ services
 
-    async def call(self, name: str, data: bool | None = None) -> ServiceReply:
-        """Run service ``name`` (see `melfa.ros.interface.SERVICES`); never raises."""
+    async def call(
+        self, name: str, data: bool | None = None, texts: dict[str, str] | None = None
+    ) -> ServiceReply:
+        """Run service ``name`` (see `melfa.ros.interface.SERVICES`); never raises. A
+        failure is in the reply and in the node's log. ``texts`` (rosbridge's ``args``:
+        ``program``, ``points``) are used instead of the parameters."""
         try:
-            message = await self._call(name, data)
+            message = await self._call(name, data, texts or {})
         except Exception as exc:
-            self.output.log(logging.WARNING, f"{name}: {describe_error(exc)}")
+            self.output.log(logging.ERROR, f"service {name}: {describe_error(exc)}")
             return ServiceReply(False, describe_error(exc))
         return ServiceReply(True, message)
 
-    async def _call(self, name: str, data: bool | None) -> str:
+    async def _call(self, name: str, data: bool | None, texts: dict[str, str]) -> str:
         service, actor = self.service, self.actor
         if name == ri.LOAD_PROGRAM:
-            report = await service.upload_program(actor, self._text(ri.PROGRAM_PARAM))
+            program = self._text(ri.PROGRAM_PARAM, texts)
+            report = await service.upload_program(actor, program)
             return f"program loaded: {_report(report)}"
         if name == ri.LOAD_POINTS:
-            report = await service.upload_points(actor, self._text(ri.POINTS_PARAM))
+            report = await service.upload_points(actor, self._text(ri.POINTS_PARAM, texts))
             return f"points loaded: {_report(report)}"
         if name == ri.LOAD_PROJECT:
-            program = self._text(ri.PROGRAM_PARAM)
-            points = self._text(ri.POINTS_PARAM, required=False)
+            program = self._text(ri.PROGRAM_PARAM, texts)
+            points = self._text(ri.POINTS_PARAM, texts, required=False)
             report = await service.load_project(actor, program, points)
             return f"program and points loaded: {_report(report)}"
+        if name == ri.RESET:
+            await service.reset_alarm(actor)
+            return "alarm reset"
+        if name == ri.OVERRIDE:
+            percent = self._override(texts)
+            return f"override {await service.override(actor, percent)} %"
+        if name == ri.STATE:
+            return describe_state(service.want_state())
         if name == ri.RUN:
             await service.run(actor)
             return "program started"
@@ -239,8 +269,25 @@ class RosCore:
             return "servo on" if on else "servo off"
         raise LookupError(f"no service {name!r}; there are {', '.join(ri.SERVICE_BY_NAME)}")
 
-    def _text(self, param: str, *, required: bool = True) -> str:
-        """The text of parameter ``~param``, or of the file named by ``~param_file``."""
+    def _override(self, texts: dict[str, str]) -> int:
+        value = texts.get(ri.OVERRIDE_PARAM, self.params.get(ri.OVERRIDE_PARAM))
+        if value is None:
+            raise LookupError(
+                f"set the parameter ~{ri.OVERRIDE_PARAM} to a percentage first "
+                f"(rosparam set /<node>/{ri.OVERRIDE_PARAM} 50)"
+            )
+        try:
+            return int(str(value))
+        except ValueError:
+            raise ValueError(
+                f"~{ri.OVERRIDE_PARAM} must be a whole percentage, not {value!r}"
+            ) from None
+
+    def _text(self, param: str, texts: dict[str, str], *, required: bool = True) -> str:
+        """The text given in the call, of parameter ``~param``, or of the file named by
+        ``~param_file`` (UTF-8 or Windows-1252, as the IDE reads files)."""
+        if param in texts:
+            return texts[param]
         value = self.params.get(param)
         if value is not None:
             if not isinstance(value, str):
@@ -249,7 +296,7 @@ class RosCore:
         path = self.params.get(f"{param}_file")
         if path is not None:
             try:
-                return Path(str(path)).read_text(encoding="latin-1")
+                return decode_text(Path(str(path)).read_bytes())
             except OSError as exc:
                 raise FileNotFoundError(
                     f"cannot read ~{param}_file {str(path)!r}: {exc.strerror}"
@@ -257,9 +304,34 @@ class RosCore:
         if not required:
             return ""
         raise LookupError(
-            f"set the parameter ~{param} to the text (rosparam set /<node>/{param} "
-            f'"$(cat FILE)") or ~{param}_file to a path on the node\'s machine first'
+            f"set the parameter ~{param} to the text (rosparam set --textfile FILE "
+            f"/<node>/{param}) or ~{param}_file to a path on the node's machine first"
         )
 
 
-__all__ = ["ParamSource", "RosCore", "RosOutput", "ServiceReply"]
+_SERVO_ON = "\0servo-on"
+"""Queued first in thesis mode: the servo goes on before any message is handled."""
+
+
+def describe_state(state: StateSnapshot) -> str:
+    """The ``state`` service's answer: one line a person can read."""
+    parts = [f"link {state.link.value}"]
+    if state.servo is not None:
+        parts.append(f"servo {'on' if state.servo else 'off'}")
+    if state.running is not None:
+        running = f"running {state.program or 'program'}" if state.running else "not running"
+        if state.running and state.line is not None:
+            running += f" line {state.line}"
+        parts.append(running)
+    if state.override is not None:
+        parts.append(f"override {state.override} %")
+    if state.alarm is not None:
+        parts.append(f"alarm {state.alarm.number}: {state.alarm.text}")
+    else:
+        parts.append("no alarm")
+    if state.lease_holder:
+        parts.append(f"lease {state.lease_holder}")
+    return "; ".join(parts)
+
+
+__all__ = ["ParamSource", "RosCore", "RosOutput", "ServiceReply", "describe_state"]

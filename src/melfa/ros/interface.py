@@ -7,9 +7,10 @@ future rclpy node offer exactly these. Names follow the thesis where it named th
 
 Loads use ``std_srvs/Trigger`` with the text in a parameter (``/melfa/program``,
 ``/melfa/points``) because Debian's ROS cannot build custom service types (no catkin
-message generation) and every ROS tool already knows Trigger::
+message generation) and every ROS tool already knows Trigger; over rosbridge the same
+services also take the texts as arguments (``{"program": …, "points": …}``)::
 
-    rosparam set /melfa/program "$(cat pick.mb4)"
+    rosparam set --textfile pick.mb4 /melfa/program
     rosservice call /melfa/load_program
 """
 
@@ -68,8 +69,18 @@ TOPICS: tuple[TopicSpec, ...] = (
         Direction.IN,
         "the thesis's control messages (appendix 9.1), e.g. ---MOV TOOL +X---",
     ),
-    TopicSpec(TOOL_POSE, STRING, Direction.OUT, '"(x,y,z,roll,pitch,yaw)" in m and rad'),
-    TopicSpec(JOINT_STATE_TEXT, STRING, Direction.OUT, '"(j1,j2,j3,j4,j5,j6)" in rad'),
+    TopicSpec(
+        TOOL_POSE,
+        STRING,
+        Direction.OUT,
+        '"(x,y,z,roll,pitch,yaw)" in m and rad (thesis mode: x,y,z,roll,pitch,yaw on request)',
+    ),
+    TopicSpec(
+        JOINT_STATE_TEXT,
+        STRING,
+        Direction.OUT,
+        '"(j1,j2,j3,j4,j5,j6)" in rad (thesis mode: j1,…,j6 on request)',
+    ),
     TopicSpec(JOINT_STATES, JOINT_STATE, Direction.OUT, "joint_1…joint_6 in rad"),
     TopicSpec(TOOL_POSE_STAMPED, POSE_STAMPED, Direction.OUT, "tool pose in the base frame"),
     TopicSpec(EXECUTE_ERROR, STRING, Direction.OUT, "why a control message or move failed"),
@@ -82,9 +93,15 @@ RUN = "run"
 STOP = "stop"
 DELETE = "delete"
 SERVO = "servo"
+RESET = "reset"
+OVERRIDE = "override"
+STATE = "state"
 
 PROGRAM_PARAM = "program"
 POINTS_PARAM = "points"
+OVERRIDE_PARAM = "override"
+MODE_PARAM = "mode"
+"""``~mode``: ``melfa`` (default) or ``thesis`` (`melfa.service.thesis.THESIS`)."""
 
 SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec(
@@ -109,6 +126,9 @@ SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec(STOP, TRIGGER, "stop now (overtakes everything queued)"),
     ServiceSpec(DELETE, TRIGGER, "delete the program and its points"),
     ServiceSpec(SERVO, SET_BOOL, "servo on (data: true) or off"),
+    ServiceSpec(RESET, TRIGGER, "reset the controller's alarm (after a refused move)"),
+    ServiceSpec(OVERRIDE, TRIGGER, "set the override to ~override percent (1-100)", OVERRIDE_PARAM),
+    ServiceSpec(STATE, TRIGGER, "the state in one line: link, servo, program, alarm, lease"),
 )
 
 TOPIC_BY_NAME = {t.name: t for t in TOPICS}
@@ -119,9 +139,14 @@ __all__ = [
     "EXECUTE_INSTRUCTION",
     "JOINT_STATES",
     "JOINT_STATE_TEXT",
+    "MODE_PARAM",
     "NODE_NAME",
+    "OVERRIDE",
+    "OVERRIDE_PARAM",
+    "RESET",
     "SERVICES",
     "SERVICE_BY_NAME",
+    "STATE",
     "TOOL_POSE",
     "TOOL_POSE_STAMPED",
     "TOPICS",

@@ -5,53 +5,39 @@ ROS node were running: the same topics and services as `melfa.ros.node` (see
 `melfa.ros.interface`), driven by the web server's `RobotService`.
 
 Protocol (rosbridge v2.0): ``advertise``, ``unadvertise``, ``publish``, ``subscribe``
-(``throttle_rate`` honoured), ``unsubscribe``, ``call_service``, ``service_response``,
-``set_level``, ``auth``; answers ``publish``, ``service_response`` and ``status``. A small
-``rosapi`` for the tools clients call: ``/rosapi/topics``, ``services``, ``topic_type``,
-``service_type``, ``get_param``, ``set_param``, ``has_param``, ``delete_param``,
-``get_param_names``, ``get_time``. Not offered: client-advertised services, fragments,
-png/cbor compression (each answered with an error status).
+(``throttle_rate``, ``queue_length`` and ``fragment_size`` honoured), ``unsubscribe``,
+``call_service`` (``fragment_size`` honoured; ``args`` checked against the service's
+request), ``service_response``, ``set_level``, ``auth``; answers ``publish``,
+``service_response``, ``fragment`` and ``status``. ``rosapi`` is `melfa.ros.rosapi`. Not
+offered: client-advertised services, incoming fragments, png/cbor compression (each
+answered with an error status).
 
-Authentication, before anything else: the web app's session cookie (only from a page of
-the server's own origin or an allowed one, so another site cannot ride on it), or
-rosbridge's ``auth`` op (rosauth's message) carrying a session token in ``mac``; the other
-rosauth fields are accepted and ignored. Anything else first, a bad token, or nothing
-within ``auth_timeout_s``: the socket is closed with 1008 (policy violation).
-
-Each connection is its own operator session towards the service (``<session>/rosbridge-N``):
-its own thesis state machine, its own parameters (``/melfa/program``…), and the lease
-ends when the socket closes.
+This module is the protocol for one authenticated client; `melfa.ros.rosbridge_server` is
+the WebSocket transport (authentication, binary frames, the outgoing queue).
 """
 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import dataclasses
-import datetime as dt
 import itertools
 import json
 import logging
 import time
-from collections import deque
-from collections.abc import Awaitable, Callable, Iterable
-from typing import Any, ClassVar, Generic, TypeVar
-
-from fastapi import APIRouter, WebSocket, WebSocketDisconnect
+from collections.abc import Awaitable, Callable
+from typing import Any, ClassVar
 
 from melfa.ros import interface as ri
 from melfa.ros.core import RosCore, ServiceReply
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, Stamp
+from melfa.ros.rosapi import Rosapi, RosapiError
 from melfa.service import Actor, RobotService
+from melfa.service.thesis import MELFA, Dialect
 
 log = logging.getLogger(__name__)
 
-S = TypeVar("S")
-
-POLICY_VIOLATION = 1008
-OUTGOING_MAXLEN = 256
-"""Messages waiting for a slow client; beyond that the oldest are dropped (state is
-superseded anyway)."""
+Send = Callable[[dict[str, Any], str | None, int | None], None]
+"""How a session sends: (message, topic it belongs to or None, that topic's queue_length)."""
 STATE_TOPICS = frozenset({ri.JOINT_STATES, ri.TOOL_POSE_STAMPED, ri.TOOL_POSE, ri.JOINT_STATE_TEXT})
 """Topics fed by the state stream (a subscriber to any of them starts the stream)."""
 LEVELS = ("none", "error", "warning", "info")
@@ -105,6 +91,40 @@ class _Subscribed:
     ids: dict[str | None, float] = dataclasses.field(default_factory=dict)
     """Subscription id → throttle (s); the topic goes out at the smallest."""
     last: float = -float("inf")
+    queue_length: int | None = None
+    """Most messages of this topic waiting for the client (None: no own limit)."""
+    fragment_size: int | None = None
+
+
+def fragments(message: dict[str, Any], size: int | None, ids: Any) -> list[dict[str, Any]]:
+    """``message`` itself, or rosbridge ``fragment`` ops of at most ``size`` characters
+    of its JSON when it is longer.
+
+    >>> [f["data"] for f in fragments({"op": "x"}, 5, iter(["f1"]))]
+    ['{"op"', ': "x"', '}']
+    """
+    text = json.dumps(message)
+    if size is None or len(text) <= size:
+        return [message]
+    parts = [text[i : i + size] for i in range(0, len(text), size)]
+    number = next(ids)
+    return [
+        {"op": "fragment", "id": number, "data": part, "num": i, "total": len(parts)}
+        for i, part in enumerate(parts)
+    ]
+
+
+SERVICE_ARGS: dict[str, frozenset[str]] = {
+    ri.TRIGGER: frozenset(),
+    ri.SET_BOOL: frozenset({"data"}),
+}
+TEXT_ARGS = {
+    ri.LOAD_PROGRAM: frozenset({ri.PROGRAM_PARAM}),
+    ri.LOAD_POINTS: frozenset({ri.POINTS_PARAM}),
+    ri.LOAD_PROJECT: frozenset({ri.PROGRAM_PARAM, ri.POINTS_PARAM}),
+    ri.OVERRIDE: frozenset({ri.OVERRIDE_PARAM}),
+}
+"""Fields our services take over rosbridge besides their ROS type's (the texts)."""
 
 
 class RosbridgeSession:
@@ -115,26 +135,41 @@ class RosbridgeSession:
         self,
         service: RobotService,
         actor: Actor,
-        send: Callable[[dict[str, Any]], None],
+        send: Send,
         *,
         namespace: str = ri.NODE_NAME,
         frame_id: str = BASE_FRAME,
         max_rate_hz: float | None = None,
+        dialect: Dialect = MELFA,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.service = service
         self.actor = actor
-        self._send = send
+        self._raw_send = send
         self.namespace = namespace.strip("/")
         self._clock = clock
-        self.params: dict[str, Any] = {}
+        self.rosapi = Rosapi(self.namespace)
+        self.params = self.rosapi.params
         self.level = "error"
         self.advertised: dict[str, str] = {}
         self.subscribed: dict[str, _Subscribed] = {}
         self._calls: set[asyncio.Task[None]] = set()
+        self._fragment_ids = itertools.count(1)
         self.core = RosCore(
-            service, actor, self, self, frame_id=frame_id, max_rate_hz=max_rate_hz, clock=clock
+            service,
+            actor,
+            self,
+            self,
+            frame_id=frame_id,
+            max_rate_hz=max_rate_hz,
+            dialect=dialect,
+            clock=clock,
         )
+
+    def _send(
+        self, message: dict[str, Any], topic: str | None = None, queue: int | None = None
+    ) -> None:
+        self._raw_send(message, topic, queue)
 
     def start(self) -> None:
         self.core.start(stream=False)
@@ -169,7 +204,9 @@ class RosbridgeSession:
         if now - sub.last < min(sub.ids.values(), default=0.0):
             return
         sub.last = now
-        self._send({"op": "publish", "topic": f"/{topic}", "msg": msg()})
+        message = {"op": "publish", "topic": f"/{topic}", "msg": msg()}
+        for part in fragments(message, sub.fragment_size, self._fragment_ids):
+            self._send(part, topic, sub.queue_length)
 
     # ----------------------------------------------------------- protocol
 
@@ -231,7 +268,14 @@ class RosbridgeSession:
         throttle = message.get("throttle_rate") or 0
         if not isinstance(throttle, int | float) or throttle < 0:
             raise ProtocolError(f"throttle_rate must be milliseconds ≥ 0, not {throttle!r}")
-        self.subscribed.setdefault(topic, _Subscribed()).ids[_id(message)] = throttle / 1000
+        queue = _positive(message, "queue_length")
+        fragment = _positive(message, "fragment_size")
+        sub = self.subscribed.setdefault(topic, _Subscribed())
+        sub.ids[_id(message)] = throttle / 1000
+        if queue is not None:
+            sub.queue_length = queue if sub.queue_length is None else max(queue, sub.queue_length)
+        if fragment is not None:
+            sub.fragment_size = fragment
         if topic in STATE_TOPICS:
             self.core.start_stream()
 
@@ -253,19 +297,26 @@ class RosbridgeSession:
         name = message.get("service")
         if not isinstance(name, str) or not name.strip("/"):
             raise ProtocolError(f"a service name is needed, got {name!r}")
-        args = message.get("args") or {}
+        args = message.get("args", {})
+        if args is None:
+            args = {}
         if not isinstance(args, dict):
-            raise ProtocolError("args must be an object of the request's fields")
-        task = asyncio.create_task(self._serve(name, args, message.get("id")))
+            raise ProtocolError(
+                f"args must be an object of the request's fields (e.g. {{}}), not {args!r}"
+            )
+        fragment = _positive(message, "fragment_size")
+        task = asyncio.create_task(self._serve(name, args, message.get("id"), fragment))
         self._calls.add(task)
         task.add_done_callback(self._calls.discard)
 
-    async def _serve(self, name: str, args: dict[str, Any], op_id: object) -> None:
+    async def _serve(
+        self, name: str, args: dict[str, Any], op_id: object, fragment: int | None = None
+    ) -> None:
         """One service call (its own task: a stop overtakes an upload in progress)."""
         result = True
         try:
             values: Any = await self._dispatch(name.strip().strip("/"), args)
-        except ProtocolError as exc:
+        except (ProtocolError, RosapiError) as exc:
             result, values = False, str(exc)
         response: dict[str, Any] = {
             "op": "service_response",
@@ -275,67 +326,35 @@ class RosbridgeSession:
         }
         if op_id is not None:
             response["id"] = op_id
-        self._send(response)
+        for part in fragments(response, fragment, self._fragment_ids):
+            self._send(part)
 
     async def _dispatch(self, name: str, args: dict[str, Any]) -> Any:
         prefix = f"{self.namespace}/"
         if name.startswith(prefix) and name[len(prefix) :] in ri.SERVICE_BY_NAME:
             spec = ri.SERVICE_BY_NAME[name[len(prefix) :]]
+            allowed = SERVICE_ARGS[spec.type] | TEXT_ARGS.get(spec.name, frozenset())
+            extra = sorted(set(args) - allowed)
+            if extra:
+                takes = ", ".join(sorted(allowed)) or "no arguments"
+                raise ProtocolError(f"/{name} takes {takes}; not {', '.join(extra)}")
             data = None
             if spec.type == ri.SET_BOOL:
                 if not isinstance(args.get("data"), bool):
                     raise ProtocolError(f"/{name} ({ri.SET_BOOL}) needs args {{data: bool}}")
                 data = args["data"]
-            reply: ServiceReply = await self.core.call(spec.name, data)
+            texts = {k: v for k, v in args.items() if k in TEXT_ARGS.get(spec.name, ())}
+            for key, value in texts.items():
+                if not isinstance(value, str | int) or isinstance(value, bool):
+                    raise ProtocolError(f"/{name}: {key} must be text, not {value!r}")
+            reply: ServiceReply = await self.core.call(
+                spec.name, data, {k: str(v) for k, v in texts.items()}
+            )
             return {"success": reply.success, "message": reply.message}
         if name.startswith("rosapi/"):
-            return self._rosapi(name.removeprefix("rosapi/"), args)
-        services = ", ".join(self._services())
+            return self.rosapi.call(name.removeprefix("rosapi/"), args)
+        services = ", ".join(self.rosapi.services())
         raise ProtocolError(f"no service /{name}; there are {services}")
-
-    def _services(self) -> list[str]:
-        ours = [f"/{self.namespace}/{s.name}" for s in ri.SERVICES]
-        return ours + [f"/rosapi/{n}" for n in _ROSAPI]
-
-    def _rosapi(self, name: str, args: dict[str, Any]) -> dict[str, Any]:
-        if name == "topics":
-            return {
-                "topics": [f"/{t.name}" for t in ri.TOPICS],
-                "types": [t.type for t in ri.TOPICS],
-            }
-        if name == "services":
-            return {"services": self._services()}
-        if name == "topic_type":
-            spec = ri.TOPIC_BY_NAME.get(topic_name(args.get("topic", "")))
-            return {"type": spec.type if spec else ""}
-        if name == "service_type":
-            wanted = str(args.get("service", "")).strip("/")
-            kinds = {f"{self.namespace}/{s.name}": s.type for s in ri.SERVICES}
-            return {"type": kinds.get(wanted, "")}
-        if name == "get_time":
-            stamp = Stamp.of(dt.datetime.now(dt.UTC))
-            return {"time": {"secs": stamp.secs, "nsecs": stamp.nsecs}}
-        if name == "get_param_names":
-            return {"names": sorted(self.params)}
-        param = _param_name(args.get("name"))
-        if name == "get_param":
-            if param in self.params:
-                return {"value": json.dumps(self.params[param])}
-            default = args.get("default")
-            return {"value": default if isinstance(default, str) and default else "null"}
-        if name == "has_param":
-            return {"exists": param in self.params}
-        if name == "delete_param":
-            self.params.pop(param, None)
-            return {}
-        if name == "set_param":
-            raw = args.get("value")
-            try:
-                self.params[param] = json.loads(raw) if isinstance(raw, str) else raw
-            except json.JSONDecodeError:
-                self.params[param] = raw  # a bare string, as rosapi also accepts
-            return {}
-        raise ProtocolError(f"no service /rosapi/{name}")
 
     async def _service_response(self, message: dict[str, Any]) -> None:
         raise ProtocolError("this endpoint never calls client services; nothing was pending")
@@ -362,212 +381,26 @@ class RosbridgeSession:
     }
 
 
-_ROSAPI = (
-    "topics",
-    "services",
-    "topic_type",
-    "service_type",
-    "get_param",
-    "set_param",
-    "has_param",
-    "delete_param",
-    "get_param_names",
-    "get_time",
-)
-
-
 def _id(message: dict[str, Any]) -> str | None:
     value = message.get("id")
     return None if value is None else str(value)
 
 
-def _param_name(name: object) -> str:
-    if not isinstance(name, str) or not name.strip("/"):
-        raise ProtocolError(f"a parameter name is needed, got {name!r}")
-    return "/" + name.strip().strip("/")
-
-
-# =============================================================================== transport
-
-
-def origin_allowed(websocket: WebSocket, allowed: Iterable[str]) -> bool:
-    """Whether a browser page at the request's Origin may use the session cookie: none
-    (not a browser), the server's own host, or one of ``allowed``. Same rule as the web
-    app's sign-in check."""
-    origin = websocket.headers.get("origin")
-    if origin is None or origin == "null":
-        return True
-    host = websocket.headers.get("host", "")
-    return origin.split("://", 1)[-1] == host or origin in set(allowed)
-
-
-class _Endpoint(Generic[S]):
-    """The WebSocket route: authentication, then a `RosbridgeSession`."""
-
-    def __init__(
-        self,
-        service: RobotService | Callable[[WebSocket], RobotService],
-        find_session: Callable[[WebSocket, str], Awaitable[S | None]],
-        actor_of: Callable[[S], Actor],
-        *,
-        cookie_name: str,
-        allowed_origins: Iterable[str] | Callable[[WebSocket], Iterable[str]],
-        options: dict[str, Any],
-        auth_timeout_s: float,
-    ) -> None:
-        self.service = service
-        self.find_session = find_session
-        self.actor_of = actor_of
-        self.cookie_name = cookie_name
-        self.allowed_origins = allowed_origins
-        self.options = options
-        self.auth_timeout_s = auth_timeout_s
-        self._numbers = itertools.count(1)
-
-    def _service(self, websocket: WebSocket) -> RobotService:
-        if isinstance(self.service, RobotService):
-            return self.service
-        return self.service(websocket)
-
-    async def _actor(self, websocket: WebSocket, token: str | None) -> Actor | None:
-        if not token:
-            return None
-        session = await self.find_session(websocket, token)
-        return None if session is None else self.actor_of(session)
-
-    async def _from_cookie(self, websocket: WebSocket) -> Actor | None:
-        token = websocket.cookies.get(self.cookie_name)
-        if not token:
-            return None
-        allowed = self.allowed_origins
-        origins = allowed(websocket) if callable(allowed) else allowed
-        if not origin_allowed(websocket, origins):
-            return None
-        return await self._actor(websocket, token)
-
-    async def _from_auth_op(self, websocket: WebSocket) -> Actor | None:
-        """The first message must be ``auth`` with a valid token; else None."""
-        try:
-            raw = await asyncio.wait_for(websocket.receive_text(), self.auth_timeout_s)
-            message = json.loads(raw)
-        except (TimeoutError, json.JSONDecodeError, KeyError):
-            return None
-        if not isinstance(message, dict) or message.get("op") != "auth":
-            return None
-        mac = message.get("mac")
-        return await self._actor(websocket, mac if isinstance(mac, str) else None)
-
-    async def __call__(self, websocket: WebSocket) -> None:
-        await websocket.accept()
-        try:
-            actor = await self._from_cookie(websocket) or await self._from_auth_op(websocket)
-        except WebSocketDisconnect:
-            return
-        if actor is None:
-            with contextlib.suppress(Exception):
-                await websocket.send_text(
-                    json.dumps(
-                        {
-                            "op": "status",
-                            "level": "error",
-                            "msg": "authentication failed: sign in (session cookie) or send "
-                            '{"op": "auth", "mac": "<session token>", ...} first',
-                        }
-                    )
-                )
-                await websocket.close(POLICY_VIOLATION, "authentication failed")
-            return
-        number = next(self._numbers)
-        actor = dataclasses.replace(actor, session_id=f"{actor.session_id}/rosbridge-{number}")
-        await self._serve(websocket, self._service(websocket), actor)
-
-    async def _serve(self, websocket: WebSocket, service: RobotService, actor: Actor) -> None:
-        outgoing: deque[str] = deque(maxlen=OUTGOING_MAXLEN)
-        ready = asyncio.Event()
-
-        def send(message: dict[str, Any]) -> None:
-            outgoing.append(json.dumps(message))
-            ready.set()
-
-        async def sender() -> None:
-            while True:
-                await ready.wait()
-                ready.clear()
-                while outgoing:
-                    await websocket.send_text(outgoing.popleft())
-
-        session = RosbridgeSession(service, actor, send, **self.options)
-        session.start()
-        writer = asyncio.create_task(sender(), name="rosbridge-sender")
-        try:
-            while True:
-                raw = await websocket.receive_text()
-                try:
-                    message = json.loads(raw)
-                except json.JSONDecodeError as exc:
-                    session.status("error", f"not JSON: {exc}")
-                    continue
-                if not isinstance(message, dict):
-                    session.status("error", "a rosbridge message is a JSON object with an op")
-                    continue
-                await session.handle(message)
-        except (WebSocketDisconnect, RuntimeError):
-            pass
-        finally:
-            writer.cancel()
-            with contextlib.suppress(asyncio.CancelledError, Exception):
-                await writer
-            await session.close()
-            with contextlib.suppress(Exception):
-                await service.disconnect(actor)
-
-
-def rosbridge_router(
-    service: RobotService | Callable[[WebSocket], RobotService],
-    find_session: Callable[[WebSocket, str], Awaitable[S | None]],
-    actor_of: Callable[[S], Actor],
-    *,
-    path: str = "/rosbridge",
-    cookie_name: str = "melfa_session",
-    allowed_origins: Iterable[str] | Callable[[WebSocket], Iterable[str]] = (),
-    namespace: str = ri.NODE_NAME,
-    frame_id: str = BASE_FRAME,
-    max_rate_hz: float | None = 50.0,
-    auth_timeout_s: float = 10.0,
-) -> APIRouter:
-    """A router with the rosbridge WebSocket at ``path``.
-
-    - ``service``: the `RobotService`, or a function of the WebSocket returning it (when the
-      app builds the service at startup, e.g. ``lambda ws: ws.app.state.web.service``).
-    - ``find_session(websocket, token)``: the live session for a token (the cookie's or the
-      ``auth`` op's ``mac``), or None; ``actor_of(session)`` makes it an `Actor`.
-    - ``allowed_origins``: browser origins besides the server's own that may use the cookie.
-    - ``max_rate_hz``: most state messages per second per client (None: every snapshot).
-    """
-    endpoint: _Endpoint[S] = _Endpoint(
-        service,
-        find_session,
-        actor_of,
-        cookie_name=cookie_name,
-        allowed_origins=allowed_origins,
-        options={"namespace": namespace, "frame_id": frame_id, "max_rate_hz": max_rate_hz},
-        auth_timeout_s=auth_timeout_s,
-    )
-    router = APIRouter()
-
-    async def rosbridge(websocket: WebSocket) -> None:
-        await endpoint(websocket)
-
-    router.add_api_websocket_route(path, rosbridge, name="rosbridge")
-    return router
+def _positive(message: dict[str, Any], key: str) -> int | None:
+    """A count option; None when absent or 0 (roslibjs's "no limit")."""
+    value = message.get(key)
+    if value is None or value == 0:
+        return None
+    if not isinstance(value, int) or isinstance(value, bool) or value < 1:
+        raise ProtocolError(f"{key} must be a whole number ≥ 0, not {value!r}")
+    return value
 
 
 __all__ = [
     "ProtocolError",
     "RosbridgeSession",
+    "fragments",
     "joint_state_msg",
-    "origin_allowed",
     "pose_stamped_msg",
-    "rosbridge_router",
     "topic_name",
 ]

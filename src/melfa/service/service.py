@@ -527,8 +527,10 @@ class RobotService:
         *,
         wait: bool | None = None,
         servo: ServoPolicy | None = None,
+        step_mm: float | None = None,
     ) -> None:
-        """One increment per press (``RobotSettings.jog_step_mm`` / ``jog_step_deg``).
+        """One increment per press (``step_mm``, else ``RobotSettings.jog_step_mm`` /
+        ``jog_step_deg``).
         Refused with `JogBusy` while the previous step is queued or still moving: never a
         backlog. With ``wait`` the worker also waits until the step has finished moving."""
         self._check_open()
@@ -541,7 +543,7 @@ class RobotService:
             self._apply_ceiling(robot)
             try:
                 for statement in robot.step_statements(
-                    request.mode, request.axis, request.direction
+                    request.mode, request.axis, request.direction, step_mm
                 ):
                     robot.exec(statement)
             except ControllerError as exc:
@@ -549,7 +551,7 @@ class RobotService:
                     raise JogBusy("the previous step is still moving") from exc
                 raise
             if waits:
-                robot.wait_idle()
+                self._require_worker().poll_while_moving(robot)
 
         self._step_busy = True
         try:

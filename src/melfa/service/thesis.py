@@ -24,8 +24,20 @@ The PDF rendered ``---`` as an em dash, so ``—RUN PROGRAM—`` is accepted too
 ``---OPEN TOOL---`` / ``---CLOSE TOOL---`` (the thesis's spacebar, §6.9.2; its message
 names are not printed, so these are melfa's) open and close hand 1.
 
+``---MOVE TOOL STATE---`` followed by ``(x,y,z,a,b,c)`` (mm and degrees, what the thesis's
+page sends from a point's "Move" button) moves there in a straight line (S5).
+``---CONNECT FOR LOAD---``, ``---CONNECT FOR EXECUTE---`` and ``---DISCONNECT---`` change
+nothing, as in the thesis's node.
+
 A message that makes no sense in the current state raises `ThesisMessageError` and returns
 the machine to S0 (S7 did the same, printing the error).
+
+Two dialects (`Dialect`): `MELFA` (the default for new clients) and `THESIS`, which
+reproduces the thesis's execute node (``src/nodes/execute_node.cpp`` on its ``tfg-biel``
+branch) for its unmodified clients: answers ``x,y,z,r,p,y`` without parentheses, jogs
+20 mm along the base frame (+Z up), switches the servo on when it connects and before each
+jog session, and off when the jog session ends (the thesis's test 7.1.4). docs/ros.md lists
+every message and where the two differ.
 """
 
 from __future__ import annotations
@@ -36,6 +48,7 @@ import math
 import re
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 from melfa.service.errors import ThesisMessageError
 from melfa.service.events import Actor, JogFrame, ThesisOutput
@@ -48,6 +61,7 @@ class ThesisState(enum.Enum):
     S2 = "receiving program"
     S3 = "receiving points"
     S4 = "jogging"
+    S5 = "waiting for a pose to move to"
 
 
 _DASH = r"(?:-{3}|[—–])"
@@ -73,11 +87,69 @@ SIMPLE = frozenset(
         "DELETE",
         "REQUEST TOOL POSE",
         "REQUEST JOINT STATE",
+        "MOVE TOOL STATE",
         "MOVE JOINT STATE",
         "OPEN TOOL",
         "CLOSE TOOL",
+        "CONNECT FOR LOAD",
+        "CONNECT FOR EXECUTE",
+        "DISCONNECT",
     }
 )
+
+HARMLESS = frozenset({"CONNECT FOR LOAD", "CONNECT FOR EXECUTE", "DISCONNECT"})
+"""The thesis's node returned on these without doing anything (it connected per message)."""
+
+_POSE = re.compile(r"^\(?\s*([^(),]+(?:,[^(),]+){5})\s*\)?")
+
+
+@dataclass(frozen=True)
+class Dialect:
+    """How the control messages behave: melfa's defaults or the thesis's node exactly."""
+
+    name: str
+    parentheses: bool
+    """Answers as ``(a,b,c)`` (appendix 9.1) or ``a,b,c`` (what the node really sent)."""
+    jog_frame: JogFrame
+    jog_step_mm: float | None
+    """Step of ``MOV TOOL`` (None: `RobotSettings.jog_step_mm`)."""
+    servo_on_connect: bool
+    """Switch the servo on when the client connects, before each jog session, and off
+    when the session ends, as the thesis's ``Melfa::connect``/``disconnect`` did."""
+    streams_text: bool
+    """Publish ``tool_pose``/``joint_state`` with every state update (else only when
+    requested, as the thesis did)."""
+
+
+MELFA = Dialect("melfa", True, JogFrame.TOOL, None, False, True)
+THESIS = Dialect("thesis", False, JogFrame.XYZ, 20.0, True, False)
+DIALECTS = {d.name: d for d in (MELFA, THESIS)}
+
+
+def dialect_named(name: str) -> Dialect:
+    """`MELFA` or `THESIS` by name; a clear error otherwise."""
+    found = DIALECTS.get(name.strip().lower())
+    if found is None:
+        raise ValueError(f"mode {name!r} is not one of {', '.join(DIALECTS)}")
+    return found
+
+
+def parse_pose(message: str) -> tuple[float, ...]:
+    """X, Y, Z, A, B, C of ``(x,y,z,a,b,c)`` (parentheses optional; a trailing ``(7,0)`` is
+    ignored).
+
+    >>> parse_pose("(417.61,16.40,180.00,180.00,0.00,180.00)")
+    (417.61, 16.4, 180.0, 180.0, 0.0, 180.0)
+    """
+    match = _POSE.match(message.strip())
+    if match is None:
+        raise ThesisMessageError(f"{message.strip()[:60]!r} is not a pose (x,y,z,a,b,c)")
+    try:
+        return tuple(float(v) for v in match[1].split(","))
+    except ValueError:
+        raise ThesisMessageError(
+            f"{message.strip()[:60]!r} is not a pose: six numbers (x,y,z,a,b,c) are needed"
+        ) from None
 
 
 def parse_control(message: str) -> tuple[str, float | None] | None:
@@ -100,9 +172,15 @@ def parse_control(message: str) -> tuple[str, float | None] | None:
     return name, float(stamp) if stamp is not None else None
 
 
-def format_tuple(values: tuple[float, ...]) -> str:
-    """The thesis's "(a,b,c)" form."""
-    return "(" + ",".join(f"{v:.6g}" for v in values) + ")"
+def format_tuple(values: tuple[float, ...], *, parentheses: bool = True) -> str:
+    """The thesis's "(a,b,c)" form, or "a,b,c" (six significant digits, like C++'s
+    ``ostream``).
+
+    >>> format_tuple((0.4, 0.0, 1.5707963), parentheses=False)
+    '0.4,0,1.5708'
+    """
+    text = ",".join(f"{v:.6g}" for v in values)
+    return f"({text})" if parentheses else text
 
 
 class ThesisMessages:
@@ -115,11 +193,13 @@ class ThesisMessages:
         *,
         si_units: bool = True,
         hand: int = 1,
+        dialect: Dialect = MELFA,
         wall_clock: Callable[[], float] = time.time,
     ) -> None:
         self.service = service
         self.actor = actor
         self.si_units = si_units
+        self.dialect = dialect
         self.hand = hand
         self._wall = wall_clock
         self.state = ThesisState.S0
@@ -142,15 +222,16 @@ class ThesisMessages:
         if control is None:
             return await self._information(message)
         name, stamp = control
+        if name in HARMLESS:
+            return None
         if name in MOVES:
             if self.state not in (ThesisState.S0, ThesisState.S4):
                 await self._reset()
                 raise ThesisMessageError(f"{name} while {self.state.value} ({self.state.name})")
+            if self.state is ThesisState.S0 and self.dialect.servo_on_connect:
+                await self.servo(True)
             self.state = ThesisState.S4
             self._queue_move(MOVES[name], stamp)
-            return None
-        if name == "MOVE JOINT STATE" and self.state in (ThesisState.S0, ThesisState.S4):
-            self.state = ThesisState.S4
             return None
         if name in ("OPEN TOOL", "CLOSE TOOL") and self.state in (ThesisState.S0, ThesisState.S4):
             await self._join_moves()
@@ -159,6 +240,8 @@ class ThesisMessages:
         if self.state is ThesisState.S4:
             await self._join_moves()
             self.state = ThesisState.S0
+            if self.dialect.servo_on_connect:
+                await self.servo(False)
         if self.state is ThesisState.S2 and name == "LOAD PROGRAM END":
             lines, self._lines, self.state = self._lines, [], ThesisState.S0
             await self.service.upload_program(self.actor, lines)
@@ -182,18 +265,20 @@ class ThesisMessages:
             self._lines, self.state = [], ThesisState.S3
         elif name == "RUN PROGRAM":
             await self.service.run(self.actor)
+        elif name in ("MOVE TOOL STATE", "MOVE JOINT STATE"):
+            self.state = ThesisState.S5
         elif name == "DELETE":
             await self.service.delete(self.actor)
         elif name == "REQUEST TOOL POSE":
             pose = await self.service.read_pose(self.actor)
             if self.si_units:
                 pose = (*(v / 1000 for v in pose[:3]), *(math.radians(v) for v in pose[3:]))
-            return self._publish("tool_pose", format_tuple(pose))
+            return self._publish("tool_pose", self._format(pose))
         elif name == "REQUEST JOINT STATE":
             joints = await self.service.read_joints(self.actor)
             if self.si_units:
                 joints = tuple(math.radians(v) for v in joints)
-            return self._publish("joint_state", format_tuple(joints))
+            return self._publish("joint_state", self._format(joints))
         else:
             raise ThesisMessageError(f"{name} makes no sense while idle (S0)")
         return None
@@ -201,7 +286,16 @@ class ThesisMessages:
     async def _information(self, message: str) -> str | None:
         if self.state is ThesisState.S1:
             self.state = ThesisState.S0
+            if self.dialect.servo_on_connect:
+                await self.servo(True)
             await self.service.exec(self.actor, message)
+            return None
+        if self.state is ThesisState.S5:
+            self.state = ThesisState.S0
+            pose = parse_pose(message)
+            if self.dialect.servo_on_connect:
+                await self.servo(True)
+            await self.service.move_to(self.actor, pose, linear=True)
             return None
         if self.state in (ThesisState.S2, ThesisState.S3):
             self._lines.append(message.rstrip("\r\n"))
@@ -212,6 +306,17 @@ class ThesisMessages:
             f"{message.strip()[:40]!r} is not a control message, and nothing was announced "
             f"while {state.value} ({state.name})"
         )
+
+    def _format(self, values: tuple[float, ...]) -> str:
+        clean = tuple(0.0 if abs(v) < 1e-12 else v for v in values)
+        return format_tuple(clean, parentheses=self.dialect.parentheses)
+
+    async def servo(self, on: bool) -> None:
+        """Servo on or off as the thesis's connect/disconnect did (nothing when it already
+        is: the state stream knows)."""
+        if self.service.state.servo is on:
+            return
+        await self.service.servo(self.actor, on)
 
     def _publish(self, topic: str, text: str) -> str:
         self.service.publish(ThesisOutput(actor=self.actor, topic=topic, text=text))
@@ -246,7 +351,14 @@ class ThesisMessages:
             axis, direction = due[0]
             del self._pending[due[0]]
             try:
-                await self.service.jog_step(self.actor, JogFrame.TOOL, axis, direction, wait=True)
+                await self.service.jog_step(
+                    self.actor,
+                    self.dialect.jog_frame,
+                    axis,
+                    direction,
+                    wait=True,
+                    step_mm=self.dialect.jog_step_mm,
+                )
                 self.moves += 1
             except Exception as exc:
                 self.errors.append(exc)
@@ -269,4 +381,16 @@ class ThesisMessages:
         await self._reset()
 
 
-__all__ = ["MOVES", "ThesisMessages", "ThesisState", "format_tuple", "parse_control"]
+__all__ = [
+    "DIALECTS",
+    "MELFA",
+    "MOVES",
+    "THESIS",
+    "Dialect",
+    "ThesisMessages",
+    "ThesisState",
+    "dialect_named",
+    "format_tuple",
+    "parse_control",
+    "parse_pose",
+]

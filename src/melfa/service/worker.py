@@ -320,7 +320,13 @@ class Worker:
         n = self._cycle_no
         self._cycle_no += 1
         plan = ["JPOSF"]
-        if n % self.config.pose_every == 0:
+        moving = not self._joints_still
+        # One kind of pose per phase, never alternating: while moving, computed from every
+        # JPOSF once the tool offset is known (else measured by PPOSF every cycle); at
+        # rest, measured every `pose_every` cycles.
+        if (moving and self._tool_offset is None) or (
+            not moving and n % self.config.pose_every == 0
+        ):
             plan.append("PPOSF")
         if n % self.config.state_every == 0:
             plan.append("STATE")
@@ -328,7 +334,24 @@ class Worker:
             plan.append("HNDSTS")
         return plan
 
-    def _poll(self) -> None:
+    def poll_while_moving(self, robot: Robot, timeout: float = 60.0) -> None:
+        """In a job: wait until the arm stops (``DSTATE``'s RUN bit), polling the state
+        between checks, so snapshots keep flowing during the move: never a silent gap
+        longer than one poll (a bare `Robot.wait_idle` would hold the line for the whole
+        move)."""
+        if not self.config.polling:
+            robot.wait_idle(timeout)
+            return
+        end = self._clock() + timeout
+        while True:
+            if RunStatus.RUNNING not in robot.dstate().status.run:
+                return
+            if self._clock() > end:
+                raise RobotError(f"still moving after {timeout:g} s")
+            self._closing.wait(self.config.poll_floor_s)
+            self._poll(reconnect=False)
+
+    def _poll(self, *, reconnect: bool = True) -> None:
         robot = self.robot
         if robot is None:
             return
@@ -340,6 +363,8 @@ class Worker:
             update = self._poll_once(robot, command)
         except LinkError as exc:
             self._last_poll_end = self._clock()
+            if not reconnect:
+                raise  # inside a job: the job fails and `_run` reconnects once
             self._reconnect(str(exc))
             return
         except (ControllerError, RemoteProtocolError, RobotError):

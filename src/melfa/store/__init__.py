@@ -63,6 +63,7 @@ from melfa.store.store import (
     database_path,
     default_data_dir,
 )
+from melfa.store.tokens import AccessToken, AccessTokens, NewAccessToken, is_access_token
 from melfa.store.transfer import (
     ExportedFile,
     FileKind,
@@ -82,6 +83,8 @@ __all__ = [
     "MAX_TEXT_CHARS",
     "MIGRATIONS",
     "AccessDenied",
+    "AccessToken",
+    "AccessTokens",
     "Accounts",
     "AlreadyExists",
     "AsyncStore",
@@ -100,6 +103,7 @@ __all__ = [
     "LoginAttempts",
     "LoginPolicy",
     "Migration",
+    "NewAccessToken",
     "NewSession",
     "NewUser",
     "NotFound",
@@ -132,6 +136,7 @@ __all__ = [
     "enrol",
     "file_kind",
     "generate_password",
+    "is_access_token",
     "normalize_group",
     "normalize_username",
     "parse_enrolment",

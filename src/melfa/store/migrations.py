@@ -147,5 +147,22 @@ _SESSIONS = Migration(
     ),
 )
 
-MIGRATIONS: tuple[Migration, ...] = (_ACCOUNTS, _WORKSPACES, _AUDIT, _SESSIONS)
+_ACCESS_TOKENS = Migration(
+    "0005_access_tokens",
+    (
+        """
+        CREATE TABLE access_tokens (
+            id INTEGER PRIMARY KEY,
+            token_hash TEXT NOT NULL UNIQUE,
+            user_id INTEGER NOT NULL REFERENCES users (id) ON DELETE CASCADE,
+            label TEXT NOT NULL,
+            created TEXT NOT NULL,
+            last_used TEXT
+        )
+        """,
+        "CREATE INDEX access_tokens_user ON access_tokens (user_id)",
+    ),
+)
+
+MIGRATIONS: tuple[Migration, ...] = (_ACCOUNTS, _WORKSPACES, _AUDIT, _SESSIONS, _ACCESS_TOKENS)
 """Every migration, in the order they apply. Append only."""

@@ -19,6 +19,7 @@ from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions
 from melfa.store.timeutil import Clock, system_clock
+from melfa.store.tokens import AccessTokens
 from melfa.store.workspaces import RetentionPolicy, Workspaces
 
 __all__ = [
@@ -70,6 +71,7 @@ class Store:
         self.logins = LoginAttempts(self.db, login_policy)
         self.workspaces = Workspaces(self.db, self.accounts, retention)
         self.audit = AuditLog(self.db)
+        self.tokens = AccessTokens(self.db, self.accounts)
 
     @classmethod
     def open_dir(cls, data_dir: Path | str, *, create: bool = True, **options: object) -> Store:

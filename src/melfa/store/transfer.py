@@ -17,6 +17,7 @@ import re
 from dataclasses import dataclass
 
 from melfa.lang.diagnostics import Diagnostic
+from melfa.lang.encoding import decode_text
 from melfa.lang.numbering import renumber, strip
 from melfa.lang.points import format_points, parse_points
 from melfa.store.errors import TransferError, WrongExtension
@@ -68,22 +69,6 @@ def _expect(filename: str, kind: FileKind) -> str:
         what = "program (.MB4)" if kind is FileKind.PROGRAM else "points (.POS)"
         raise WrongExtension(name or filename, what)
     return name
-
-
-def decode_text(data: bytes | str) -> str:
-    """Text of an uploaded file: UTF-8 (BOM allowed), else Windows-1252; LF line ends.
-
-    >>> decode_text(b"10 MOV P1\\r\\n20 END\\r\\n"), decode_text("caf\\xe9".encode("cp1252"))
-    ('10 MOV P1\\n20 END\\n', 'café')
-    """
-    if isinstance(data, bytes):
-        try:
-            text = data.decode("utf-8-sig")
-        except UnicodeDecodeError:
-            text = data.decode("cp1252", errors="replace")
-    else:
-        text = data.removeprefix("\ufeff")
-    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def program_from_file(filename: str, data: bytes | str) -> str:

@@ -8,7 +8,7 @@ import asyncio
 import contextlib
 from collections.abc import AsyncIterator
 
-from fastapi import APIRouter, FastAPI
+from fastapi import FastAPI
 from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 
@@ -20,6 +20,7 @@ from melfa.web.audit_sink import ServiceAuditSink
 from melfa.web.config import WebSettings
 from melfa.web.context import WebContext
 from melfa.web.logs import RequestLog
+from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
     audit,
     check,
@@ -29,6 +30,7 @@ from melfa.web.routes import (
     robot,
     session,
     targets,
+    tokens,
     users,
     workspaces,
 )
@@ -45,6 +47,7 @@ TAGS = [
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
     {"name": "users", "description": "Accounts (admins)."},
+    {"name": "tokens", "description": "My personal access tokens (for programs)."},
     {"name": "health", "description": "Is everything up."},
 ]
 
@@ -121,6 +124,7 @@ def create_app(
         lease.router,
         audit.router,
         users.router,
+        tokens.router,
         health.router,
     ):
         app.include_router(router)
@@ -128,7 +132,7 @@ def create_app(
     app.include_router(audit.pages)
     app.include_router(pages.router)
     app.include_router(ws_router)
-    app.include_router(_rosbridge())
+    app.include_router(rosbridge_routes())
     app.mount("/static", StaticFiles(directory=STATIC), name="static")
     return app
 
@@ -141,17 +145,3 @@ async def _reap(targets: TargetRegistry) -> None:
     while True:
         await asyncio.sleep(min(60.0, targets.idle_s / 4))
         await targets.reap()
-
-
-def _rosbridge() -> APIRouter:
-    """The rosbridge v2 endpoint (`/rosbridge`, docs/ros.md): roslibjs and roslibpy clients
-    drive the same service as the IDE, authenticated by the session cookie or `auth` op."""
-    from melfa.ros.rosbridge import rosbridge_router
-    from melfa.web.deps import actor_of, find_session, ws_context
-
-    return rosbridge_router(
-        lambda ws: ws_context(ws).service,
-        lambda ws, token: find_session(ws_context(ws), token),
-        actor_of,
-        allowed_origins=lambda ws: ws_context(ws).settings.allowed_origins,
-    )

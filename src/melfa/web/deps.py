@@ -10,7 +10,7 @@ from fastapi import Depends, Request, WebSocket
 
 from melfa.service import Actor
 from melfa.service import Role as ServiceRole
-from melfa.store import Role, Session, check_csrf
+from melfa.store import Role, Session, check_csrf, is_access_token
 from melfa.web.config import CSRF_HEADER, SAFE_METHODS, SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.errors import ApiError
@@ -30,15 +30,33 @@ ContextDep = Annotated[WebContext, Depends(get_context)]
 
 
 async def find_session(context: WebContext, token: str | None) -> Session | None:
-    """The live session for a cookie token, or None."""
+    """The live session for a cookie token or a personal access token
+    (`melfa.store.tokens`), or None."""
     if not token:
         return None
+    if is_access_token(token):
+        return await context.db(context.store.tokens.lookup, token)
     return await context.db(context.store.sessions.lookup, token)
+
+
+def bearer_token(request: Request) -> str | None:
+    """The token of an ``Authorization: Bearer <token>`` header, if any."""
+    kind, _, value = request.headers.get("authorization", "").partition(" ")
+    return value.strip() or None if kind.lower() == "bearer" else None
 
 
 async def get_session(request: Request, context: ContextDep) -> Session:
     """The signed-in session; 401 without one, 403 when a state-changing request lacks the
     session's CSRF token in `X-CSRF-Token` (double submit)."""
+    bearer = bearer_token(request)
+    if bearer is not None:
+        # A personal access token: sent by a program, never by a browser on its own, so
+        # no CSRF token is needed (only tokens, not session cookies, are taken here).
+        session = await find_session(context, bearer) if is_access_token(bearer) else None
+        if session is None:
+            raise ApiError(401, "bad-token", "the Bearer token is unknown or revoked")
+        request.state.user = session.user.username
+        return session
     session = await find_session(context, request.cookies.get(SESSION_COOKIE))
     if session is None:
         raise ApiError(401, "not-signed-in", "sign in first (POST /api/session)")
@@ -97,6 +115,7 @@ __all__ = [
     "SessionDep",
     "StaffDep",
     "actor_of",
+    "bearer_token",
     "find_session",
     "get_context",
     "service_role",

@@ -372,3 +372,26 @@ class HealthOut(BaseModel):
     web: Literal["ok"]
     store: str
     robot: RobotHealth
+
+
+# --- personal access tokens ----------------------------------------------------------------
+
+
+class TokenIn(BaseModel):
+    label: str = Field("", max_length=60, description="What the token is for.")
+
+
+class TokenOut(BaseModel):
+    id: int
+    label: str
+    created: datetime
+    last_used: datetime | None
+
+
+class TokenCreatedOut(BaseModel):
+    token: str = Field(description="The token itself, shown only this once.")
+    info: TokenOut
+
+
+class TokenList(BaseModel):
+    tokens: list[TokenOut]
