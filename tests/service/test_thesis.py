@@ -6,7 +6,14 @@ import math
 
 import pytest
 
-from melfa.service import JogFrame, RobotService, ThesisMessageError, ThesisMessages, ThesisOutput
+from melfa.service import (
+    JogFrame,
+    RobotService,
+    ServoPolicy,
+    ThesisMessageError,
+    ThesisMessages,
+    ThesisOutput,
+)
 from melfa.service.thesis import parse_control
 from tests.service.helpers import ANN, RecordingController, make_service, run
 
@@ -54,11 +61,11 @@ async def _direct(service: RobotService, scenario: str) -> None:
         await service.upload_program(ANN, PROGRAM)
         await service.upload_points(ANN, POINTS)
         await service.exec(ANN, "SERVO ON")
-        await service.run(ANN)
+        await service.run(ANN, servo=ServoPolicy.TURN_ON)  # a topic cannot ask back
         await service.read_joints(ANN)
     else:
         await service.exec(ANN, "SERVO ON")
-        await service.jog_step(ANN, JogFrame.TOOL, "X", +1, wait=True)
+        await service.jog_step(ANN, JogFrame.TOOL, "X", +1, wait=True, servo=ServoPolicy.TURN_ON)
         await service.read_pose(ANN)
 
 

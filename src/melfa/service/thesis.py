@@ -53,6 +53,7 @@ from dataclasses import dataclass
 from melfa.service.errors import ThesisMessageError
 from melfa.service.events import Actor, JogFrame, ThesisOutput
 from melfa.service.service import RobotService, describe_error
+from melfa.service.servo import ServoPolicy
 
 
 class ThesisState(enum.Enum):
@@ -194,12 +195,17 @@ class ThesisMessages:
         si_units: bool = True,
         hand: int = 1,
         dialect: Dialect = MELFA,
+        servo: ServoPolicy = ServoPolicy.TURN_ON,
         wall_clock: Callable[[], float] = time.time,
     ) -> None:
+        """``servo``: what a move (jog, ``MOVE TOOL STATE``, run) does with the servo off
+        (`melfa.service.servo`): a message asking to move is the operator asking, and a
+        topic cannot ask back, so by default the servo is switched on (audited)."""
         self.service = service
         self.actor = actor
         self.si_units = si_units
         self.dialect = dialect
+        self.servo_policy = servo
         self.hand = hand
         self._wall = wall_clock
         self.state = ThesisState.S0
@@ -264,7 +270,7 @@ class ThesisMessages:
         elif name == "LOAD POINTS BEGIN":
             self._lines, self.state = [], ThesisState.S3
         elif name == "RUN PROGRAM":
-            await self.service.run(self.actor)
+            await self.service.run(self.actor, servo=self.servo_policy)
         elif name in ("MOVE TOOL STATE", "MOVE JOINT STATE"):
             self.state = ThesisState.S5
         elif name == "DELETE":
@@ -295,7 +301,7 @@ class ThesisMessages:
             pose = parse_pose(message)
             if self.dialect.servo_on_connect:
                 await self.servo(True)
-            await self.service.move_to(self.actor, pose, linear=True)
+            await self.service.move_to(self.actor, pose, linear=True, servo=self.servo_policy)
             return None
         if self.state in (ThesisState.S2, ThesisState.S3):
             self._lines.append(message.rstrip("\r\n"))
@@ -357,6 +363,7 @@ class ThesisMessages:
                     axis,
                     direction,
                     wait=True,
+                    servo=self.servo_policy,
                     step_mm=self.dialect.jog_step_mm,
                 )
                 self.moves += 1
