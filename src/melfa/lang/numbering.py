@@ -37,9 +37,13 @@ __all__ = [
     "NumberingError",
     "NumberingResult",
     "Reference",
+    "controller_text",
+    "is_numbered",
     "number_lines",
     "references",
     "renumber",
+    "source_line",
+    "step_lines",
     "strip",
     "strip_numbers",
 ]
@@ -317,3 +321,59 @@ def strip_numbers(text: str) -> str:
     if not result.ok:
         raise NumberingError(result.diagnostics)
     return result.text
+
+
+def is_numbered(text: str) -> bool:
+    """Whether every non-blank line already starts with a step number (sent as it is).
+
+    >>> is_numbered("10 MOV P1\\n\\n20 END"), is_numbered("10 MOV P1\\nEND")
+    (True, False)
+    """
+    return _all_numbered(_lines(text))
+
+
+def controller_text(text: str, start: int = 10, step: int = 10) -> str:
+    """The program as the controller gets it: a numbered text unchanged, any other numbered
+    with `number_lines` (which raises `NumberingError` when that cannot be done safely)."""
+    return text if is_numbered(text) else number_lines(text, start, step)
+
+
+def step_lines(text: str, start: int = 10, step: int = 10) -> dict[int, int]:
+    """Step number the controller reports -> 1-based line of `text` (the user's own text,
+    numbered or not), following `controller_text`. The one home for this mapping: the
+    robot's current line and the debugger's current statement both go through it.
+
+    >>> step_lines("SERVO ON\\n\\n*LOOP\\nGOTO *LOOP")
+    {10: 1, 30: 3, 40: 4}
+    >>> step_lines("5 MOV P1\\n7 END")
+    {5: 1, 7: 2}
+    """
+    lines = _lines(text)
+    mapping: dict[int, int] = {}
+    numbered = _all_numbered(lines)
+    for index, line in enumerate(lines):
+        if line.is_blank:
+            continue
+        tok = line.number_token
+        number = int(tok.text) if numbered and tok is not None else start + index * step
+        mapping.setdefault(number, index + 1)
+    return mapping
+
+
+def source_line(text: str, step_number: int | None) -> int | None:
+    """The line of `text` the controller's step `step_number` came from (None if none).
+
+    >>> source_line("SERVO ON\\nMOV P1", 20), source_line("SERVO ON", 99)
+    (2, None)
+    """
+    if step_number is None:
+        return None
+    return step_lines(text).get(step_number)
+
+
+def _all_numbered(lines: list[_Line]) -> bool:
+    return all(line.number_token is not None or line.is_blank for line in lines)
+
+
+def _lines(text: str) -> list[_Line]:
+    return _split_lines(tokenize(text))

@@ -22,16 +22,16 @@ from pathlib import Path
 from typing import TextIO
 
 from melfa.kin import Pose
-from melfa.lang.points import PointDef, PointKind, parse_points
-from melfa.protocol.error_table import ERROR_MESSAGES
+from melfa.lang.points import PointDef, parse_points
 from melfa.sim.arm import HandState, SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
+from melfa.sim.interp.errors import error_text
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S, run_fast
 from melfa.sim.interp.interpreter import Interpreter, Step
 from melfa.sim.interp.io import IOState
-from melfa.sim.interp.values import Joints, Position, Value
-from melfa.sim.runner import RunnerError, RunnerStatus
+from melfa.sim.interp.values import point_value
+from melfa.sim.runner import RunnerStatus
 
 REAL_TIME_TICK_S = 0.02
 """How often the real-time mode advances the program (wall-clock seconds)."""
@@ -40,14 +40,6 @@ SHOWN_HANDS = 4
 """Hands shown in the trace (the RV-6S has up to 8; classroom grippers use 1 or 2)."""
 
 STATEMENT_WIDTH = 30
-
-
-def point_value(p: PointDef) -> Value:
-    """A points-file entry as a program value (degrees in, radians inside)."""
-    values = [v if v is not None else 0.0 for v in p.values]
-    if p.kind is PointKind.JNT:
-        return Joints.from_degrees(values)
-    return Position.from_degrees(values, p.fl1 if p.fl1 is not None else 7, p.fl2 or 0)
 
 
 def strip_comment(text: str) -> str:
@@ -109,16 +101,6 @@ def hands_summary(arm: SimulatedArm) -> str:
     if not used:
         return "hands not used"
     return ", ".join(f"hand {n} {h.value}" for n, h in used)
-
-
-def error_text(error: RunnerError) -> str:
-    """``L3700 Undefined (uninitialised) variable (variable M9 has no value)``: the
-    controller's number and message, then what the simulator found."""
-    code = f"{error.level}{error.number:04d}"
-    known = ERROR_MESSAGES.get(error.number)
-    if known is None or known.message == error.message:
-        return f"{code} {error.message}"
-    return f"{code} {known.message} ({error.message})"
 
 
 @dataclass

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import enum
 
+from melfa.protocol.error_table import ERROR_MESSAGES
 from melfa.sim.runner import RunnerError, StepError
 
 
@@ -118,3 +119,13 @@ def level_for(number: int) -> ErrorLevel:
     if 9200 <= number <= 9299:
         return ErrorLevel.CAUTION
     return ErrorLevel.LOW
+
+
+def error_text(error: RunnerError) -> str:
+    """``L3700 Undefined (uninitialised) variable (variable M9 has no value)``: the
+    controller's number and message, then what the simulator found."""
+    code = f"{error.level}{error.number:04d}"
+    known = ERROR_MESSAGES.get(error.number)
+    if known is None or known.message == error.message:
+        return f"{code} {error.message}"
+    return f"{code} {known.message} ({error.message})"

@@ -49,6 +49,10 @@ class IOState:
         for i in range(width):
             self._set(self._outputs, "out", start + i, (value >> i) & 1)
 
+    def inputs(self) -> dict[int, int]:
+        """Every input bit that is on (a copy)."""
+        return {k: v for k, v in self._inputs.items() if v}
+
     def outputs(self) -> dict[int, int]:
         """Every output bit that is on (a copy)."""
         return {k: v for k, v in self._outputs.items() if v}

@@ -14,6 +14,7 @@ import enum
 import math
 from dataclasses import dataclass, replace
 
+from melfa.lang.points import PointDef, PointKind
 from melfa.sim.interp import errors
 
 INT_MIN = -32768  # DEF INTE range [S1 DEF INTE]
@@ -246,3 +247,11 @@ def default_value(vtype: VarType) -> Value | None:
     if vtype is VarType.STRING:
         return ""
     return None
+
+
+def point_value(p: PointDef) -> Value:
+    """A points-file entry as a program value (degrees in, radians inside)."""
+    values = [v if v is not None else 0.0 for v in p.values]
+    if p.kind is PointKind.JNT:
+        return Joints.from_degrees(values)
+    return Position.from_degrees(values, p.fl1 if p.fl1 is not None else 7, p.fl2 or 0)
