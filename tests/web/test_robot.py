@@ -138,14 +138,19 @@ def test_controller_refusal_is_409_with_its_number(web: Web) -> None:
 
 def test_lease_take_release_and_refusal(web: Web) -> None:
     ann, bob = web.ann, web.bob
-    assert ok(ann.get("/api/lease")) == {"holder": None, "you": False}
-    assert ok(ann.post("/api/lease")) == {"holder": {"user": "ann", "role": "student"}, "you": True}
+    free = ok(ann.get("/api/lease"))
+    assert (free["holder"], free["you"], free["label"]) == (None, False, "free")
+    taken = ok(ann.post("/api/lease"))
+    assert taken["holder"] == {"user": "ann", "role": "student"} and taken["you"] is True
+    assert taken["state"] == "no connection" and taken["label"] == "ann — no connection"
+    assert taken["since"] is not None and taken["idle_expires_in_s"] > 0
     error = assert_error(bob.post("/api/robot/servo", json={"on": True}), 423, "lease-required")
     assert error["detail"]["holder"] == {"user": "ann", "role": "student"}
     assert_error(bob.post("/api/lease"), 423, "lease-required")
     assert ok(bob.post("/api/robot/stop")) == {"ok": True}  # stop needs no lease
     assert ok(bob.get("/api/lease"))["you"] is False
-    assert ok(ann.delete("/api/lease")) == {"holder": None, "you": False}
+    released = ok(ann.delete("/api/lease"))
+    assert (released["holder"], released["you"]) == (None, False)
     assert ok(bob.post("/api/robot/servo", json={"on": True})) == {"ok": True}  # auto lease
     assert ok(bob.get("/api/lease"))["holder"]["user"] == "bob"
 
@@ -154,7 +159,7 @@ def test_takeover_by_instructor_not_student(web: Web) -> None:
     ok(web.ann.post("/api/lease"))
     assert_error(web.bob.post("/api/lease/takeover"), 403, "forbidden")
     taken = ok(web.ivy.post("/api/lease/takeover"))
-    assert taken == {"holder": {"user": "ivy", "role": "instructor"}, "you": True}
+    assert taken["holder"] == {"user": "ivy", "role": "instructor"} and taken["you"] is True
     assert_error(web.ann.post("/api/robot/run"), 423, "lease-required")
     assert ok(web.admin.post("/api/lease/takeover"))["holder"]["user"] == "admin"
 

@@ -209,6 +209,7 @@ class _Endpoint(Generic[S]):
 
         session = RosbridgeSession(service, actor, outbox.put, dialect=mode, **self.options)
         session.start()
+        service.connect(actor)  # the user's connections share one lease
         tasks = [
             asyncio.create_task(sender(), name="rosbridge-sender"),
             asyncio.create_task(still_allowed(), name="rosbridge-recheck"),

@@ -2,10 +2,21 @@
 
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass
 
 from melfa.protocol.jog import JOG_WATCHDOG_S
 from melfa.service.servo import ServoPolicy
+
+
+class WhenHolderLeaves(enum.Enum):
+    """What a move or program does when its owner's last connection closes (a jog always
+    stops at once: it needs a held key)."""
+
+    STOP = "stop"
+    """Stop the arm (the default: nobody is watching the screen that started it)."""
+    FINISH = "finish"
+    """Let it finish; the owner keeps the lease, shown as disconnected, until it ends."""
 
 
 @dataclass(frozen=True)
@@ -44,6 +55,9 @@ class ServiceConfig:
     jog_override_ceiling: int = 10
     """OP override (%) while jogging: lowered to this before the first JOG/step if higher,
     restored before the next user command that moves the arm [design.md: jog speed capped]."""
+    jog_override_step: int = 2
+    """An override raised during a jog climbs by at most this many % per JOG renewal
+    (never a jump); a lower one applies at once. The ceiling still holds."""
     step_waits_for_motion: bool = False
     """Step jog: also wait in the worker until the step has finished moving."""
 
@@ -52,10 +66,14 @@ class ServiceConfig:
     (`melfa.service.servo`). The web API always says (``servo_on``: TURN_ON, else ASK);
     the default leaves the controller to refuse, as before."""
 
-    lease_idle_timeout_s: float | None = None
-    """End a lease after this long without a command from its holder (None: never)."""
+    lease_idle_timeout_s: float | None = 600.0
+    """End a lease after this long without a command, jog or motion of its holder, however
+    it was taken (IDE or REST); None: never (a forgotten script would lock the lab out)."""
     auto_lease: bool = True
-    """A moving command from a student/instructor takes a free lease implicitly."""
+    """A moving command from a student/instructor takes a free lease (published like any
+    change, and given back if that command fails)."""
+    when_holder_leaves: WhenHolderLeaves = WhenHolderLeaves.STOP
+    """A move or program when its owner's last connection closes (their jog always stops)."""
 
     reconnect_initial_s: float = 0.2
     reconnect_max_s: float = 5.0
@@ -70,6 +88,10 @@ class ServiceConfig:
         for name in ("pose_every", "state_every", "hand_every"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be ≥ 1")
+        if not 1 <= self.jog_override_step <= 100:
+            raise ValueError("jog_override_step must be 1–100 %")
+        if self.lease_idle_timeout_s is not None and self.lease_idle_timeout_s <= 0:
+            raise ValueError("lease_idle_timeout_s must be positive (or None)")
         if not 1 <= self.jog_override_ceiling <= 100:
             raise ValueError("jog_override_ceiling must be 1–100 %")
         if self.reconnect_initial_s <= 0 or self.reconnect_max_s < self.reconnect_initial_s:
@@ -78,4 +100,4 @@ class ServiceConfig:
             raise ValueError("times must be positive")
 
 
-__all__ = ["ServiceConfig"]
+__all__ = ["ServiceConfig", "WhenHolderLeaves"]

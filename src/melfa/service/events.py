@@ -117,6 +117,11 @@ class StateSnapshot(Event):
     """The long operation holding the line (``upload``), polling paused meanwhile."""
     jogging: bool = False
     lease_holder: str | None = None
+    lease_since: dt.datetime | None = None
+    """When the holder took the lease (UTC)."""
+    lease_state: str | None = None
+    """The holder's connection: ``connected``, ``no connection`` (REST only) or
+    ``disconnected, robot moving`` (`melfa.service.lease.HolderState`)."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -160,6 +165,9 @@ class LeaseChanged(Event):
     holder: Actor | None
     previous: Actor | None
     reason: str
+    since: dt.datetime | None = None
+    holder_state: str | None = None
+    """As `StateSnapshot.lease_state`."""
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -106,6 +106,11 @@ class JogKeeper:
             and (held.user, held.session_id) == (actor.user, actor.session_id)
         )
 
+    def owned_by_user(self, user: str) -> bool:
+        """Any session of ``user`` jogs (their last connection closing ends it)."""
+        held = self.actor
+        return held is not None and self.request is not None and held.user == user
+
     def begin(self, actor: Actor, request: JogRequest, command_id: int, now: float) -> None:
         with self.lock:
             self.actor = actor

@@ -40,7 +40,7 @@ from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, Upload
 from melfa.robot.opener import open_robot_link
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription
-from melfa.service.config import ServiceConfig
+from melfa.service.config import ServiceConfig, WhenHolderLeaves
 from melfa.service.errors import (
     Cancelled,
     JogBusy,
@@ -62,7 +62,7 @@ from melfa.service.events import (
     UploadProgress,
 )
 from melfa.service.jog import JogKeeper, JogRequest
-from melfa.service.lease import Lease, LeaseChange
+from melfa.service.lease import Lease, LeaseChange, LeaseInfo
 from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
 
@@ -111,6 +111,9 @@ class RobotService:
         self._step_busy = False
         self._restore_override: int | None = None
         """The operator's OP override while the jog ceiling holds it lower (worker only)."""
+        self._jog_override: int | None = None
+        self._override_target: int | None = None
+        """An override asked for during a jog, reached by `_ramp_override` (worker only)."""
         self._ids = itertools.count(1)
         self._seq = itertools.count(1)
         self._snapshot = StateSnapshot()
@@ -238,7 +241,9 @@ class RobotService:
 
     def _state_listeners(self) -> int:
         """Subscribers wanting snapshots, plus one while a REST reader showed interest."""
-        return self._bus.state_listeners + (self._clock() < self._interest_until)
+        interest = self._clock() < self._interest_until
+        # A holder gone while the arm moves: poll to see the motion end, then free the lease.
+        return self._bus.state_listeners + interest + self._lease.orphaned
 
     def publish(self, event: Event) -> None:
         """Put an event on the bus (adapters such as `ThesisMessages` use this)."""
@@ -255,31 +260,65 @@ class RobotService:
         self._lease_changed(self._lease.expire())
         return self._lease.holder
 
+    def lease_info(self) -> LeaseInfo:
+        """Holder, since when, their connection state and the idle time left."""
+        self._lease_changed(self._lease.expire())
+        return self._lease.info()
+
     def acquire_lease(self, actor: Actor) -> None:
         """Take the free operator lease (`LeaseRequired` naming the holder if taken,
-        `NotAllowed` for observers)."""
+        `NotAllowed` for observers). Every session of the holder's user shares it."""
         self._check_open()
         self._lease_changed(self._lease.acquire(actor))
 
     def release_lease(self, actor: Actor) -> None:
-        """Give the lease back (no effect if ``actor`` does not hold it); ends their jog."""
-        if self._jog.owned_by(actor):
+        """Give the lease back (no effect if ``actor``'s user does not hold it); ends
+        their jog."""
+        if self._jog.owned_by_user(actor.user):
             self._end_jog("lease released", actor, send_stop=True)
         self._lease_changed(self._lease.release(actor))
 
     def take_over(self, actor: Actor) -> None:
-        """An instructor takes the lease from whoever holds it; their jog ends."""
+        """An instructor takes the lease from whoever holds it (even while the arm moves
+        for them); their jog ends."""
         self._check_open()
         change = self._lease.take_over(actor)
         if change is not None and self._jog.active:
             self._end_jog(f"taken over by {actor.user}", actor, send_stop=True)
         self._lease_changed(change)
 
-    async def disconnect(self, actor: Actor) -> None:
-        """``actor``'s session went away (socket closed): its jog stops, its lease ends."""
-        if self._jog.owned_by(actor):
+    def connect(self, actor: Actor) -> None:
+        """One connection of ``actor`` opened (an IDE tab, the desktop client, rosbridge):
+        pair it with `disconnect`. A lease holder that comes back is connected again."""
+        self._lease_changed(self._lease.connected(actor))
+
+    async def disconnect(self, actor: Actor) -> bool:
+        """One connection of ``actor`` closed. When it was their user's last one, their jog
+        stops at once, and if they hold the lease a move or program is stopped or, with
+        `WhenHolderLeaves.FINISH`, finishes while they keep the lease ("disconnected,
+        robot moving"); the lease ends when the arm is still. Returns whether it was the
+        user's last connection."""
+        last = self._lease.connections(actor.user) <= 1
+        if not last:
+            self._lease.disconnected(actor, moving=False)
+            return False
+        if self._jog.owned_by_user(actor.user):
             self._end_jog("client disconnected", actor, send_stop=True)
-        self._lease_changed(self._lease.disconnect(actor))
+        holds = self._lease.holds(actor)
+        finish = self.config.when_holder_leaves is WhenHolderLeaves.FINISH
+        if holds and not finish and self._state == "running":
+            with contextlib.suppress(Exception):
+                await self._stop(actor, "last connection closed")
+        # Whether the arm still moves is confirmed by the next STATE poll (polling runs
+        # while the lease is orphaned); without polling, the last snapshot decides.
+        moving = holds and finish and self._state == "running"
+        if moving and not self.config.polling:
+            moving = bool(self._snapshot.moving or self._snapshot.running)
+        _, change = self._lease.disconnected(actor, moving=moving)
+        self._lease_changed(change)
+        if change is not None and self._lease.orphaned:
+            self._listeners_changed()
+        return True
 
     # ================================================================== stop
 
@@ -291,20 +330,23 @@ class RobotService:
         stop, right behind whatever request is on the wire (at most one reply time). An
         upload in progress closes its edit with NEW, so nothing is half saved.
         """
+        await self._stop(actor, "")
+
+    async def _stop(self, actor: Actor, detail: str) -> None:
         if self._state not in ("running", "closing"):
             raise ServiceClosed("the robot service is closed")
         worker = self._require_worker()
         command_id = next(self._ids)
-        self._audit(actor, command_id, "stop", "", "accepted")
+        self._audit(actor, command_id, "stop", detail, "accepted")
         worker.cancel_queued(lambda job: True, Cancelled(f"cancelled: {actor.user} pressed stop"))
         self._end_jog(f"stopped by {actor.user}", actor)
         loop = asyncio.get_running_loop()
         try:
             await loop.run_in_executor(self._stop_pool, worker.stop_now)
         except BaseException as exc:
-            self._finish(actor, command_id, "stop", "", True, exc)
+            self._finish(actor, command_id, "stop", detail, True, exc)
             raise
-        self._finish(actor, command_id, "stop", "", True, None)
+        self._finish(actor, command_id, "stop", detail, True, None)
 
     # ================================================================== commands
 
@@ -417,7 +459,13 @@ class RobotService:
             raise ValueError(f"override {percent} % is outside 1–100")
 
         def set_override(robot: Robot) -> int:
+            if self._jog.active:
+                # During a jog: remember it for afterwards, and climb under the ceiling.
+                self._restore_override = percent
+                self._override_target = min(percent, self.config.jog_override_ceiling)
+                return self._ramp_override(robot)
             self._restore_override = None
+            self._override_target = None
             return robot.override(percent)
 
         result: int = await self._command(actor, "override", f"{percent}%", set_override)
@@ -501,7 +549,7 @@ class RobotService:
             if self._jog.owned_by(actor):
                 self._end_jog("lease lost", actor)
             return False
-        self._lease.check(actor)  # keeps an idle-timeout lease alive
+        self._lease.touch(actor)  # keeps an idle-timeout lease alive
         ours, queue = self._jog.heartbeat(actor, self._clock())
         if queue:
             future = self._require_worker().submit(Job("jog", Priority.JOG, self._renew_jog))
@@ -582,13 +630,23 @@ class RobotService:
         if self._state != "running":
             raise ServiceClosed("the robot service is closed")
 
-    def _check_lease(self, actor: Actor, command_id: int, command: str, detail: str) -> None:
+    def _check_lease(self, actor: Actor, command_id: int, command: str, detail: str) -> bool:
+        """Refuse (audited) without the lease; True when this command took a free one."""
         try:
             change = self._lease.check(actor)
         except ServiceError as exc:
             self._audit(actor, command_id, command, detail, f"refused: {exc}")
             raise
+        if change is not None and change.holder is not None:
+            change = dataclasses.replace(change, reason=f"taken by {command}")
         self._lease_changed(change)
+        return change is not None and change.holder is not None and self._lease.holds(actor)
+
+    def _give_back(self, actor: Actor, taken: bool) -> None:
+        """A command that took a free lease failed: the lease goes back (never silently
+        kept by a failure), unless the arm is jogging for them."""
+        if taken and self._lease.holds(actor) and not self._jog.active:
+            self._lease_changed(self._lease.release(actor, f"{actor.user}'s command failed"))
 
     async def _command(
         self,
@@ -606,7 +664,7 @@ class RobotService:
     ) -> Any:
         self._check_open()
         command_id = command_id if command_id is not None else next(self._ids)
-        self._check_lease(actor, command_id, command, detail)
+        taken = self._check_lease(actor, command_id, command, detail)
         self._audit(actor, command_id, command, detail, "accepted", moves)
         work = self._restoring(fn) if restore else fn
         if servo is not None:
@@ -617,6 +675,7 @@ class RobotService:
             result = await asyncio.wrap_future(future)
         except BaseException as exc:
             self._finish(actor, command_id, command, detail, moves, exc)
+            self._give_back(actor, taken)
             raise
         self._finish(actor, command_id, command, detail, moves, None)
         return result
@@ -691,9 +750,29 @@ class RobotService:
         ceiling = self.config.jog_override_ceiling
         answer = robot.request("OVRD").answer.strip()
         current = int(answer) if answer.isdigit() else 100
+        self._jog_override = current
         if current > ceiling:
             robot.override(ceiling)
             self._restore_override = current
+            self._jog_override = ceiling
+
+    def _ramp_override(self, robot: Robot) -> int:
+        """Worker, during a jog: one step towards the override asked for (down at once,
+        up by `ServiceConfig.jog_override_step`); returns the override now set."""
+        target = self._override_target
+        current = self._jog_override
+        if current is None:
+            answer = robot.request("OVRD").answer.strip()
+            current = int(answer) if answer.isdigit() else self.config.jog_override_ceiling
+        if target is None:
+            return current
+        new = target if target <= current else min(target, current + self.config.jog_override_step)
+        if new != current:
+            robot.override(new)
+        self._jog_override = new
+        if new == target:
+            self._override_target = None
+        return new
 
     def _renew_jog(self, robot: Robot) -> JogMethod | None:
         """Worker: one JOG renewal if a fresh heartbeat allows it, else nothing."""
@@ -701,6 +780,7 @@ class RobotService:
         if request is None:
             return None
         self._apply_ceiling(robot)
+        self._ramp_override(robot)
         started = self._clock()
         method = robot.jog(request.mode, request.axis, request.direction)
         assert self._worker is not None
@@ -722,9 +802,13 @@ class RobotService:
             self._post("jog_failed", exc)
 
     def _end_jog(self, reason: str, actor: Actor | None, *, send_stop: bool = False) -> None:
-        _, request = self._jog.end()
+        owner, request = self._jog.end()
         if request is None:
             return
+        self._override_target = None
+        self._audit(
+            owner or actor or SERVICE_ACTOR, self._jog.command_id, "jog_end", request.label, reason
+        )
         if self._worker is not None:
             self._worker.cancel_queued(lambda job: job.name == "jog", Cancelled(reason))
             if send_stop and self._state == "running":
@@ -757,15 +841,27 @@ class RobotService:
             return
         if self._jog.active and change.holder is None:
             self._end_jog(f"lease ended: {change.reason}", change.actor, send_stop=True)
+        info = self._lease.info()
         self._bus.publish(
             LeaseChanged(
                 actor=change.actor,
                 holder=change.holder,
                 previous=change.previous,
                 reason=change.reason,
+                since=info.since,
+                holder_state=info.state.value if info.state is not None else None,
             )
         )
         self._update()
+
+    def _motion_seen(self, update: dict[str, Any]) -> None:
+        """A poll arrived: motion keeps the holder's lease; a STATE read showing a still,
+        idle arm ends an orphaned one."""
+        snapshot = self._snapshot
+        if snapshot.moving or snapshot.running or self._jog.active:
+            self._lease_changed(self._lease.motion(True))
+        elif "running" in update:
+            self._lease_changed(self._lease.motion(False))
 
     def _audit(
         self,
@@ -830,6 +926,7 @@ class RobotService:
     def _on_worker(self, kind: str, args: tuple[Any, ...]) -> None:
         if kind == "poll":
             self._update(**args[0])
+            self._motion_seen(args[0])
         elif kind == "busy":
             self._update(busy=args[0])
         elif kind == "status":
@@ -854,14 +951,16 @@ class RobotService:
                 self._finish(actor, command_id, "jog", label, True, exc)
 
     def _update(self, **changes: Any) -> None:
-        holder = self._lease.holder
+        info = self._lease.info()
         self._snapshot = dataclasses.replace(
             self._snapshot,
             **changes,
             seq=next(self._seq),
             at=type(self._snapshot.at).now(self._snapshot.at.tzinfo),
             jogging=self._jog.active,
-            lease_holder=holder.user if holder is not None else None,
+            lease_holder=info.holder.user if info.holder is not None else None,
+            lease_since=info.since,
+            lease_state=info.state.value if info.state is not None else None,
         )
         self._bus.publish(self._snapshot)
 

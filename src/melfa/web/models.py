@@ -311,6 +311,10 @@ class StateOut(BaseModel):
     busy: str | None
     jogging: bool
     lease_holder: str | None
+    lease_since: datetime | None = None
+    lease_state: str | None = Field(
+        None, description="connected, no connection (REST only), disconnected, robot moving"
+    )
 
 
 class TargetOut(BaseModel):
@@ -335,7 +339,18 @@ class TargetsOut(BaseModel):
 
 class LeaseOut(BaseModel):
     holder: ActorOut | None
-    you: bool = Field(description="Whether this session holds it.")
+    you: bool = Field(description="Whether you (any of your sessions) hold it.")
+    since: datetime | None = Field(None, description="When the holder took it (UTC).")
+    state: str | None = Field(
+        None,
+        description="The holder's connection: connected, no connection (taken over REST, "
+        "no socket open), or disconnected, robot moving (keeps the lease until it stops).",
+    )
+    label: str = Field("free", description="For a header: 'alice — connected', 'free'.")
+    connections: int = Field(0, description="The holder's open connections.")
+    idle_expires_in_s: float | None = Field(
+        None, description="Seconds until an idle lease ends (null: not counting down)."
+    )
 
 
 class Ok(BaseModel):

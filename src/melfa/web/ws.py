@@ -9,7 +9,8 @@ to `WebSettings.snapshot_hz`, newest wins), ``link``, ``progress``, ``result``, 
 
 Each socket has its own subscription (the service's bus never waits for a reader) and its
 own sender task, so a slow browser only delays itself. When a socket closes, a jog it
-started is released; when the actor's last socket closes, the service ends its lease.
+started is released; when the user's last connection closes, the service ends their jog
+and lease (a move in progress keeps its owner, see `melfa.service.lease`).
 """
 
 from __future__ import annotations
@@ -233,6 +234,7 @@ async def live(websocket: WebSocket) -> None:
     if target.shared:
         context.sockets.add(actor)
     target.sockets += 1
+    service.connect(actor)
     holder = service.lease_holder
     _log.info(
         "websocket open for %s on %s",
@@ -277,8 +279,9 @@ async def live(websocket: WebSocket) -> None:
 
 
 async def _goodbye(context: WebContext, connection: Connection) -> None:
-    """The dead-man: a jog started here stops; the actor's last socket ends its lease (on
-    the lab robot; a private simulator has no lease, only its owner)."""
+    """The dead-man: a jog started here stops; the user's last connection ends their jog
+    and, by `ServiceConfig.when_holder_leaves`, stops or keeps their move (lease.py). A
+    private simulator has no shared lease, only its owner."""
     service = connection.service
     actor = connection.actor
     target = connection.target
@@ -286,9 +289,8 @@ async def _goodbye(context: WebContext, connection: Connection) -> None:
     context.targets.touch(target)
     left = context.sockets.remove(actor) if target.shared else target.sockets
     with contextlib.suppress(Exception):
-        if left == 0 and not service.closed:
-            await service.disconnect(actor)  # ends its jog ("client disconnected") and lease
-        elif connection.jogging:
+        last = await service.disconnect(actor)
+        if not last and connection.jogging:
             await service.jog_release(actor)
     _log.info(
         "websocket closed for %s",

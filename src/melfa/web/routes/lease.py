@@ -1,11 +1,13 @@
-"""The operator lease: who may move the robot. Anyone signed in sees it; students and
-instructors take a free one; instructors (and admins) take over from anyone."""
+"""The operator lease: who may move the robot. Anyone signed in sees it (holder, since
+when, connection state); students and instructors take a free one for all their sessions;
+instructors (and admins) take over from anyone (`melfa.service.lease`)."""
 
 from __future__ import annotations
 
 from fastapi import APIRouter
 
 from melfa.service import Actor
+from melfa.service.lease import same_user
 from melfa.web.context import WebContext
 from melfa.web.convert import actor_out
 from melfa.web.deps import ActorDep, ContextDep, StaffDep, actor_of
@@ -17,12 +19,16 @@ router = APIRouter(prefix="/api/lease", tags=["lease"], responses=ERROR_RESPONSE
 
 
 def lease_out(context: WebContext, actor: Actor) -> LeaseOut:
-    holder = context.service.lease_holder
-    you = holder is not None and (holder.user, holder.session_id) == (
-        actor.user,
-        actor.session_id,
+    info = context.service.lease_info()
+    return LeaseOut(
+        holder=actor_out(info.holder),
+        you=same_user(info.holder, actor),
+        since=info.since,
+        state=info.state.value if info.state is not None else None,
+        label=info.label,
+        connections=info.connections,
+        idle_expires_in_s=info.idle_expires_in_s,
     )
-    return LeaseOut(holder=actor_out(holder), you=you)
 
 
 @router.get("", response_model=LeaseOut, summary="Who holds the robot")
