@@ -1,5 +1,7 @@
 """The real web app (`melfa.web.create_app`, which includes the rosbridge router), served
-by a real uvicorn on a free loopback port."""
+by a real uvicorn on a free loopback port, and optionally the rosbridge port of its own
+(`melfa.web.rosbridge_app.create_rosbridge_app`, what `melfa serve --rosbridge-port` runs)
+on another."""
 
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ from fastapi import FastAPI
 from melfa.service import ServiceConfig
 from melfa.store import Store
 from melfa.web import SESSION_COOKIE, WebSettings, create_app
+from melfa.web.rosbridge_app import create_rosbridge_app
 
 PASSWORDS = {"ann": "ann-password-12", "ivy": "ivy-password-12"}
 
@@ -35,6 +38,18 @@ class Server:
     app: FastAPI
     port: int
     store: Store
+    bridge_port: int | None = None
+
+    @property
+    def bridge_url(self) -> str:
+        """``ws://127.0.0.1:<rosbridge port>`` (as the thesis's page builds it)."""
+        assert self.bridge_port is not None
+        return f"ws://127.0.0.1:{self.bridge_port}"
+
+    def token(self, username: str, label: str = "test") -> str:
+        """A new personal access token (what `melfa users token` prints)."""
+        user = self.store.accounts.get_user(username)
+        return self.store.tokens.create(user, label).token
 
     @property
     def http(self) -> str:
@@ -56,16 +71,7 @@ class Server:
         return token
 
 
-@contextlib.contextmanager
-def serve(data_dir: Path) -> Iterator[Server]:
-    store = Store.open_dir(
-        data_dir, hasher=PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
-    )
-    store.accounts.create_user("ann", PASSWORDS["ann"], group="G1")
-    store.accounts.create_user("ivy", PASSWORDS["ivy"], role="instructor")
-    settings = WebSettings(data_dir=data_dir, service_config=ServiceConfig(idle_poll_s=0.2))
-    app = create_app(settings, store=store)
-    port = free_port()
+def _start(app: FastAPI, port: int) -> tuple[uvicorn.Server, threading.Thread]:
     config = uvicorn.Config(
         app, host="127.0.0.1", port=port, log_level="warning", ws="websockets-sansio"
     )
@@ -76,9 +82,35 @@ def serve(data_dir: Path) -> Iterator[Server]:
     while not server.started:
         assert thread.is_alive() and time.monotonic() < deadline, "uvicorn did not start"
         time.sleep(0.02)
+    return server, thread
+
+
+@contextlib.contextmanager
+def serve(
+    data_dir: Path,
+    *,
+    rosbridge_mode: str | None = None,
+    service_config: ServiceConfig | None = None,
+) -> Iterator[Server]:
+    """The web app; with ``rosbridge_mode`` also the rosbridge port in that mode."""
+    store = Store.open_dir(
+        data_dir, hasher=PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
+    )
+    store.accounts.create_user("ann", PASSWORDS["ann"], group="G1")
+    store.accounts.create_user("ivy", PASSWORDS["ivy"], role="instructor")
+    config = service_config or ServiceConfig(idle_poll_s=0.2)
+    settings = WebSettings(data_dir=data_dir, service_config=config)
+    app = create_app(settings, store=store)
+    port = free_port()
+    running = [_start(app, port)]
+    bridge_port = None
+    if rosbridge_mode is not None:
+        bridge_port = free_port()
+        running.append(_start(create_rosbridge_app(app, rosbridge_mode), bridge_port))
     try:
-        yield Server(app, port, store)
+        yield Server(app, port, store, bridge_port)
     finally:
-        server.should_exit = True
-        thread.join(30)
+        for server, thread in reversed(running):
+            server.should_exit = True
+            thread.join(30)
         store.close()

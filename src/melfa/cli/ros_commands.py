@@ -74,12 +74,45 @@ def ros(
     frame_id: Annotated[
         str, typer.Option("--frame-id", help="frame_id of tool_pose_stamped.")
     ] = "base",
+    mode: Annotated[
+        str,
+        typer.Option(
+            "--mode",
+            help="melfa, or thesis: behave exactly like the thesis's execute node (answers "
+            "without parentheses and only when asked, 20 mm base-frame jog, servo on at "
+            "start); also the parameter ~mode.",
+        ),
+    ] = "melfa",
+    description: Annotated[
+        bool,
+        typer.Option(
+            "--description/--no-description",
+            help="Set /robot_description to the RV-6S URDF (for robot_state_publisher).",
+        ),
+    ] = True,
+    print_urdf: Annotated[
+        bool,
+        typer.Option(
+            "--print-urdf", help="Print the RV-6S URDF (from melfa.kin's DH table) and exit."
+        ),
+    ] = False,
 ) -> None:
     """Run the robot as a ROS 1 node: /execute_instruction in (the thesis's control
     messages); /joint_states, /tool_pose_stamped, /tool_pose, /joint_state out; services
     /NAME/load_program, load_points, load_project, run, stop, delete, servo."""
+    if print_urdf:
+        from melfa.ros.urdf import rv6s_urdf
+
+        sys.stdout.write(rv6s_urdf())
+        return
     if max_rate is not None and max_rate <= 0:
         raise _fail(f"--max-rate must be positive, not {max_rate}", 2)
+    from melfa.service.thesis import dialect_named
+
+    try:
+        dialect_named(mode)
+    except ValueError as exc:
+        raise _fail(f"--mode: {exc}", 2) from None
     from melfa.ros.node import ros_available
 
     args = list(remap or [])
@@ -87,7 +120,9 @@ def ros(
         python = ros_python()
         if python is not None and not os.environ.get(REEXEC_ENV):
             argv = [str(python), "-m", "melfa", "ros", *args, "--robot", robot, "--name", name]
-            argv += ["--frame-id", frame_id]
+            argv += ["--frame-id", frame_id, "--mode", mode]
+            if not description:
+                argv.append("--no-description")
             if max_rate is not None:
                 argv += ["--max-rate", str(max_rate)]
             os.environ[REEXEC_ENV] = "1"
@@ -109,4 +144,12 @@ def ros(
 
     from melfa.ros.node import run_node
 
-    run_node(robot, node_name=name, max_rate_hz=max_rate, frame_id=frame_id, argv=args)
+    run_node(
+        robot,
+        node_name=name,
+        max_rate_hz=max_rate,
+        frame_id=frame_id,
+        mode=mode,
+        description=description,
+        argv=args,
+    )

@@ -23,7 +23,9 @@ from melfa.ros import interface as ri
 from melfa.ros.core import RosCore
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData
 from melfa.ros.runtime import ServiceThread
+from melfa.ros.urdf import rv6s_urdf
 from melfa.service import RobotService, ServiceConfig
+from melfa.service.thesis import dialect_named
 
 SERVICE_TIMEOUT_S = 600.0
 """Longest a ROS service call waits for the robot (an upload at 9600 baud takes minutes)."""
@@ -108,6 +110,8 @@ def run_node(
     node_name: str = ri.NODE_NAME,
     max_rate_hz: float | None = None,
     frame_id: str = BASE_FRAME,
+    mode: str = "melfa",
+    description: bool = True,
     argv: Sequence[str] = (),
     config: ServiceConfig | None = None,
 ) -> None:
@@ -121,6 +125,9 @@ def run_node(
     rospy.init_node(node_name, argv=["melfa-ros", *argv])
     rate = rospy.get_param("~max_rate", max_rate_hz)
     frame = rospy.get_param("~frame_id", frame_id)
+    dialect = dialect_named(str(rospy.get_param(f"~{ri.MODE_PARAM}", mode)))
+    if description and not rospy.has_param("robot_description"):
+        rospy.set_param("robot_description", rv6s_urdf())
     output = RospyOutput(rospy)
     runtime = ServiceThread(
         lambda: RobotService.from_spec(robot, config=config),
@@ -128,11 +135,15 @@ def run_node(
         RospyParams(rospy),
         frame_id=frame,
         max_rate_hz=float(rate) if rate else None,
+        dialect=dialect,
     )
     core = runtime.start()
     rospy.on_shutdown(runtime.close)
     _wire(rospy, srv, runtime, core)
-    rospy.loginfo(f"melfa: robot {robot!r} ready; send control messages on /execute_instruction")
+    rospy.loginfo(
+        f"melfa: robot {robot!r} ready ({dialect.name} mode); send control messages on "
+        "/execute_instruction"
+    )
     rospy.spin()
     runtime.close()
 
