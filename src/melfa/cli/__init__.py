@@ -15,6 +15,7 @@ from melfa.cli.app import app
 from melfa.cli import lang_commands as _lang_commands  # noqa: F401  # isort: skip
 from melfa.cli import robot_commands as _robot_commands  # noqa: F401  # isort: skip
 from melfa.cli import sim_commands as _sim_commands  # noqa: F401  # isort: skip
+from melfa.cli import debug_commands as _debug_commands  # noqa: F401  # isort: skip
 from melfa.cli import users_commands as _users_commands  # noqa: F401  # isort: skip
 from melfa.cli import serve_commands as _serve_commands  # noqa: F401  # isort: skip
 from melfa.cli import ros_commands as _ros_commands  # noqa: F401  # isort: skip

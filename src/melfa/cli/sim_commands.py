@@ -24,6 +24,7 @@ from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, Virtua
 from melfa.sim.config import DEFAULT_REPLY_LATENCY_S
 from melfa.sim.interp.cli_trace import run_and_trace
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
+from melfa.sim.interp.io import parse_input
 
 console = Console(highlight=False)
 errors = Console(stderr=True, highlight=False)
@@ -44,19 +45,6 @@ def parse_host_port(text: str) -> tuple[str, int]:
     if not port.isdigit() or not 0 <= int(port) <= 65535:
         raise ValueError(f"{text!r} is not HOST:PORT (port 0–65535; 0 picks a free one)")
     return host or "127.0.0.1", int(port)
-
-
-def parse_input(text: str) -> tuple[int, int]:
-    """`N=V` (input signal N to value V, 0 or 1) -> (N, V); ValueError with what is wrong.
-
-    >>> parse_input("3=1"), parse_input(" 12 = 0 ")
-    ((3, 1), (12, 0))
-    """
-    bit, sep, value = text.partition("=")
-    bit, value = bit.strip(), value.strip()
-    if not sep or not bit.isdigit() or value not in ("0", "1"):
-        raise ValueError(f"{text!r} is not N=V (input signal number N ≥ 0, value 0 or 1)")
-    return int(bit), int(value)
 
 
 def run_program(

@@ -76,3 +76,16 @@ def _read(table: dict[int, int], start: int, width: int) -> int:
         if table.get(start + i, 0):
             value |= 1 << i
     return value
+
+
+def parse_input(text: str) -> tuple[int, int]:
+    """`N=V` (input signal N to value V, 0 or 1) -> (N, V); ValueError with what is wrong.
+
+    >>> parse_input("3=1"), parse_input(" 12 = 0 ")
+    ((3, 1), (12, 0))
+    """
+    bit, sep, value = text.partition("=")
+    bit, value = bit.strip(), value.strip()
+    if not sep or not bit.isdigit() or value not in ("0", "1"):
+        raise ValueError(f"{text!r} is not N=V (input signal number N ≥ 0, value 0 or 1)")
+    return int(bit), int(value)

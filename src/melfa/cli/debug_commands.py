@@ -1,0 +1,106 @@
+"""``melfa debug PROGRAM.MB4``: the gdb-like debugger on a simulated RV-6S.
+
+Thin: options and files here; the console is `melfa.sim.debug.console`, the engine
+`melfa.sim.debug.engine` (docs/debugger.md). Commands come from the terminal with a prompt,
+or one per line from stdin when it is not a terminal (scripts, tests). Exit code: 0, or 1
+when the program cannot be loaded or the last run stopped with a run-time error, 2 usage.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console as RichConsole
+
+from melfa.cli.app import app
+from melfa.sim.debug.console import Console
+from melfa.sim.debug.engine import DEFAULT_MAX_TIME_S, DebugError, Debugger, Speed
+from melfa.sim.interp.io import parse_input
+
+errors = RichConsole(stderr=True, highlight=False)
+
+REAL_TIME_TICK_S = 0.02
+"""How long the console sleeps between polls while a run goes on in real time."""
+
+
+def _read(path: Path, what: str) -> str:
+    try:
+        return path.read_text(encoding="utf-8", errors="replace")
+    except OSError as exc:
+        errors.print(f"[red]error:[/] cannot read {what} {path}: {exc.strerror or exc}")
+        raise typer.Exit(2) from None
+
+
+@app.command()
+def debug(
+    program: Annotated[Path, typer.Argument(metavar="PROGRAM.MB4", help="The program to debug.")],
+    points: Annotated[
+        Path | None, typer.Option("--points", metavar="FILE.POS", help="Its points file.")
+    ] = None,
+    inputs: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--input", metavar="N=V", help="Set input signal M_IN(N) to V (0/1) first; repeatable."
+        ),
+    ] = None,
+    speed: Annotated[
+        str,
+        typer.Option(
+            "--speed", metavar="SPEED", help="instant (the default), real, or xN (N times real)."
+        ),
+    ] = "instant",
+    max_time: Annotated[
+        float,
+        typer.Option("--max-time", metavar="S", help="Stop a run after S simulated seconds."),
+    ] = DEFAULT_MAX_TIME_S,
+) -> None:
+    """Debug a program on a simulated RV-6S: break, step, next, finish, print, info vars…"""
+    settings: list[tuple[int, int]] = []
+    for text in inputs or []:
+        try:
+            settings.append(parse_input(text))
+        except ValueError as exc:
+            errors.print(f"[red]error:[/] --input {exc}")
+            raise typer.Exit(2) from None
+    try:
+        pace = Speed.parse(speed)
+    except DebugError as exc:
+        errors.print(f"[red]error:[/] --speed {exc}")
+        raise typer.Exit(2) from None
+    if max_time <= 0:
+        errors.print(f"[red]error:[/] --max-time {max_time:g} must be > 0 seconds")
+        raise typer.Exit(2)
+    text = _read(program, "the program")
+    points_text = _read(points, "the points file") if points is not None else ""
+    try:
+        debugger = Debugger(text, points_text, clock=time.monotonic, speed=pace, max_time=max_time)
+    except DebugError as exc:
+        errors.print(f"[red]error:[/] {program}: cannot run: {exc}")
+        raise typer.Exit(1) from None
+    for bit, value in settings:
+        debugger.set_input(bit, value)
+    console = Console(debugger, sys.stdout, idle=lambda: time.sleep(REAL_TIME_TICK_S))
+    interactive = sys.stdin.isatty()
+    if interactive:
+        print(f"{program.name}: {len(debugger.lines)} lines; help lists the commands")
+    while True:
+        try:
+            line = input("(melfa) ") if interactive else sys.stdin.readline()
+        except EOFError:
+            break
+        if not interactive and not line:
+            break  # end of the script
+        try:
+            if not console.execute(line):
+                break
+        except KeyboardInterrupt:
+            stop = debugger.pause()
+            print("interrupted")
+            if stop is not None:
+                print(f"stopped at line {stop.location.line}: {stop.location.source}")
+        sys.stdout.flush()
+    raise typer.Exit(1 if console.failed else 0)
