@@ -14,6 +14,19 @@ export function setCsrf(token) {
   csrfToken = token || "";
 }
 
+let robotTarget = "lab";
+
+/** The robot every `/api/robot/…` call drives: "lab" or "mine" (docs/api.md "Targets"). */
+export function setTarget(id) {
+  robotTarget = id;
+}
+
+/** `path` with `?target=` added when it is a robot route and the target is not the lab. */
+export function targeted(path, target = robotTarget) {
+  if (!path.startsWith("/api/robot/") || target === "lab" || path.includes("target=")) return path;
+  return path + (path.includes("?") ? "&" : "?") + "target=" + encodeURIComponent(target);
+}
+
 export class ApiError extends Error {
   constructor(status, error) {
     super(error?.message || `request failed (HTTP ${status})`);
@@ -48,7 +61,7 @@ export async function api(method, path, body = undefined, { raw = false, signal 
   if (!["GET", "HEAD", "OPTIONS"].includes(method)) headers["X-CSRF-Token"] = csrf();
   let response;
   try {
-    response = await fetch(path, { method, headers, body: payload, credentials: "same-origin", signal });
+    response = await fetch(targeted(path), { method, headers, body: payload, credentials: "same-origin", signal });
   } catch (err) {
     if (err?.name === "AbortError") throw err;
     throw new OfflineError(err);

@@ -57,6 +57,19 @@ export class Live extends EventTarget {
     });
   }
 
+  /** Follow another stream (another target): close this socket, open `url` now. */
+  retarget(url) {
+    this.url = url;
+    const old = this.socket;
+    this.socket = null; // its close event is ignored: this is not a lost connection
+    if (old) old.close(1000, "target changed");
+    this.connected = false;
+    for (const waiter of this.pending.values()) waiter.reject({ code: "offline", message: "target changed" });
+    this.pending.clear();
+    this.retryMs = 500;
+    this.connect();
+  }
+
   emit(type, detail) {
     this.dispatchEvent(new CustomEvent(type, { detail }));
   }

@@ -8,6 +8,7 @@ import { JogPad } from "./jog.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
+import { TargetSwitch } from "./targets.js";
 import { RobotView } from "./view3d.js";
 import { Workspace } from "./workspace.js";
 
@@ -61,8 +62,8 @@ async function main() {
     points.render();
   });
 
-  const scheme = location.protocol === "https:" ? "wss" : "ws";
-  app.live = new Live(`${scheme}://${location.host}/api/ws`);
+  app.targets = new TargetSwitch(app, $("target-switch"));
+  app.live = new Live(app.targets.socketUrl());
   wireLive(app.live);
   app.jog = new JogPad(app);
   wireHeader();
@@ -98,6 +99,7 @@ function wireLive(live) {
     if (!up) setStatus("robot-status", "down", "unknown");
   });
   live.on("hello", (m) => {
+    app.targets.confirm(m.target);
     setLink(m.link);
     setLease(m.lease_holder);
     if (m.jog_override_ceiling) app.jog.setCeiling(m.jog_override_ceiling);
@@ -261,6 +263,7 @@ async function leaseCall(method, path, what) {
 /** STOP: over the socket (fastest), and over REST when the socket is not there. */
 async function stopAll() {
   app.jog.releaseAll();
+  app.targets.stopOthers();
   const sent = app.live.send({ type: "stop", id: 0 });
   if (!sent) {
     try {
