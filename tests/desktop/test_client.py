@@ -114,3 +114,19 @@ def test_live_feed_delivers_state_and_is_refused_without_a_session(server: Serve
     finally:
         anonymous.close()
     assert not anonymous.running
+
+
+def test_the_chosen_target_gets_the_commands(server: Server) -> None:
+    client = ApiClient(server.url)
+    client.login("admin", server.password)
+    client.target = "mine"
+    assert client.websocket_url.endswith("/api/ws?target=mine")
+    client.exec_statement("SERVO ON")  # on the user's own simulator, made by this call
+    wait = threading.Event()
+    for _ in range(100):
+        if client.state().servo:
+            break
+        wait.wait(0.05)
+    assert client.state().servo is True
+    client.target = "lab"
+    assert client.websocket_url.endswith("/api/ws")

@@ -170,6 +170,12 @@ class ServerUnreachable(Exception):
         self.reason = reason
 
 
+LAB_TARGET = "lab"
+PRIVATE_TARGET = "mine"
+TARGET_LABELS = {LAB_TARGET: "Lab RV-6S", PRIVATE_TARGET: "My simulator"}
+"""The robots a user may drive (the server's docs/api.md "Targets")."""
+
+
 def normalize_server(url: str) -> str:
     """``host:port`` or a full http(s) URL, without a trailing slash; ValueError otherwise.
 
@@ -207,6 +213,8 @@ class ApiClient:
         self._session: str | None = None
         self._csrf: str | None = None
         self.user: SignedIn | None = None
+        self.target = LAB_TARGET
+        """Which robot `/api/robot/…` calls and the live feed drive: ``lab`` or ``mine``."""
 
     @property
     def signed_in(self) -> bool:
@@ -214,7 +222,14 @@ class ApiClient:
 
     @property
     def websocket_url(self) -> str:
-        return websocket_url(self.server)
+        url = websocket_url(self.server)
+        return url if self.target == LAB_TARGET else f"{url}?target={self.target}"
+
+    def targeted(self, path: str) -> str:
+        """``path`` with ``?target=`` when it drives a robot other than the lab's."""
+        if not path.startswith("/api/robot/") or self.target == LAB_TARGET:
+            return path
+        return f"{path}{'&' if '?' in path else '?'}target={self.target}"
 
     def cookie_header(self) -> dict[str, str]:
         """The header that authenticates the WebSocket (the session cookie)."""
@@ -230,7 +245,7 @@ class ApiClient:
         timeout: float | None = None,
     ) -> tuple[Any, list[str]]:
         """(JSON reply, Set-Cookie headers) or `ApiError` / `ServerUnreachable`."""
-        url = self.server + path
+        url = self.server + self.targeted(path)
         headers = {"Accept": "application/json", **self.cookie_header()}
         data = None
         if body is not None:

@@ -22,7 +22,14 @@ from typing import Protocol, TypeVar
 
 from PySide6.QtCore import QObject, QTimer
 
-from melfa.desktop.api import ApiClient, ApiError, CheckResult, ServerUnreachable, UploadReport
+from melfa.desktop.api import (
+    TARGET_LABELS,
+    ApiClient,
+    ApiError,
+    CheckResult,
+    ServerUnreachable,
+    UploadReport,
+)
 from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import ChosenFile, FileKind, FileRefused, read_file
 from melfa.desktop.live import FeedStatus, LiveFeed
@@ -196,6 +203,17 @@ class Presenter:
         self._tell(NoticeKind.ERROR, title, text, lines)
 
     # --- live feed -----------------------------------------------------------------------
+
+    def choose_target(self, target: str) -> None:
+        """Drive ``target`` (``lab`` or ``mine``) from now on: the live feed follows it."""
+        if target == self.client.target:
+            return
+        self.client.target = target
+        self._log(f"Now driving {TARGET_LABELS.get(target, target)}")
+        if self._feed is not None:
+            self._feed.close(timeout=1.0)
+            self._feed = None
+            self.start()
 
     def start(self) -> None:
         """Show the latest state now, then follow the WebSocket."""

@@ -12,6 +12,7 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QCloseEvent, QFont, QFontDatabase, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QComboBox,
     QFormLayout,
     QFrame,
     QGridLayout,
@@ -31,7 +32,7 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from melfa.desktop.api import CheckResult, Severity
+from melfa.desktop.api import PRIVATE_TARGET, TARGET_LABELS, CheckResult, Severity
 from melfa.desktop.dialogs import Dialogs, Notice
 from melfa.desktop.files import FileKind
 from melfa.desktop.live import FeedStatus
@@ -189,6 +190,15 @@ class MainWindow(QMainWindow):
         titles.addWidget(sub)
         layout.addLayout(titles)
         layout.addStretch(1)
+        layout.addWidget(QLabel("Driving"))
+        self.target_box = QComboBox()
+        self.target_box.setAccessibleName("Which robot you drive")
+        for target_id, label in TARGET_LABELS.items():
+            self.target_box.addItem(label, target_id)
+        self.target_box.setCurrentIndex(self.target_box.findData(self.presenter.client.target))
+        self.target_box.currentIndexChanged.connect(self._target_chosen)
+        layout.addWidget(self.target_box)
+        layout.addSpacing(18)
         link_caption = QLabel("Robot link")
         self.link_pill = QLabel()
         self.link_pill.setObjectName("pill")
@@ -205,6 +215,14 @@ class MainWindow(QMainWindow):
         layout.addWidget(self.stop_button)
         self.show_link(LinkStatus.UNKNOWN, "")
         return header
+
+    def _target_chosen(self) -> None:
+        target = str(self.target_box.currentData())
+        self.presenter.choose_target(target)
+        header = self.findChild(QFrame, "header")
+        if header is not None:  # the header's colour says which robot: teal for the simulator
+            colour = "#0d4f45" if target == PRIVATE_TARGET else ""
+            header.setStyleSheet(f"QFrame#header {{ background: {colour}; }}" if colour else "")
 
     def _file_row(
         self, grid: QGridLayout, row: int, kind: FileKind
