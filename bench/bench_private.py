@@ -23,6 +23,7 @@ import argparse
 import asyncio
 import resource
 import time
+from pathlib import Path
 from typing import Any
 
 from melfa.link import LinkSettings, PacedLink
@@ -46,8 +47,7 @@ POINTS = [
 
 def rss_bytes() -> int:
     """Resident set size now (Linux: /proc/self/statm, in pages)."""
-    with open("/proc/self/statm", encoding="ascii") as statm:
-        pages = int(statm.read().split()[1])
+    pages = int(Path("/proc/self/statm").read_text(encoding="ascii").split()[1])
     return pages * resource.getpagesize()
 
 
