@@ -24,6 +24,12 @@ RETURN
 POINTS = "DEF POS P1=(400.00,100.00,500.00,180.00,0.00,180.00)(7,0)\n"
 
 
+def melfa() -> list[str]:
+    """The installed console script (the real entry point), or `python -m melfa`."""
+    script = Path(sys.executable).with_name("melfa")
+    return [str(script)] if script.exists() else [sys.executable, "-m", "melfa"]
+
+
 def melfa_debug(
     tmp_path: Path, commands: str, *extra: str, program: str = PROGRAM
 ) -> tuple[int, str, str]:
@@ -31,10 +37,8 @@ def melfa_debug(
     prog.write_text(program, encoding="utf-8")
     pos = tmp_path / "prog.POS"
     pos.write_text(POINTS, encoding="utf-8")
-    script = Path(sys.executable).with_name("melfa")
-    command = [str(script)] if script.exists() else [sys.executable, "-m", "melfa"]
     done = subprocess.run(
-        [*command, "debug", str(prog), "--points", str(pos), *extra],
+        [*melfa(), "debug", str(prog), "--points", str(pos), *extra],
         input=commands,
         capture_output=True,
         text=True,
@@ -154,10 +158,8 @@ def test_usage_errors_exit_2_and_an_unloadable_program_exits_1(tmp_path: Path) -
     assert code == 2 and "--speed" in err
     code, _, err = melfa_debug(tmp_path, "", program="GOTO 99\n")
     assert code == 1 and "cannot run" in err and "there is no step 99" in err
-    script = Path(sys.executable).with_name("melfa")
-    command = [str(script)] if script.exists() else [sys.executable, "-m", "melfa"]
     done = subprocess.run(
-        [*command, "debug", str(tmp_path / "missing.MB4")],
+        [*melfa(), "debug", str(tmp_path / "missing.MB4")],
         input="",
         capture_output=True,
         text=True,
@@ -165,3 +167,57 @@ def test_usage_errors_exit_2_and_an_unloadable_program_exits_1(tmp_path: Path) -
         check=False,
     )
     assert done.returncode == 2 and "cannot read the program" in done.stderr
+
+
+LOW = "SERVO ON\nMOV P1\nMVS P2\nMOV P1\nEND\n"
+LOW_POINTS = "DEF POS P1=(500,0,100,180,0,180)(7,0)\nDEF POS P2=(500,0,-20,180,0,180)(7,0)\n"
+
+
+def _low_files(tmp_path: Path) -> tuple[list[str], Path, Path]:
+    prog = tmp_path / "low.MB4"
+    prog.write_text(LOW, encoding="utf-8")
+    pos = tmp_path / "low.POS"
+    pos.write_text(LOW_POINTS, encoding="utf-8")
+    return melfa(), prog, pos
+
+
+def test_preflight_flags_a_move_below_the_table(tmp_path: Path) -> None:
+    command, prog, pos = _low_files(tmp_path)
+    done = subprocess.run(
+        [*command, "debug", str(prog), "--points", str(pos), "--preflight"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 1, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0] == "pre-flight of low.MB4 on the simulated RV-6S"
+    assert lines[1].startswith("cycle time: ")
+    assert "error: line 3: the move takes the tool 20.0 mm below the table" in done.stdout
+    cell = tmp_path / "cell.json"
+    cell.write_text('{"floor_z": -100}', encoding="utf-8")
+    done = subprocess.run(
+        [*command, "debug", str(prog), "--points", str(pos), "--preflight", "--cell", str(cell)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 0 and done.stdout.rstrip().endswith("0 errors, 0 warnings")
+    cell.write_text('{"floor_z": "low"}', encoding="utf-8")
+    done = subprocess.run(
+        [*command, "debug", str(prog), "--preflight", "--cell", str(cell)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 2 and 'floor_z must be a number (mm), got "low"' in done.stderr
+
+
+def test_the_preflight_console_command(tmp_path: Path) -> None:
+    code, out, _ = melfa_debug(tmp_path, "preflight\nprint 1\n", program=LOW.replace("P2", "P1"))
+    assert code == 0
+    assert "pre-flight of the program on the simulated RV-6S\n" in out
+    assert "0 errors" in out and out.splitlines()[-1] == "1"

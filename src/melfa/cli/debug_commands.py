@@ -17,8 +17,10 @@ import typer
 from rich.console import Console as RichConsole
 
 from melfa.cli.app import app
+from melfa.sim.debug.cell import Cell, CellError
 from melfa.sim.debug.console import Console
 from melfa.sim.debug.engine import DEFAULT_MAX_TIME_S, DebugError, Debugger, Speed
+from melfa.sim.debug.preflight import preflight, report_text
 from melfa.sim.interp.io import parse_input
 
 errors = RichConsole(stderr=True, highlight=False)
@@ -53,6 +55,17 @@ def debug(
             "--speed", metavar="SPEED", help="instant (the default), real, or xN (N times real)."
         ),
     ] = "instant",
+    preflight_only: Annotated[
+        bool,
+        typer.Option(
+            "--preflight",
+            help="Print the pre-flight report of a simulated run and exit (1 if it has errors).",
+        ),
+    ] = False,
+    cell_path: Annotated[
+        Path | None,
+        typer.Option("--cell", metavar="CELL.json", help="The cell (table, obstacles) to check."),
+    ] = None,
     max_time: Annotated[
         float,
         typer.Option("--max-time", metavar="S", help="Stop a run after S simulated seconds."),
@@ -74,6 +87,13 @@ def debug(
     if max_time <= 0:
         errors.print(f"[red]error:[/] --max-time {max_time:g} must be > 0 seconds")
         raise typer.Exit(2)
+    cell = None
+    if cell_path is not None:
+        try:
+            cell = Cell.from_json(_read(cell_path, "the cell"))
+        except CellError as exc:
+            errors.print(f"[red]error:[/] {cell_path}: {exc}")
+            raise typer.Exit(2) from None
     text = _read(program, "the program")
     points_text = _read(points, "the points file") if points is not None else ""
     try:
@@ -83,7 +103,11 @@ def debug(
         raise typer.Exit(1) from None
     for bit, value in settings:
         debugger.set_input(bit, value)
-    console = Console(debugger, sys.stdout, idle=lambda: time.sleep(REAL_TIME_TICK_S))
+    if preflight_only:
+        report = preflight(text, debugger.points, cell=cell, inputs=settings, max_time=max_time)
+        sys.stdout.write(report_text(report, program.name))
+        raise typer.Exit(0 if report.ok else 1)
+    console = Console(debugger, sys.stdout, idle=lambda: time.sleep(REAL_TIME_TICK_S), cell=cell)
     interactive = sys.stdin.isatty()
     if interactive:
         print(f"{program.name}: {len(debugger.lines)} lines; help lists the commands")

@@ -8,7 +8,7 @@ or the run-time error with its number and line. Commands (short forms in bracket
     break N | break *LABEL [b]   delete [N] [d]     run [r]        continue [c]
     step [s]     next [n]        finish            until N        print EXPR [p]
     info vars | info breakpoints [i]   where [bt]  input N=V      speed real|xN|instant
-    help [h]     quit [q]
+    preflight    help [h]        quit [q]
 """
 
 from __future__ import annotations
@@ -17,7 +17,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TextIO
 
+from melfa.sim.debug.cell import Cell
 from melfa.sim.debug.engine import DebugError, Debugger, RunState, Speed, Stop, StopReason
+from melfa.sim.debug.preflight import preflight, report_text
 from melfa.sim.debug.view import VarKind, VarView
 from melfa.sim.interp.io import parse_input
 
@@ -29,7 +31,8 @@ HELP = """commands:
   finish           until the subroutine returns        until N        run to line N
   print EXPR       a value (print M1, print P1.X)      info vars      every variable
   where            the GOSUB stack                     input N=V      set input M_IN(N) to V
-  speed real|xN|instant                                quit
+  speed real|xN|instant                                preflight      the pre-flight report
+  quit
 """
 
 _ALIASES = {
@@ -61,6 +64,8 @@ class Console:
     debugger: Debugger
     out: TextIO
     idle: Callable[[], None] = lambda: None
+    cell: Cell | None = None
+    """The cell `preflight` checks against (None: the default table at Z = 0)."""
     failed: bool = False
     """Whether the last run ended with a run-time error (the exit code says so)."""
 
@@ -175,6 +180,13 @@ class Console:
         self.debugger.set_speed(Speed.parse(arg or "?"))
         self._say(f"speed {self.debugger.speed.text}")
 
+    def _preflight(self, arg: str) -> None:
+        d = self.debugger
+        report = preflight(
+            d.text, d.points, cell=self.cell, inputs=d.io.inputs().items(), max_time=d.max_time
+        )
+        self.out.write(report_text(report))
+
     def _help(self, arg: str) -> None:
         self.out.write(HELP)
 
@@ -256,5 +268,6 @@ _COMMANDS: dict[str, Callable[[Console, str], None]] = {
     "where": Console._where,
     "input": Console._input,
     "speed": Console._speed,
+    "preflight": Console._preflight,
     "help": Console._help,
 }

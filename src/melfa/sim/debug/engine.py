@@ -283,7 +283,8 @@ class Debugger:
             err = exc.to_error()
             where = f"line {exc.line}: " if getattr(exc, "line", None) else ""
             raise DebugError(f"{where}{err.level}{err.number:04d} {err.message}") from None
-        for p in _points(points):
+        self.points = load_points(points)
+        for p in self.points:
             self.interp.set_point(p.key, point_value(p))
         self.interp.break_before = self._break_before
         self._labels: dict[str, int] = dict(self.interp.compiler.labels)
@@ -608,6 +609,10 @@ class Debugger:
             frames.append(Frame(self._location(self._step(f.called_from)), depth, f.interrupt))
         return frames
 
+    def line_of_step(self, step: int | None) -> int | None:
+        """The line of the user's text that the controller's step number `step` is."""
+        return self._steps_lines.get(step) if step is not None else None
+
     def source_at(self, line: int) -> str:
         return self.lines[line - 1].strip() if 0 < line <= len(self.lines) else ""
 
@@ -653,7 +658,8 @@ _STATES = {
 }
 
 
-def _points(points: str | Iterable[PointDef]) -> list[PointDef]:
+def load_points(points: str | Iterable[PointDef]) -> list[PointDef]:
+    """Points from a .POS text (`DebugError` on the first broken line) or as given."""
     if not isinstance(points, str):
         return list(points)
     parsed = parse_points(points)
