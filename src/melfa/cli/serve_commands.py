@@ -12,6 +12,7 @@ import asyncio
 import contextlib
 import ipaddress
 import os
+import socket
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -139,6 +140,14 @@ def serve(
         access_log=False,
         timeout_graceful_shutdown=3,
     )
+    for wanted in (port, rosbridge_port):
+        if wanted and not _port_free(host, wanted):
+            store.close()
+            _err.print(
+                f"[bold red]error:[/] port {wanted} on {escape(host)} is in use (another "
+                "melfa serve, or rosbridge_server?); choose another"
+            )
+            raise typer.Exit(EXIT_USAGE)
     servers = [uvicorn.Server(config)]
     if rosbridge_port is not None:
         from melfa.web.rosbridge_app import create_rosbridge_app
@@ -162,6 +171,18 @@ def serve(
     finally:
         store.close()
     _out.print("melfa stopped")
+
+
+def _port_free(host: str, port: int) -> bool:
+    """Whether ``port`` can be listened on (checked first, for a clear message)."""
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family) as probe:
+        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            probe.bind((host, port))
+        except OSError:
+            return False
+    return True
 
 
 async def _serve_all(servers: list[uvicorn.Server]) -> None:
