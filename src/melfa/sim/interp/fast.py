@@ -66,7 +66,7 @@ def simulate(
     """Load and run `text` from its first line on a fresh simulated RV-6S, fast.
 
     >>> run = simulate("10 M1 = 6 * 7\\n20 END\\n")
-    >>> run.interp.vars["M1"], run.interp.status.value
+    >>> run.interp.state.vars["M1"], run.interp.status.value
     (42, 'finished')
     """
     arm = arm if arm is not None else SimulatedArm()
