@@ -294,3 +294,27 @@ def test_stepping_a_straight_program_visits_every_line_in_order(values: list[int
         seen.append(line(d))
     assert seen == list(range(1, len(values) + 2))
     assert d.evaluate(f"M{len(values)}") == str(values[-1])
+
+
+def test_an_endless_loop_that_never_moves_stops_as_busy_and_polls_stay_short() -> None:
+    d, _ = make("M1 = 0\n*L\nM1 = M1 + 1\nGOTO *L\n")
+    d.run()
+    polls = 0
+    stop = None
+    while stop is None:
+        stop = d.poll()
+        polls += 1
+    assert stop.reason is StopReason.BUSY and polls > 1  # each poll gave control back
+    assert stop.location.line in (2, 3, 4) and d.state is RunState.PAUSED
+    d.step()
+    assert d.poll() is not None  # it can still be stepped
+
+
+def test_steps_are_watched_only_when_something_could_stop_there() -> None:
+    d, _ = make(SUBS)
+    d.run()
+    assert d.interp.break_before is None  # continue, no breakpoints: full speed
+    bp = d.break_line(9)
+    assert d.interp.break_before is not None
+    d.delete(bp.id)
+    assert d.interp.break_before is None

@@ -18,7 +18,15 @@ from dataclasses import dataclass
 from typing import TextIO
 
 from melfa.sim.debug.cell import Cell
-from melfa.sim.debug.engine import DebugError, Debugger, RunState, Speed, Stop, StopReason
+from melfa.sim.debug.engine import (
+    BUSY_STATEMENTS,
+    DebugError,
+    Debugger,
+    RunState,
+    Speed,
+    Stop,
+    StopReason,
+)
 from melfa.sim.debug.preflight import preflight, report_text
 from melfa.sim.debug.view import VarKind, VarView
 from melfa.sim.interp.io import parse_input
@@ -225,6 +233,11 @@ class Console:
             self._say("paused by HLT")
         elif stop.reason is StopReason.TIME_LIMIT:
             self._say(f"stopped after {d.max_time:g} s of simulated time (--max-time)")
+        elif stop.reason is StopReason.BUSY:
+            self._say(
+                f"stopped: {BUSY_STATEMENTS:,} statements ran without a move, DLY or WAIT "
+                "(an endless loop?)"
+            )
         self._say(f"stopped at line {loc.line}: {loc.source}")
 
     def _say(self, text: str) -> None:

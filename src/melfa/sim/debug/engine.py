@@ -48,7 +48,15 @@ DEFAULT_MAX_TIME_S = 3600.0
 forever at instant speed would otherwise never give control back)."""
 
 INSTANT_POLL_S = 600.0
-"""Simulated seconds one `poll` may run at instant speed (the caller polls again)."""
+"""Simulated seconds one `poll` may run at instant speed (the caller polls again)…"""
+
+INSTANT_POLL_TICKS = 250
+"""… and at most this many statement budgets (`Interpreter.max_statements` each), so a
+poll gives control back within a fraction of a second even in a loop that never moves."""
+
+BUSY_STATEMENTS = 1_000_000
+"""At instant speed, statements run with no move, DLY or WAIT in between before the engine
+stops the program as an endless loop (`StopReason.BUSY`); simulated time would crawl."""
 
 SLICE_S = 0.01
 """Simulated time charged to a statement budget with no event ahead (a busy loop, a WAIT)."""
@@ -119,6 +127,7 @@ class StopReason(enum.Enum):
     END = "end"
     ERROR = "error"
     TIME_LIMIT = "time-limit"
+    BUSY = "busy"  # an endless loop with no move, DLY or WAIT (instant speed only)
 
 
 class Mode(enum.Enum):
@@ -286,7 +295,6 @@ class Debugger:
         self.points = load_points(points)
         for p in self.points:
             self.interp.set_point(p.key, point_value(p))
-        self.interp.break_before = self._break_before
         self._labels: dict[str, int] = dict(self.interp.compiler.labels)
         self._index_of_line: dict[int, int] = {}
         for i, step in enumerate(self.interp.state.steps):
@@ -300,6 +308,7 @@ class Debugger:
         self._stopped_before: int | None = None
         self._stop: Stop | None = None
         self._wall: float | None = None
+        self._busy = 0  # statement budgets run at instant speed with no event in between
         self._start_time = 0.0
         self._before: dict[str, VarView] = {}
         self._now_rows: dict[str, VarView] = {}
@@ -323,9 +332,11 @@ class Debugger:
     def delete(self, breakpoint_id: int) -> None:
         if self._breakpoints.pop(breakpoint_id, None) is None:
             raise DebugError(f"there is no breakpoint {breakpoint_id}")
+        self._hook()
 
     def clear_breakpoints(self) -> None:
         self._breakpoints.clear()
+        self._hook()
 
     @property
     def breakpoints(self) -> tuple[Breakpoint, ...]:
@@ -337,6 +348,7 @@ class Debugger:
                 return old
         self._breakpoints[bp.id] = bp
         self._next_id += 1
+        self._hook()
         return bp
 
     # ------------------------------------------------------------------ commands
@@ -420,7 +432,14 @@ class Debugger:
         else:
             self._skip_once = None
         self._stop = None
+        self._busy = 0
         self._wall = self.clock()
+        self._hook()
+
+    def _hook(self) -> None:
+        """Ask before every step only when something could stop there (it costs a call)."""
+        needed = self._mode is not Mode.CONTINUE or bool(self._breakpoints)
+        self.interp.break_before = self._break_before if needed else None
 
     # ------------------------------------------------------------------ time
     def poll(self) -> Stop | None:
@@ -430,7 +449,9 @@ class Debugger:
             return None
         now = self.clock()
         if self.speed.factor is None:
-            self._run_instant()
+            if self._run_instant():
+                self.interp.pause(self.interp.now)
+                return self._stopped(StopReason.BUSY)
         else:
             last = self._wall if self._wall is not None else now
             target = self.interp.now + max(0.0, now - last) * self.speed.factor
@@ -444,12 +465,17 @@ class Debugger:
             return None
         return self._after_stop()
 
-    def _run_instant(self) -> None:
+    def _run_instant(self) -> bool:
+        """Run from event to event (bounded per call); True when the program looks like an
+        endless loop that neither moves nor waits."""
         it = self.interp
         t = it.now
         limit = t + INSTANT_POLL_S
         waited = 0.0
-        while it.status is RunnerStatus.RUNNING and t <= limit:
+        busy_limit = max(1, BUSY_STATEMENTS // it.max_statements)
+        for _ in range(INSTANT_POLL_TICKS):
+            if it.status is not RunnerStatus.RUNNING or t > limit:
+                break
             it.advance(t)
             if it.status is not RunnerStatus.RUNNING:
                 break
@@ -459,12 +485,19 @@ class Debugger:
             if nxt is not None and nxt > t:
                 t = nxt
                 waited = 0.0
+                self._busy = 0
                 continue
             t += SLICE_S
             if it.waiting:
+                self._busy = 0
                 waited += SLICE_S
                 if waited >= WAIT_GIVE_UP_S:
                     break
+            else:
+                self._busy += 1
+                if self._busy >= busy_limit:
+                    return True
+        return False
 
     def _settle(self) -> None:
         """After a stop mid-move, let the arm finish decelerating (simulated time)."""

@@ -44,6 +44,7 @@ from melfa.sim.debug.engine import (
     Debugger,
     ErrorReport,
     RunState,
+    StopReason,
     load_points,
 )
 from melfa.sim.interp import errors
@@ -220,11 +221,12 @@ def preflight(
         )
     elif not finished:
         loc = d.location
-        why = (
-            "waits for an input nobody sets"
-            if d.waiting
-            else f"did not reach END within {max_time:g} s (simulated)"
-        )
+        if d.waiting:
+            why = "waits for an input nobody sets"
+        elif stop is not None and stop.reason is StopReason.BUSY:
+            why = "loops without a move, DLY or WAIT (an endless loop?)"
+        else:
+            why = f"did not reach END within {max_time:g} s (simulated)"
         extra.append(
             Finding(
                 Kind.NOT_FINISHED,
