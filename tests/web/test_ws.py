@@ -78,7 +78,7 @@ def test_jog_stops_and_lease_ends_when_the_socket_closes(web: Web) -> None:
         ended = until(viewer, "jog", active=False)
         assert ended["reason"] == "client disconnected"
         lease = until(viewer, "lease", holder=None)
-        assert lease["reason"] == "holder disconnected"
+        assert lease["reason"].endswith("holder disconnected")  # after the arm stopped
     assert web.service.state.jogging is False
     assert web.ann.get("/api/lease").json()["holder"] is None
 

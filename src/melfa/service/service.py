@@ -66,6 +66,8 @@ from melfa.service.lease import Lease, LeaseChange, LeaseInfo
 from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
 
+LAST_CONNECTION = "last connection closed"
+"""The audit detail of the stop sent when an owner's last connection closes."""
 HOUSEKEEPING_S = 0.05
 """How often the loop checks jog heartbeats and lease idle time."""
 
@@ -113,6 +115,8 @@ class RobotService:
         """The operator's OP override while the jog ceiling holds it lower (worker only)."""
         self._jog_override: int | None = None
         self._override_target: int | None = None
+        self._moved = False
+        """A moving command finished and no poll has looked at the arm since."""
         """An override asked for during a jog, reached by `_ramp_override` (worker only)."""
         self._ids = itertools.count(1)
         self._seq = itertools.count(1)
@@ -302,23 +306,44 @@ class RobotService:
         if not last:
             self._lease.disconnected(actor, moving=False)
             return False
-        if self._jog.owned_by_user(actor.user):
+        # Everything up to the first await happens at once, so a cancelled caller (a
+        # socket handler torn down) cannot leave the lease or the jog behind.
+        jogging = self._jog.owned_by_user(actor.user)
+        if jogging:
             self._end_jog("client disconnected", actor, send_stop=True)
-        holds = self._lease.holds(actor)
+        holds = self._lease.holds(actor) and self._state == "running"
         finish = self.config.when_holder_leaves is WhenHolderLeaves.FINISH
-        if holds and not finish and self._state == "running":
-            with contextlib.suppress(Exception):
-                await self._stop(actor, "last connection closed")
-        # Whether the arm still moves is confirmed by the next STATE poll (polling runs
-        # while the lease is orphaned); without polling, the last snapshot decides.
-        moving = holds and finish and self._state == "running"
-        if moving and not self.config.polling:
-            moving = bool(self._snapshot.moving or self._snapshot.running)
+        if finish:
+            # Whether the arm still moves is confirmed by the next STATE poll (polling
+            # runs while the lease is orphaned); without polling, the last snapshot decides.
+            moving = holds and (self.config.polling or self._maybe_moving())
+        else:
+            moving = holds and (jogging or self._maybe_moving())
+        command_id = None
+        if moving and not finish:
+            # STOP: queued commands fail and the stop is on its way before the lease ends,
+            # so nobody else's command can slip in ahead of it.
+            command_id = self._stop_begin(actor, LAST_CONNECTION)
+            moving = False
         _, change = self._lease.disconnected(actor, moving=moving)
         self._lease_changed(change)
-        if change is not None and self._lease.orphaned:
+        if self._lease.orphaned:
             self._listeners_changed()
+        if command_id is not None:
+            stopping = asyncio.ensure_future(self._stop_wait(actor, LAST_CONNECTION, command_id))
+            with contextlib.suppress(Exception):
+                await asyncio.shield(stopping)
         return True
+
+    def _maybe_moving(self) -> bool:
+        """The last snapshot shows motion or a run, a moving command is on the wire or
+        queued, or one finished since the last poll (which has not seen its motion yet)."""
+        worker = self._worker
+        busy = worker is not None and (
+            (worker.current is not None and worker.current.moves)
+            or any(job.moves for job in worker.queued())
+        )
+        return bool(self._snapshot.moving or self._snapshot.running or busy or self._moved)
 
     # ================================================================== stop
 
@@ -330,9 +355,10 @@ class RobotService:
         stop, right behind whatever request is on the wire (at most one reply time). An
         upload in progress closes its edit with NEW, so nothing is half saved.
         """
-        await self._stop(actor, "")
+        await self._stop_wait(actor, "", self._stop_begin(actor, ""))
 
-    async def _stop(self, actor: Actor, detail: str) -> None:
+    def _stop_begin(self, actor: Actor, detail: str) -> int:
+        """The part of a stop that needs no wait: audit, fail queued work, end a jog."""
         if self._state not in ("running", "closing"):
             raise ServiceClosed("the robot service is closed")
         worker = self._require_worker()
@@ -340,6 +366,12 @@ class RobotService:
         self._audit(actor, command_id, "stop", detail, "accepted")
         worker.cancel_queued(lambda job: True, Cancelled(f"cancelled: {actor.user} pressed stop"))
         self._end_jog(f"stopped by {actor.user}", actor)
+        self._moved = False
+        return command_id
+
+    async def _stop_wait(self, actor: Actor, detail: str, command_id: int) -> None:
+        """``STOP`` from the stop thread, right behind whatever is on the wire."""
+        worker = self._require_worker()
         loop = asyncio.get_running_loop()
         try:
             await loop.run_in_executor(self._stop_pool, worker.stop_now)
@@ -678,6 +710,8 @@ class RobotService:
             self._give_back(actor, taken)
             raise
         self._finish(actor, command_id, command, detail, moves, None)
+        if moves:
+            self._moved = True  # until a poll has seen whether it moves
         return result
 
     async def _upload(
@@ -925,6 +959,8 @@ class RobotService:
 
     def _on_worker(self, kind: str, args: tuple[Any, ...]) -> None:
         if kind == "poll":
+            if "moving" in args[0]:
+                self._moved = False
             self._update(**args[0])
             self._motion_seen(args[0])
         elif kind == "busy":
