@@ -10,10 +10,7 @@ import melfa.lang
 
 ROOT = Path(__file__).resolve().parents[2]
 LANG = Path(melfa.lang.__file__).parent
-SOURCES = [
-    *(LANG / name for name in ("parser.py", "check.py", "blocks.py", "points.py", "numbering.py")),
-    LANG.parent / "kin" / "reach.py",
-]
+SOURCES = [*sorted(LANG.glob("*.py")), LANG.parent / "kin" / "reach.py"]
 CLI_RULES = {"file-binary"}  # src/melfa/cli/lang_commands.py (its other literals are encodings)
 RULE_LITERAL = re.compile(r'"([a-z]+(?:-[a-z0-9]+)+)"')
 

@@ -11,15 +11,8 @@ becomes one clear message and an exit code, never a traceback:
 
 from melfa.cli.app import app
 
-# Each module registers its commands on `app` when imported.
-from melfa.cli import lang_commands as _lang_commands  # noqa: F401  # isort: skip
-from melfa.cli import robot_commands as _robot_commands  # noqa: F401  # isort: skip
-from melfa.cli import sim_commands as _sim_commands  # noqa: F401  # isort: skip
-from melfa.cli import debug_commands as _debug_commands  # noqa: F401  # isort: skip
-from melfa.cli import users_commands as _users_commands  # noqa: F401  # isort: skip
-from melfa.cli import serve_commands as _serve_commands  # noqa: F401  # isort: skip
-from melfa.cli import ros_commands as _ros_commands  # noqa: F401  # isort: skip
-from melfa.cli import desktop_commands as _desktop_commands  # noqa: F401  # isort: skip
+# The command modules register on `app` when imported; `app` imports them on demand
+# (`melfa check` loads only the language toolkit), see melfa.cli.app.
 
 
 def main() -> None:

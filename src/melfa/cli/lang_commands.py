@@ -35,7 +35,8 @@ from rich.text import Text
 from melfa.cli.app import app
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.format import FormatResult, LineNumbers, format_program
-from melfa.lang.points import PointDef, parse_points
+from melfa.lang.points import PointDef
+from melfa.lang.project import by_position, check_project
 
 PROGRAM_SUFFIX = ".MB4"
 POINTS_SUFFIX = ".POS"
@@ -167,21 +168,10 @@ class FileReport:
         return {"file": str(self.path), "diagnostics": [d.to_json() for d in self.diagnostics]}
 
 
-def _by_position(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:
-    order = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}
-    return sorted(diagnostics, key=lambda d: (d.line, d.column, order[d.severity]))
-
-
-def _check_program(text: str, points: Sequence[str]) -> list[Diagnostic]:
-    from melfa.lang.check import check  # the checker loads on first use
-
-    return check(text, points)
-
-
 def _reach(points: Sequence[PointDef], text: str) -> list[Diagnostic]:
-    """Warnings for points the RV-6S cannot take (`melfa.kin.reach`, loaded on first use)."""
-    if not points:
-        return []
+    """Warnings for points the RV-6S cannot take (`melfa.kin.reach`)."""
+    # Imported here, only when there are points to judge, for start-up time: the robot
+    # model loads numpy, which costs more than the whole of checking a small program.
     from melfa.kin.reach import reach_diagnostics
 
     return reach_diagnostics(points, text)
@@ -189,25 +179,23 @@ def _reach(points: Sequence[PointDef], text: str) -> list[Diagnostic]:
 
 def check_files(files: Sequence[SourceFile]) -> list[FileReport]:
     """Check programs against the names of every points file given; points files on their
-    own, including whether the RV-6S can reach each point (warnings)."""
-    names: list[str] = []
-    reports: dict[int, FileReport] = {}
-    for i, source in enumerate(files):
-        if source.kind is FileKind.POINTS:
-            diagnostics = list(source.diagnostics)
-            if source.is_text:
-                parsed = parse_points(source.text)
-                names.extend(parsed.names)
-                diagnostics.extend(parsed.diagnostics)
-                diagnostics.extend(_reach(parsed.points, source.text))
-            reports[i] = FileReport(source.path, source, _by_position(diagnostics))
-    for i, source in enumerate(files):
-        if source.kind is FileKind.PROGRAM:
-            diagnostics = list(source.diagnostics)
-            if source.is_text:
-                diagnostics.extend(_check_program(source.text, names))
-            reports[i] = FileReport(source.path, source, _by_position(diagnostics))
-    return [reports[i] for i in range(len(files))]
+    own, including whether the RV-6S can reach each point a program may move to (warnings).
+    The checking is `melfa.lang.project.check_project`, the same as the web API's."""
+    points = [i for i, s in enumerate(files) if s.kind is FileKind.POINTS and s.is_text]
+    programs = [i for i, s in enumerate(files) if s.kind is FileKind.PROGRAM and s.is_text]
+    report = check_project(
+        [files[i].text for i in programs], [files[i].text for i in points], _reach
+    )
+    found: dict[int, tuple[Diagnostic, ...]] = dict(zip(points, report.points, strict=True))
+    found.update(zip(programs, report.programs, strict=True))
+    return [
+        FileReport(
+            source.path,
+            source,
+            list(by_position([*source.diagnostics, *found.get(i, ())])),
+        )
+        for i, source in enumerate(files)
+    ]
 
 
 # --- printing ----------------------------------------------------------------------------
@@ -408,7 +396,7 @@ def fmt(
     result: FormatResult = format_program(source.text, mode, start=start, step=step)
     err_console = _console(ColorMode.AUTO, stderr=True)
     if result.diagnostics:
-        report = FileReport(file, source, _by_position(result.diagnostics))
+        report = FileReport(file, source, list(by_position(result.diagnostics)))
         print_text([report], err_console)
     if not result.ok:
         err_console.print(

@@ -29,6 +29,7 @@ computes it from the flat lines.
 from __future__ import annotations
 
 import enum
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import NamedTuple, TypeAlias
 
@@ -860,3 +861,54 @@ class Program:
     @property
     def issues(self) -> tuple[ParseIssue, ...]:
         return tuple(issue for line in self.lines for issue in line.issues)
+
+
+def constant_number(expr: Expr | None) -> int | float | None:
+    """The value of a literal number, signed or not (``-5``, ``+&H10``); None for anything
+    else. One reading of constants for the checker's ranges and for points files."""
+    sign = 1
+    while isinstance(expr, Unary) and expr.op is not UnaryOp.NOT:
+        if expr.op is UnaryOp.MINUS:
+            sign = -sign
+        expr = expr.operand
+    if isinstance(expr, Number):
+        return sign * expr.value
+    return None
+
+
+# Node classes of the tree, and for each the names of its child-bearing fields.
+_NODE_TYPES: frozenset[type] = frozenset(  # built once, after every class above
+    obj
+    for obj in list(globals().values())
+    if isinstance(obj, type)
+    and hasattr(obj, "__dataclass_fields__")
+    and obj not in (Span, ParseIssue)
+)
+_CHILD_FIELDS: dict[type, tuple[str, ...]] = {
+    cls: tuple(
+        name
+        for name in cls.__dataclass_fields__  # type: ignore[attr-defined]
+        if name not in ("span", "issue", "text", "name", "kind", "op", "op_text", "value")
+        or (name in ("name", "value") and cls not in (Number, String))
+    )
+    for cls in _NODE_TYPES
+}
+
+
+def walk(node: object) -> Iterator[object]:
+    """Every node under `node` (itself included), depth first."""
+    stack = [node]
+    children = _CHILD_FIELDS
+    pop, push = stack.pop, stack.append
+    while stack:
+        item = pop()
+        fields = children.get(type(item))
+        if fields is None:
+            if type(item) is tuple:
+                stack.extend(item)
+            continue
+        yield item
+        for name in fields:
+            value = getattr(item, name)
+            if value is not None and not isinstance(value, (str, int, float, enum.Enum)):
+                push(value)

@@ -27,12 +27,12 @@ of WIHLE.").
 
 from __future__ import annotations
 
-import enum
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.blocks import match_blocks
+from melfa.lang.check_names import NameChecks
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.model import (
@@ -45,12 +45,13 @@ from melfa.lang.model import (
     MAX_ON_TARGETS,
     MIN_DLY,
     RANGES,
+    Kind,
 )
 from melfa.lang.parser import parse_tokens
+from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import suggest
 
 E, W = Severity.ERROR, Severity.WARNING
-_MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
 
 # Constant arguments with a range: (low, high, what) for the first argument (§4.2–§4.6).
@@ -68,6 +69,7 @@ _WORD_FAMILY = {
     "WEND": "WHILE",
     "IF": "IF",
     "ELSE": "IF",
+    "ELSEIF": "IF",  # MELFA BASIC V: reported once, its IF block's pairing would only repeat it
     "ENDIF": "IF",
     "SELECT": "SELECT",
     "CASE": "SELECT",
@@ -91,110 +93,16 @@ _RULE_FAMILY = {
 }
 
 
-class VType(enum.Enum):
-    """What static typing can tell about a value."""
-
-    NUM = "number"
-    STR = "string"
-    POS = "position"
-    JNT = "joint"
-
-
-_DEF_VTYPE = {
-    A.VarType.INTE: VType.NUM,
-    A.VarType.FLOAT: VType.NUM,
-    A.VarType.DOUBLE: VType.NUM,
-    A.VarType.CHAR: VType.STR,
-    A.VarType.POS: VType.POS,
-    A.VarType.JNT: VType.JNT,
-}
-_PREFIX_VTYPE = {"P": VType.POS, "J": VType.JNT, "M": VType.NUM}
-_POSITION_FUNCS = {
-    "FRAM": VType.POS,
-    "INV": VType.POS,
-    "JTOP": VType.POS,
-    "PTOJ": VType.JNT,
-    "POSMID": VType.POS,
-    "ALIGN": VType.POS,
-    "SETFL1": VType.POS,
-    "SETFL2": VType.POS,
-    "SETJNT": VType.JNT,
-    "SETPOS": VType.POS,
-    "CALARC": VType.POS,
-}
-_POSITIONAL = (VType.POS, VType.JNT)
-
-# Node classes of the tree, and for each the names of its child-bearing fields.
-_NODE_TYPES: frozenset[type] = frozenset(
-    obj
-    for obj in vars(A).values()
-    if isinstance(obj, type)
-    and hasattr(obj, "__dataclass_fields__")
-    and obj not in (A.Span, A.ParseIssue)
-)
-_CHILD_FIELDS: dict[type, tuple[str, ...]] = {
-    cls: tuple(
-        name
-        for name in cls.__dataclass_fields__  # type: ignore[attr-defined]
-        if name not in ("span", "issue", "text", "name", "kind", "op", "op_text", "value")
-        or (name in ("name", "value") and cls not in (A.Number, A.String))
-    )
-    for cls in _NODE_TYPES
-}
-
-
-def _walk(node: object) -> Iterator[object]:
-    """Every node under `node` (itself included), depth first."""
-    stack = [node]
-    children = _CHILD_FIELDS
-    pop, push = stack.pop, stack.append
-    while stack:
-        item = pop()
-        fields = children.get(type(item))
-        if fields is None:
-            if type(item) is tuple:
-                stack.extend(item)
-            continue
-        yield item
-        for name in fields:
-            value = getattr(item, name)
-            if value is not None and not isinstance(value, (str, int, float, enum.Enum)):
-                push(value)
-
-
-def _span_diag(
-    span: A.Span,
-    severity: Severity,
-    message: str,
-    rule: str,
-    code: str | None = None,
-    suggestion: str | None = None,
-) -> Diagnostic:
-    return Diagnostic(
-        span.line, span.column, span.end_line, span.end_column, severity, message, rule, code,
-        suggestion,
-    )  # fmt: skip
-
-
-class _Analyzer:
+class _Analyzer(NameChecks):
     def __init__(self, program: A.Program, points: Iterable[str]) -> None:
         self.program = program
         self.points = {p.upper() for p in points}
         self.out: list[Diagnostic] = []
-        self.declared: dict[str, VType] = {}
-        self.defined: set[str] = set(self.points)
+        self.symbols = Symbols.collect(program, self.points)
+        self.defined = self.symbols.defined
         self.undefined: set[str] = set()  # points already warned about (once per name)
-
-    def add(
-        self,
-        span: A.Span,
-        severity: Severity,
-        message: str,
-        rule: str,
-        code: str | None = None,
-        suggestion: str | None = None,
-    ) -> None:
-        self.out.append(_span_diag(span, severity, message, rule, code, suggestion))
+        self.indexed: set[int] = set()  # ids of the Names that have an index: M_IN(8)
+        self.unknown_external: set[str] = set()  # misspelt system variables (once per name)
 
     # ------------------------------------------------------------------------- passes
 
@@ -206,8 +114,9 @@ class _Analyzer:
         self.line_limits()
         self.numbering()
         labels = self.labels()
-        self.collect_definitions()
         self.statements(labels)
+        self.duplicates()
+        self.interrupt_returns()
         broken = self.broken_structure()
         for problem in match_blocks(self.program).problems:
             if _RULE_FAMILY.get(problem.rule) not in broken:
@@ -338,36 +247,6 @@ class _Analyzer:
                 )
         return set(found)
 
-    def collect_definitions(self) -> None:
-        declared, defined = self.declared, self.defined
-        for line in self.program.lines:
-            stmt = line.statement
-            if stmt is None:
-                continue
-            if isinstance(stmt, A.Assign):
-                base = _target_name(stmt.target)
-                if not isinstance(stmt.target, A.Element):
-                    defined.add(base.name)
-            elif isinstance(stmt, A.DefVar):
-                for n in stmt.names:
-                    declared[n.name] = _DEF_VTYPE[stmt.type]
-                    defined.add(n.name)
-            elif isinstance(stmt, A.DefIO):
-                declared[stmt.name.name] = VType.NUM
-                defined.add(stmt.name.name)
-            elif isinstance(stmt, A.Dim):
-                defined.update(a.name.name for a in stmt.arrays)
-            elif isinstance(stmt, A.For):
-                defined.add(stmt.counter.name)
-            elif isinstance(stmt, A.Input):
-                defined.update(_target_name(t).name for t in stmt.targets)
-            elif isinstance(stmt, (A.Fprm, A.DefFn)):
-                defined.update(p.name for p in stmt.params)
-            elif isinstance(stmt, A.If):
-                for branch in (stmt.then, stmt.else_):
-                    if isinstance(branch, A.Assign) and not isinstance(branch.target, A.Element):
-                        defined.add(_target_name(branch.target).name)
-
     # ----------------------------------------------------------------------- statements
 
     def statements(self, labels: set[str]) -> None:
@@ -382,7 +261,7 @@ class _Analyzer:
             warned_here: set[str] = (
                 {c.name for c in stmt.counters} if isinstance(stmt, A.Next) else set()
             )
-            for node in _walk(stmt):
+            for node in A.walk(stmt):
                 cls = type(node)
                 if cls is A.Name:
                     assert isinstance(node, A.Name)
@@ -450,17 +329,17 @@ class _Analyzer:
                 "L4300",
                 f"Shorten it to {MAX_NAME_LENGTH} characters.",
             )
-        if (
-            name in self.defined
-            or name in warned_here
-            or name in self.undefined
-            or (len(name) > 1 and name[1] == "_")
-        ):
+        if len(name) > 1 and name[1] == "_":
+            if name not in self.unknown_external and self.external_name(node):
+                self.unknown_external.add(name)
+            self.system_index(node, id(node) in self.indexed)
             return
-        vtype = self.vtype_of_name(name)
-        if vtype in _POSITIONAL:
+        if name in self.defined or name in warned_here or name in self.undefined:
+            return
+        vtype = self.symbols.kind_of_name(name)
+        if vtype in (Kind.POS, Kind.JNT):
             self.undefined.add(name)
-            kind = "Position" if vtype is VType.POS else "Joint position"
+            kind = "Position" if vtype is Kind.POS else "Joint position"
             shown = node.written
             self.add(
                 node.span,
@@ -471,61 +350,13 @@ class _Analyzer:
                 f"({shown} = …).",
             )
 
-    def vtype_of_name(self, name: str) -> VType | None:
-        declared = self.declared.get(name)
-        if declared is not None:
-            return declared
-        if name.endswith("$"):
-            return VType.STR
-        if len(name) > 1 and name[1] == "_":
-            return {"C": VType.STR}.get(name[0]) or _PREFIX_VTYPE.get(name[0])
-        return _PREFIX_VTYPE.get(name[0])
-
-    def vtype(self, expr: A.Expr | None, depth: int = 0) -> VType | None:
-        """The static type of `expr` when it is certain, else None."""
-        if depth > _MAX_TYPE_DEPTH:
-            return None
-        if isinstance(expr, A.Number):
-            return VType.NUM
-        if isinstance(expr, A.String):
-            return VType.STR
-        if isinstance(expr, A.Name):
-            return self.vtype_of_name(expr.name)
-        if isinstance(expr, A.Index):
-            return self.vtype_of_name(expr.name.name)
-        if isinstance(expr, A.Element):
-            return VType.NUM
-        if isinstance(expr, A.Pallet):
-            return VType.POS
-        if isinstance(expr, A.PositionLiteral):
-            return VType.POS if expr.flags is not None or len(expr.elements) > 8 else None
-        if isinstance(expr, A.Call):
-            if expr.user:
-                return VType.STR if expr.name.endswith("$") else None
-            if expr.name.endswith("$") or expr.name == "RDFL1":
-                return VType.STR
-            return _POSITION_FUNCS.get(expr.name, VType.NUM)
-        if isinstance(expr, A.Unary):
-            inner = self.vtype(expr.operand, depth + 1)
-            return VType.NUM if expr.op is A.UnaryOp.NOT else inner
-        if isinstance(expr, A.Binary):
-            if expr.op.is_comparison or expr.op in (A.BinaryOp.AND, A.BinaryOp.OR):
-                return VType.NUM
-            left = self.vtype(expr.left, depth + 1)
-            right = self.vtype(expr.right, depth + 1)
-            if left in _POSITIONAL:
-                return left
-            if left is VType.NUM and right is VType.NUM:
-                return VType.NUM
-            if left is VType.STR and right is VType.STR and expr.op is A.BinaryOp.ADD:
-                return VType.STR
-        return None
-
     def binary(self, node: A.Binary) -> None:
+        if self.string_arithmetic(node):
+            return
         if node.op not in (A.BinaryOp.MUL, A.BinaryOp.DIV):
             return
-        left, right = self.vtype(node.left), self.vtype(node.right)
-        if left is VType.NUM and right in _POSITIONAL:
+        left, right = self.symbols.kind_of(node.left), self.symbols.kind_of(node.right)
+        if left is Kind.NUM and right in (Kind.POS, Kind.JNT):
             op = node.op.value
             self.add(
                 node.span,
@@ -539,28 +370,30 @@ class _Analyzer:
             )
 
     def assign(self, node: A.Assign) -> None:
+        if self.read_only(node):
+            return
         target = node.target
         if isinstance(target, A.Element):
-            tt: VType | None = VType.NUM
+            tt: Kind | None = Kind.NUM
         else:
-            tt = self.vtype_of_name(_target_name(target).name)
-        vt = self.vtype(node.value)
+            tt = self.symbols.kind_of_name(target_name(target).name)
+        vt = self.symbols.kind_of(node.value)
         if node.pulse is not None:
             self.dly_range(node.pulse)
         if tt is None or vt is None or tt is vt:
             return
-        if {tt, vt} == {VType.POS, VType.JNT}:
+        if {tt, vt} == {Kind.POS, Kind.JNT}:
             hint = "Convert it with JTOP() or PTOJ()."
-        elif tt is VType.STR:
+        elif tt is Kind.STR:
             hint = "Convert it with STR$()."
-        elif vt is VType.STR:
+        elif vt is Kind.STR:
             hint = "Convert it with VAL()."
         else:
             hint = "Assign it to a variable of the right type (P… position, M… number)."
         self.add(
             node.value.span,
             E,
-            f"Cannot assign a {vt.value} to the {tt.value} variable {_target_name(target).written}",
+            f"Cannot assign a {vt.value} to the {tt.value} variable {target_name(target).written}",
             "type-mismatch",
             "L4390",
             hint,
@@ -576,8 +409,8 @@ class _Analyzer:
         else:
             targets, word = (node.target,), "MVA"
         for target in targets:
-            vt = self.vtype(target) if target is not None else None
-            if target is not None and vt in (VType.NUM, VType.STR):
+            vt = self.symbols.kind_of(target) if target is not None else None
+            if target is not None and vt in (Kind.NUM, Kind.STR):
                 self.add(
                     target.span,
                     E,
@@ -605,7 +438,7 @@ class _Analyzer:
 
     def range(self, arg: A.Expr, limits: tuple[float, float, str]) -> None:
         """value-out-of-range when `arg` is a constant outside [low, high]."""
-        value = _constant(arg)
+        value = A.constant_number(arg)
         low, high, what = limits
         if value is not None and not low <= value <= high:
             self.add(
@@ -617,7 +450,7 @@ class _Analyzer:
             )
 
     def dly_range(self, arg: A.Expr) -> None:
-        value = _constant(arg)
+        value = A.constant_number(arg)
         if value is not None and value < MIN_DLY:
             self.add(
                 arg.span,
@@ -646,6 +479,10 @@ class _Analyzer:
                 suggestion=f"Split the names over two DEF {node.type.value} lines.",
             )
 
+    def array_or_system(self, node: A.Index) -> None:
+        self.indexed.add(id(node.name))
+        self.index(node)
+
     def dim(self, node: A.Dim) -> None:
         for array in node.arrays:
             sizes = array.sizes
@@ -660,7 +497,7 @@ class _Analyzer:
                     f"Use at most {MAX_DIMENSIONS} sizes, e.g. DIM {shown}(10, 10, 10).",
                 )
             for size in sizes[:MAX_DIMENSIONS]:
-                value = _constant(size)
+                value = A.constant_number(size)
                 if value is None:
                     self.add(
                         size.span,
@@ -680,18 +517,6 @@ class _Analyzer:
                         "L4370",
                         f"Use a whole number from 1 to {MAX_DIM_SIZE}.",
                     )
-
-
-def _constant(expr: A.Expr | None) -> int | float | None:
-    """The value of a literal number, signed or not (``-5``); None for anything else."""
-    sign = 1
-    while isinstance(expr, A.Unary) and expr.op is not A.UnaryOp.NOT:
-        if expr.op is A.UnaryOp.MINUS:
-            sign = -sign
-        expr = expr.operand
-    if isinstance(expr, A.Number):
-        return sign * expr.value
-    return None
 
 
 def _number_text(value: float) -> str:
@@ -723,17 +548,12 @@ _SPECIFIC: dict[type, _Check] = {
     A.DefPlt: _Analyzer.def_plt,
     A.DefVar: _Analyzer.def_var,
     A.Dim: _Analyzer.dim,
+    A.Call: _Analyzer.call,
+    A.Index: _Analyzer.array_or_system,
+    A.PositionLiteral: _Analyzer.position_literal,
+    A.DefAct: _Analyzer.def_act,
+    A.ActSet: _Analyzer.act_set,
 }
-
-
-def _target_name(target: A.AssignTarget) -> A.Name:
-    while isinstance(target, A.Element):
-        base = target.base
-        if isinstance(base, (A.Name, A.Index)):
-            target = base
-        else:
-            return A.Name("", target.span)
-    return target if isinstance(target, A.Name) else target.name
 
 
 def check_ast(program: A.Program, points: Iterable[str] = ()) -> list[Diagnostic]:
@@ -752,14 +572,17 @@ def check(text: str, points: Iterable[str] = ()) -> list[Diagnostic]:
     try:
         return check_ast(parse_tokens(tokenize(text)), points)
     except Exception as exc:  # a bug of ours must not take the editor down
-        return [
-            Diagnostic(
-                1,
-                1,
-                1,
-                1,
-                Severity.ERROR,
-                f"Internal error in melfa's checker (please report it): {exc!r}",
-                "internal-error",
-            )
-        ]
+        return [internal_error(exc)]
+
+
+def internal_error(exc: Exception) -> Diagnostic:
+    """What a bug in the checker becomes: a finding, never a traceback."""
+    return Diagnostic(
+        1,
+        1,
+        1,
+        1,
+        Severity.ERROR,
+        f"Internal error in melfa's checker (please report it): {exc!r}",
+        "internal-error",
+    )

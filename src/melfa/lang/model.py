@@ -95,6 +95,21 @@ class Function:
         return self.params[min(index, len(self.params) - 1)]
 
     @property
+    def usage(self) -> str:
+        """How it is called, for messages: ``MID$(string, number[, number])``."""
+        words = []
+        for i in range(min(self.max_args, max(self.min_args, len(self.params)))):
+            kind = self.param(i)
+            words.append(kind.value if kind is not None else "value")
+        shown = ", ".join(words[: self.min_args])
+        if len(words) > self.min_args:
+            rest = ", ".join(words[self.min_args :])
+            shown = f"{shown}[, {rest}]" if shown else f"[{rest}]"
+        if self.max_args > len(words):
+            shown += ", …"
+        return f"{self.name}({shown})"
+
+    @property
     def arity_text(self) -> str:
         """How many arguments, in words: "1", "2 or 3", "1 to 8"."""
         lo, hi = self.min_args, self.max_args

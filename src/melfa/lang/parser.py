@@ -18,6 +18,7 @@ from typing import Final
 
 from melfa.lang import ast as A  # noqa: N812  (short alias: the parser builds many nodes)
 from melfa.lang.lexer import tokenize
+from melfa.lang.model import foreign_constructs
 from melfa.lang.tokens import ELEMENTS, FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
 from melfa.lang.typos import suggest
 
@@ -47,6 +48,10 @@ class K:
 
 
 _END_KINDS = frozenset({K.NEWLINE, K.EOF})
+# Enum members by value: a dict lookup is many times cheaper than calling the Enum class.
+_ELEMENT_KINDS = {k.value: k for k in A.ElementKind}
+_MOVE_KINDS = {k.value: k for k in A.MoveKind}
+_SWITCH_KINDS = {k.value: k for k in A.SwitchKind}
 _WORD_KINDS = frozenset({K.KEYWORD, K.IDENT})
 
 # Binary operator -> (precedence, BinaryOp); higher binds tighter. §2.4.
@@ -362,8 +367,8 @@ class _LineParser:
             tok = self.advance()
             name = tok.text[1:].upper()
             try:
-                element = A.ElementKind(name)
-            except ValueError:
+                element = _ELEMENT_KINDS[name]
+            except KeyError:
                 guess = suggest(name, ELEMENTS) if len(name) > 1 else None
                 raise self.fail(
                     tok,
@@ -427,6 +432,12 @@ class _LineParser:
                 self.expect_kind(K.LPAREN, "'('", f"after the function {word}")
                 args = self.args(f"to close {word}(")
                 return A.Call(word, args, False, self.last_span(tok))
+            if word == "PLT":
+                raise self.fail(
+                    tok,
+                    "PLT needs parentheses here: only an assignment's value may be a bare PLT",
+                    suggestion="Write it in parentheses, e.g. MOV (PLT 1, 5).",
+                )
             if word in _CLAUSE_WORDS and after:
                 raise self.fail(
                     tok,
@@ -448,6 +459,14 @@ class _LineParser:
             "expected-expression",
             f"Write a number, a variable or an expression after {after}." if after else None,
         )
+
+    def bare_pallet(self) -> A.Pallet:
+        """``PLACE = PLT 1, M1``: as an assignment's value PLT needs no parentheses (§4.1)."""
+        start = self.advance()  # PLT
+        pallet = self.expr()
+        self.expect_kind(K.COMMA, "','", "between the pallet and the grid number")
+        index = self.expr()
+        return A.Pallet(pallet, index, self.last_span(start))
 
     def comma_list(self, close_context: str) -> tuple[list[A.Expr | None], int]:
         """After '(' : a list whose elements may be omitted, then ')'. Returns (items, commas)."""
@@ -572,6 +591,8 @@ class _LineParser:
 
     def assignment_or_typo(self, tok: Token) -> A.Statement:
         nxt = self.peek(1)
+        if not (nxt.kind is K.OP and nxt.text == "="):
+            self.foreign(tok)
         if not (nxt.kind is K.OP and nxt.text == "=") and nxt.kind not in (
             K.LPAREN,
             K.DOT_ELEMENT,
@@ -603,6 +624,20 @@ class _LineParser:
         target = self.assign_target()
         return self.assignment_rest(target, tok)
 
+    def foreign(self, tok: Token) -> None:
+        """A statement of MELFA BASIC V (ElseIf, Const, Fsc…): one message that says so and
+        how to write it in IV, instead of a typo guess that would change the meaning."""
+        construct = foreign_constructs().get(tok.text.upper())
+        if construct is None:
+            return
+        raise self.fail(
+            tok,
+            f"{construct.what} is MELFA BASIC V; the CR2B-574 runs MELFA BASIC IV, "
+            "which does not have it",
+            "melfa-basic-v",
+            construct.in_iv or "MELFA BASIC IV has no equivalent: remove the line.",
+        )
+
     def assign_target(self) -> A.AssignTarget:
         tok = self.toks[self.i]
         if tok.kind is not K.IDENT:
@@ -628,7 +663,7 @@ class _LineParser:
 
     def assignment_rest(self, target: A.AssignTarget, start: Token) -> A.Assign:
         self.expect_op("=", "in the assignment")
-        value = self.expr()
+        value = self.bare_pallet() if self.at_word("PLT") else self.expr()
         pulse = None
         if self.at_word("DLY"):
             self.advance()
@@ -728,7 +763,7 @@ class _LineParser:
 
     def st_move(self, tok: Token) -> A.Statement:
         word = tok.text.upper()
-        kind = A.MoveKind(word)
+        kind = _MOVE_KINDS[word]
         target: A.Expr | None = None
         close: A.Expr | None = None
         if kind is A.MoveKind.MVS and self.at_kind(K.COMMA):
@@ -790,7 +825,7 @@ class _LineParser:
         while self.at_kind(K.COMMA):
             self.advance()
             extra.append(self.expr())
-        return A.Switch(A.SwitchKind(word), on, tuple(extra), self.last_span(tok))
+        return A.Switch(_SWITCH_KINDS[word], on, tuple(extra), self.last_span(tok))
 
     def st_cmp(self, tok: Token) -> A.Statement:
         nxt = self.peek()
@@ -1432,6 +1467,35 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
         label_span,
         label_text,
     )
+
+
+def parse_constant(
+    line: str, column: int
+) -> tuple[A.PositionLiteral | None, A.ParseIssue | None, int]:
+    """The position or joint constant ``(…)(fl1,fl2)`` starting at `column` (1-based) of a
+    one-line text, read by the same code as constants inside programs (points files use it).
+
+    Returns (constant, None, column after it) or (None, the syntax issue, 0). A single
+    parenthesised value comes back as a one-element constant, so callers count elements.
+
+    >>> lit, issue, end = parse_constant("Pa=(1,2,,4)(7,0) ' home", 4)
+    >>> [e.value if e else None for e in lit.elements], len(lit.flags), end
+    ([1, 2, None, 4], 2, 17)
+    """
+    toks = [tok for tok in tokenize(line) if tok.kind is not K.COMMENT]
+    parser = _LineParser(toks, _Labels(toks))
+    while toks[parser.i].kind is not K.EOF and toks[parser.i].column < column:
+        parser.i += 1
+    start = toks[parser.i]
+    try:
+        if start.kind is not K.LPAREN:
+            raise parser.fail(start, f"Expected '(', found {_describe(start)}")
+        node = parser.paren()
+    except _Fail as failure:
+        return None, failure.issue, 0
+    if not isinstance(node, A.PositionLiteral):
+        node = A.PositionLiteral((node,), None, parser.last_span(start))
+    return node, None, toks[parser.i - 1].end_column
 
 
 def parse(text: str) -> A.Program:

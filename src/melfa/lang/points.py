@@ -8,7 +8,9 @@ one point per line, as the thesis's `.POS` files write them,
 
 and, when uploading, the controller's own form with the `DEF POS ` prefix stripped,
 `Pa=(…)(7,0)` (protocol.md §4.2 item 4). Both forms are read here; lines may mix them.
-Comments (`'…`, `REM …`) and blank lines are skipped.
+Comments (`'…`, `REM …`, and `*// …` as COSIMIR writes them after a point) and blank lines
+are skipped. The `(…)(fl1,fl2)` constant itself is read by the program parser
+(`melfa.lang.parser.parse_constant`): one reading of constants for programs and points.
 
 Values are X, Y, Z in mm and A, B, C in **degrees** (optionally L1, L2), or J1…J6 (J7, J8)
 in degrees. An element may be omitted (`(400,0,,180,0,180)`): it is kept as `None`.
@@ -25,7 +27,9 @@ import re
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
+from melfa.lang.ast import Expr, constant_number
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.parser import parse_constant
 
 __all__ = [
     "DEFAULT_FL1",
@@ -138,10 +142,6 @@ class PointsFile:
 
 # --- reading ---------------------------------------------------------------------------
 
-_NUMBER = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?\Z")
-_INTEGER = re.compile(r"[+-]?\d+\Z")
-_HEX = re.compile(r"&[Hh]([0-9A-Fa-f]{1,8})\Z")
-_BIN = re.compile(r"&[Bb]([01]{1,32})\Z")
 _NAME = re.compile(r"[A-Za-z0-9_]+\Z")
 _DEF = re.compile(r"(\s*)DEF(\s+)(\S+)(\s+)", re.IGNORECASE)
 _REM = re.compile(r"\s*REM(\s|\Z)", re.IGNORECASE)
@@ -156,15 +156,6 @@ class _LineError(Exception):
     def __init__(self, diagnostic: Diagnostic) -> None:
         super().__init__(diagnostic.message)
         self.diagnostic = diagnostic
-
-
-@dataclass(slots=True)
-class _Group:
-    """A parenthesised list `(a,b,…)`: each item with its 0-based start column."""
-
-    items: list[tuple[str, int]]
-    start: int
-    end: int  # index just after ')'
 
 
 def _diag(
@@ -193,53 +184,38 @@ def _diag(
 
 
 def _strip_comment(text: str) -> str:
-    """The line without its `'` comment; a `REM` line becomes empty (no strings here)."""
+    """The line without its comment: ``' …``, a whole ``REM …`` line, or ``*// …`` as
+    COSIMIR writes after a point (``P1=(…)(6,0) *// Home``, melfa-basic-iv.md §4.1)."""
     if _REM.match(text):
         return ""
-    quote = text.find("'")
-    return text if quote < 0 else text[:quote]
+    for mark in ("'", "*//"):
+        at = text.find(mark)
+        if at >= 0:
+            text = text[:at]
+    return text
 
 
-def _read_group(text: str, pos: int, lineno: int, what: str) -> _Group:
-    """Read `( item, item, … )` starting at or after `pos` (whitespace skipped)."""
-    while pos < len(text) and text[pos].isspace():
-        pos += 1
-    if pos >= len(text) or text[pos] != "(":
-        raise _LineError(
-            _diag(
-                lineno,
-                pos,
-                pos + 1,
-                f"Expected '(' to start the {what}",
-                "points-syntax",
-                code="L4220",
-            )
-        )
-    close = text.find(")", pos)
-    if close < 0:
-        raise _LineError(
-            _diag(
-                lineno,
-                pos,
-                len(text),
-                f"The {what} has no closing ')'",
-                "points-syntax",
-                code="L4220",
-            )
-        )
-    items: list[tuple[str, int]] = []
-    start = pos + 1
-    for part in text[pos + 1 : close].split(","):
-        lead = len(part) - len(part.lstrip())
-        items.append((part.strip(), start + lead))
-        start += len(part) + 1
-    return _Group(items, pos, close + 1)
+def _first_column(items: tuple[Expr | None, ...], default: int) -> int:
+    """The 1-based column of the first written item, else `default`."""
+    return next((e.span.column for e in items if e is not None), default)
 
 
-def _read_number(item: str, col: int, lineno: int, index: int, kind: PointKind) -> float | None:
-    if item == "":
+def _where(text: str, expr: Expr | None, default: int) -> tuple[int, str]:
+    """(0-based column, text as written) of an element, for messages."""
+    if expr is None:
+        return default, ""
+    span = expr.span
+    return span.column - 1, text[span.column - 1 : span.end_column - 1]
+
+
+def _read_number(
+    text: str, expr: Expr | None, lineno: int, index: int, kind: PointKind
+) -> float | None:
+    if expr is None:
         return None
-    if not _NUMBER.match(item):
+    value = constant_number(expr)
+    if value is None:
+        col, item = _where(text, expr, 0)
         label = _element_label(kind, index)
         raise _LineError(
             _diag(
@@ -252,7 +228,7 @@ def _read_number(item: str, col: int, lineno: int, index: int, kind: PointKind) 
                 suggestion="Write numbers like 417.61 or -93.07 (mm and degrees).",
             )
         )
-    return float(item)
+    return float(value)
 
 
 def _element_label(kind: PointKind, index: int) -> str:
@@ -261,15 +237,13 @@ def _element_label(kind: PointKind, index: int) -> str:
     return ("X", "Y", "Z", "A", "B", "C", "L1", "L2")[index]
 
 
-def _read_flag(item: str, col: int, lineno: int, which: str) -> int | None:
-    if item == "":
+def _read_flag(text: str, expr: Expr | None, lineno: int, which: str) -> int | None:
+    if expr is None:
         return None
-    if m := _HEX.match(item):
-        return int(m.group(1), 16)
-    if m := _BIN.match(item):
-        return int(m.group(1), 2)
-    if _INTEGER.match(item):
-        return int(item)
+    value = constant_number(expr)
+    if isinstance(value, int):
+        return value
+    col, item = _where(text, expr, 0)
     raise _LineError(
         _diag(
             lineno,
@@ -427,15 +401,34 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
             )
     _check_name(name, name_col, lineno, kind, out)
 
-    values_group = _read_group(text, eq + 1, lineno, "list of values")
+    literal, issue, end = parse_constant(text, eq + 2)
+    if literal is None:
+        assert issue is not None
+        span = issue.span
+        raise _LineError(
+            _diag(
+                lineno,
+                span.column - 1,
+                span.end_column - 1,
+                issue.message,
+                "points-syntax",
+                code="L4220",
+                suggestion=issue.suggestion
+                or (_SUGGEST_POS if kind is PointKind.POS else _SUGGEST_JNT),
+            )
+        )
+    items = literal.elements
+    group_start, group_end = literal.span.column - 1, literal.span.end_column - 1
+    if literal.flags is not None:  # the values' own ')' ends where the flags' '(' starts
+        group_end = text.rindex("(", 0, _first_column(literal.flags, end) - 1)
     what = "X,Y,Z,A,B,C" if kind is PointKind.POS else "J1..J6"
-    count = len(values_group.items)
+    count = len(items)
     if not MIN_ELEMENTS <= count <= MAX_ELEMENTS:
         raise _LineError(
             _diag(
                 lineno,
-                values_group.start,
-                values_group.end,
+                group_start,
+                group_end,
                 f"{name} has {count} element{'s' if count != 1 else ''}; a "
                 f"{'position' if kind is PointKind.POS else 'joint position'} has 6 ({what}), "
                 f"or 8 with additional axes",
@@ -444,20 +437,30 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 suggestion="Leave an element empty (e.g. 400,,300) rather than dropping it.",
             )
         )
-    values = tuple(
-        _read_number(item, col, lineno, i, kind) for i, (item, col) in enumerate(values_group.items)
-    )
+    values = tuple(_read_number(text, item, lineno, i, kind) for i, item in enumerate(items))
 
-    rest = text[values_group.end :]
     fl1: int | None = None
     fl2: int | None = None
-    if rest.strip():
+    trailing = text[end - 1 :]
+    if trailing.strip():
+        start = end - 1 + len(trailing) - len(trailing.lstrip())
+        raise _LineError(
+            _diag(
+                lineno,
+                start,
+                len(text),
+                f"Unexpected text after the {'flags' if literal.flags else 'values'}: "
+                f"{trailing.strip()!r}",
+                "points-syntax",
+                code="L4220",
+            )
+        )
+    if literal.flags is not None:
         if kind is PointKind.JNT:
-            start = values_group.end + len(rest) - len(rest.lstrip())
             raise _LineError(
                 _diag(
                     lineno,
-                    start,
+                    group_end,
                     len(text),
                     f"{name} is a joint position; joint positions have no structure flags",
                     "points-flags",
@@ -465,35 +468,24 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     suggestion="Remove the flags, or make it an XYZ position (DEF POS P…).",
                 )
             )
-        flags = _read_group(text, values_group.end, lineno, "structure flags (FL1,FL2)")
-        if len(flags.items) != 2:
+        flags_start = group_end
+        if len(literal.flags) != 2:
             raise _LineError(
                 _diag(
                     lineno,
-                    flags.start,
-                    flags.end,
-                    f"Structure flags are two numbers (FL1,FL2), found {len(flags.items)}",
+                    flags_start,
+                    end - 1,
+                    f"Structure flags are two numbers (FL1,FL2), found {len(literal.flags)}",
                     "points-flags",
                     code="L3860",
                     suggestion="Write two flags, e.g. (7,0) for a hand-down pose.",
                 )
             )
-        (i1, c1), (i2, c2) = flags.items
-        fl1 = _read_flag(i1, c1, lineno, "FL1")
-        fl2 = _read_flag(i2, c2, lineno, "FL2")
-        trailing = text[flags.end :]
-        if trailing.strip():
-            start = flags.end + len(trailing) - len(trailing.lstrip())
-            raise _LineError(
-                _diag(
-                    lineno,
-                    start,
-                    len(text),
-                    f"Unexpected text after the flags: {trailing.strip()!r}",
-                    "points-syntax",
-                    code="L4220",
-                )
-            )
+        e1, e2 = literal.flags
+        fl1 = _read_flag(text, e1, lineno, "FL1")
+        fl2 = _read_flag(text, e2, lineno, "FL2")
+        c1, i1 = _where(text, e1, flags_start)
+        c2, i2 = _where(text, e2, flags_start)
         if fl1 is not None and not 0 <= fl1 <= 7:
             out.append(
                 _diag(
@@ -522,8 +514,8 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
             out.append(
                 _diag(
                     lineno,
-                    flags.start,
-                    flags.end,
+                    flags_start,
+                    end - 1,
                     f"{name}: omitted structure flags default to ({DEFAULT_FL1},{DEFAULT_FL2})",
                     "points-flags-default",
                     severity=Severity.INFO,
@@ -533,8 +525,8 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
         out.append(
             _diag(
                 lineno,
-                values_group.start,
-                values_group.end,
+                group_start,
+                group_end,
                 f"{name} has no structure flags; the controller uses ({DEFAULT_FL1},{DEFAULT_FL2})",
                 "points-flags-default",
                 severity=Severity.INFO,

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-from melfa.lang.check import check
-from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.kin.reach import reach_diagnostics
+from melfa.lang.diagnostics import Diagnostic
 from melfa.lang.numbering import renumber, strip
-from melfa.lang.points import parse_points
+from melfa.lang.project import check_project
 from melfa.web.convert import diagnostics_out
 from melfa.web.deps import ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES
@@ -18,23 +18,12 @@ from melfa.web.routes.workspaces import open_workspace
 
 router = APIRouter(prefix="/api", tags=["check"], responses=ERROR_RESPONSES)
 
-_ORDER = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}
-
-
-def _by_position(diagnostics: list[Diagnostic]) -> list[Diagnostic]:
-    return sorted(diagnostics, key=lambda d: (d.line, d.column, _ORDER[d.severity]))
-
 
 def check_texts(program: str, points: str) -> tuple[list[Diagnostic], list[Diagnostic]]:
-    """(program diagnostics, points diagnostics), as `melfa check prog.mb4 points.pos`."""
-    parsed = parse_points(points)
-    point_diags = list(parsed.diagnostics)
-    if parsed.points:
-        from melfa.kin.reach import reach_diagnostics
-
-        point_diags.extend(reach_diagnostics(parsed.points, points))
-    program_diags = check(program, parsed.names)
-    return _by_position(program_diags), _by_position(point_diags)
+    """(program diagnostics, points diagnostics), as `melfa check prog.mb4 points.pos`:
+    both call `melfa.lang.project.check_project`."""
+    report = check_project([program], [points], reach_diagnostics)
+    return list(report.programs[0]), list(report.points[0])
 
 
 @router.post("/check", response_model=CheckOut, summary="Check a program and its points")
