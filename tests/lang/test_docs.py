@@ -10,7 +10,11 @@ import melfa.lang
 
 ROOT = Path(__file__).resolve().parents[2]
 LANG = Path(melfa.lang.__file__).parent
-SOURCES = [*sorted(LANG.glob("*.py")), LANG.parent / "kin" / "reach.py"]
+NOT_RULES = {"encoding.py"}  # its dashed literals are encodings (utf-8-sig)
+SOURCES = [
+    *(path for path in sorted(LANG.glob("*.py")) if path.name not in NOT_RULES),
+    LANG.parent / "kin" / "reach.py",
+]
 CLI_RULES = {"file-binary"}  # src/melfa/cli/lang_commands.py (its other literals are encodings)
 RULE_LITERAL = re.compile(r'"([a-z]+(?:-[a-z0-9]+)+)"')
 
