@@ -50,6 +50,7 @@ def test_every_route_is_in_docs_api_md() -> None:
         "ack",
         "error",
         "pong",
+        "debug",
         "ping",
         "jog_start",
         "jog_heartbeat",

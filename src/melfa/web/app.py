@@ -24,6 +24,7 @@ from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
     audit,
     check,
+    debug,
     health,
     lease,
     pages,
@@ -44,6 +45,7 @@ TAGS = [
     {"name": "check", "description": "Diagnostics and step numbering."},
     {"name": "robot", "description": "Robot operations (lease, audit)."},
     {"name": "targets", "description": "Which robot: the lab's, or your own simulator."},
+    {"name": "debug", "description": "The debugger on your own simulator."},
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
     {"name": "users", "description": "Accounts (admins)."},
@@ -121,6 +123,7 @@ def create_app(
         check.router,
         robot.router,
         targets.router,
+        debug.router,
         lease.router,
         audit.router,
         users.router,

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 from melfa.service import Actor, RobotService
 from melfa.service.audit import AuditSink
+from melfa.service.debugging import DebugSession
 from melfa.service.simulator import PrivateSimulator
 
 _log = logging.getLogger("melfa.web.targets")
@@ -40,6 +41,8 @@ class Target:
     label: str
     service: RobotService
     simulator: PrivateSimulator | None = None
+    debug: DebugSession | None = None
+    """The program under the debugger on this private simulator, if any."""
     sockets: int = 0
     last_used: float = field(default_factory=time.monotonic)
 
@@ -123,10 +126,7 @@ class Targets:
             if t.sockets == 0 and now - t.last_used >= self.idle_s
         ]
         for user in idle:
-            target = self._private.pop(user)
-            assert target.simulator is not None
-            with contextlib.suppress(Exception):
-                await target.simulator.close()
+            await _close(self._private.pop(user))
             _log.info("private simulator of %s freed after %.0f s idle", user, self.idle_s)
         return idle
 
@@ -134,9 +134,16 @@ class Targets:
         """Close every private simulator (the lab service belongs to the app)."""
         targets, self._private = list(self._private.values()), {}
         for target in targets:
-            assert target.simulator is not None
-            with contextlib.suppress(Exception):
-                await target.simulator.close()
+            await _close(target)
+
+
+async def _close(target: Target) -> None:
+    """A private target's debug session, then its simulator."""
+    with contextlib.suppress(Exception):
+        if target.debug is not None:
+            await target.debug.close()
+        if target.simulator is not None:
+            await target.simulator.close()
 
 
 __all__ = ["LAB", "MINE", "Target", "TargetKind", "Targets", "UnknownTarget"]

@@ -39,6 +39,7 @@ from melfa.service import (
     UploadProgress,
     event_to_dict,
 )
+from melfa.service.debugging import DebugUpdate
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import actor_dict, state_dict, target_dict
@@ -59,6 +60,8 @@ def message_of(event: Event) -> dict[str, Any] | None:
     """The WebSocket message for a service event (None: not sent to browsers)."""
     if isinstance(event, StateSnapshot):
         return {"type": "state", **state_dict(event)}
+    if isinstance(event, DebugUpdate):
+        return {"type": "debug", **{k: v for k, v in event_to_dict(event).items() if k != "name"}}
     if isinstance(event, AuditEvent) or not isinstance(
         event, LinkStatusChanged | UploadProgress | CommandResult | LeaseChanged | JogChanged
     ):

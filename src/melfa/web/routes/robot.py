@@ -75,7 +75,7 @@ async def operate(actor: Actor, name: str, call: Callable[[], Awaitable[T]]) -> 
         )
 
 
-async def _sources(
+async def sources(
     context: WebContext, session: SessionDep, body: SourceIn
 ) -> tuple[str | None, str | None]:
     """Program and points from the body, the rest from the workspace."""
@@ -107,7 +107,7 @@ def _points_for_upload(points: str) -> list[str]:
     return upload_lines(parsed.points)
 
 
-async def _checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
+async def checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
     if not check:
         return
     program_diags, _ = await context.db(check_texts, program, points)
@@ -134,10 +134,10 @@ async def load_project(
     """Program and points into the controller in one session (from the body, else the
     workspace). A program with errors is refused before anything is sent."""
     actor = drive.actor
-    program, points = await _sources(context, session, body)
+    program, points = await sources(context, session, body)
     assert program is not None and points is not None
     lines = _points_for_upload(points)
-    await _checked_program(context, program, points, body.check)
+    await checked_program(context, program, points, body.check)
     service = drive.service
     report = await operate(
         actor, "load_project", lambda: service.load_project(actor, program, lines)
@@ -150,9 +150,9 @@ async def upload_program(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
     actor = drive.actor
-    program, points = await _sources(context, session, body)
+    program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    await _checked_program(context, program, points, body.check)
+    await checked_program(context, program, points, body.check)
     service = drive.service
     report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
     return _upload_out(report)
@@ -163,7 +163,7 @@ async def upload_points(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
     actor = drive.actor
-    _, points = await _sources(context, session, body)
+    _, points = await sources(context, session, body)
     assert points is not None
     lines = _points_for_upload(points)
     if not lines:
@@ -252,7 +252,7 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
         source = SourceIn(
             program="", points=body.points, workspace_id=body.workspace_id, check=False
         )
-        _, points = await _sources(context, session, source)
+        _, points = await sources(context, session, source)
         point = parse_points(points or "").get(body.point.strip())
         if point is None:
             raise ApiError(

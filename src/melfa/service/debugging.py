@@ -1,0 +1,198 @@
+"""`DebugSession`: the debug engine (`melfa.sim.debug.engine.Debugger`) run for one user
+beside their private simulator, with a timer that moves it and events that show it.
+
+The engine is pure and clockless; this module gives it a clock, polls it (`POLL_S`) in a
+worker thread so an instant-speed run never blocks the event loop, serialises commands with
+the polls (one lock), and publishes `DebugUpdate` events on the private simulator's bus: the
+IDE's socket for "My simulator" gets them with the robot's state. While the program runs an
+update goes out at most every `UPDATE_S` (location, time, the arm's joints and pose for the
+3D view); at every stop one goes out at once, with the variables.
+
+The debugged program runs on an arm of its own that starts where the simulator's arm
+stands: the debugger's simulated time stands still while paused and runs ×N or instantly on
+request, which the controller's real-time clock cannot follow.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import threading
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ClassVar, TypeVar
+
+from melfa.service.events import Actor, Event
+from melfa.service.simulator import PrivateSimulator
+from melfa.sim.arm import SimulatedArm
+from melfa.sim.debug.engine import DebugError, Debugger, RunState, Speed, Stop
+from melfa.sim.interp.io import IOState
+from melfa.sim.machine import SimArm
+
+T = TypeVar("T")
+
+POLL_S = 0.03
+"""How often a running program is moved on (the engine keeps its own timing between)."""
+UPDATE_S = 0.1
+"""Most often a running program's location and arm are published (stops go at once)."""
+
+
+@dataclass(frozen=True, kw_only=True)
+class DebugUpdate(Event):
+    """The debugger's state for the IDE (`status` is the engine's `Status.to_json()`)."""
+
+    NAME: ClassVar[str] = "debug"
+    status: dict[str, Any]
+    joints: tuple[float, ...] | None = None
+    pose: tuple[float, ...] | None = None
+    variables: list[dict[str, Any]] | None = None
+    """Sent with every stop (the values the last step changed are marked)."""
+    ended: bool = False
+    """The session was closed: the view goes back to the simulator's own state."""
+
+
+def _arm_like(simulator: PrivateSimulator) -> SimulatedArm:
+    """A fresh arm standing where the simulator's stands, servo and hand as they are."""
+
+    def read(controller: Any, now: float) -> SimulatedArm:
+        arm = controller.arm
+        if not isinstance(arm, SimArm):
+            return SimulatedArm()
+        inner = arm.arm
+        fresh = SimulatedArm(inner.joints, servo_on=inner.servo_on)
+        for number, state in enumerate(inner.hands, start=1):
+            if state is not None:
+                fresh.set_hand(number, inner.hand_open(number) is True, 0.0)
+        return fresh
+
+    return simulator.call(read)
+
+
+class DebugSession:
+    """One user's program under the debugger. Make it with `open`, `close` it when done."""
+
+    def __init__(
+        self,
+        simulator: PrivateSimulator,
+        debugger: Debugger,
+        owner: Actor,
+        *,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
+        self.simulator = simulator
+        self.debugger = debugger
+        self.owner = owner
+        self.program = debugger.text
+        self._clock = clock
+        self._lock = threading.Lock()
+        self._task: asyncio.Task[None] | None = None
+        self._last_update = float("-inf")
+        self._closed = False
+
+    @classmethod
+    async def open(
+        cls,
+        simulator: PrivateSimulator,
+        owner: Actor,
+        program: str,
+        points: str,
+        *,
+        speed: Speed | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> DebugSession:
+        """Load ``program`` and ``points`` (`DebugError` in the user's words when they
+        cannot run at all) on an arm where the simulator's stands."""
+        arm = _arm_like(simulator)
+        debugger = await asyncio.to_thread(
+            Debugger,
+            program,
+            points,
+            clock=clock,
+            speed=speed or Speed(1.0),
+            arm=arm,
+            io=_io_of(simulator),
+        )
+        session = cls(simulator, debugger, owner, clock=clock)
+        session._task = asyncio.create_task(session._pump(), name=f"debug-{owner.user}")
+        session.publish(with_variables=True)
+        return session
+
+    @property
+    def closed(self) -> bool:
+        return self._closed
+
+    async def close(self) -> None:
+        if self._closed:
+            return
+        self._closed = True
+        if self._task is not None:
+            self._task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._task
+        with contextlib.suppress(Exception):
+            self.publish(ended=True)
+
+    async def call(self, fn: Callable[[Debugger], T]) -> T:
+        """Run one engine command (serialised with the polls, off the event loop); the
+        new state is published at once."""
+        if self._closed:
+            raise DebugError("the debug session has ended: start it again")
+        result = await asyncio.to_thread(self._locked, fn)
+        self.publish(with_variables=True)
+        return result
+
+    def _locked(self, fn: Callable[[Debugger], T]) -> T:
+        with self._lock:
+            return fn(self.debugger)
+
+    def status(self) -> dict[str, Any]:
+        with self._lock:
+            return self.debugger.status().to_json()
+
+    def variables(self) -> list[dict[str, Any]]:
+        with self._lock:
+            return [v.to_json() for v in self.debugger.variables()]
+
+    def update(self, *, with_variables: bool = False, ended: bool = False) -> DebugUpdate:
+        with self._lock:
+            d = self.debugger
+            arm = d.arm
+            return DebugUpdate(
+                actor=self.owner,
+                status=d.status().to_json(),
+                joints=tuple(arm.joints),
+                pose=_pose(arm),
+                variables=[v.to_json() for v in d.variables()] if with_variables else None,
+                ended=ended,
+            )
+
+    def publish(self, *, with_variables: bool = False, ended: bool = False) -> None:
+        self._last_update = self._clock()
+        self.simulator.service.publish(self.update(with_variables=with_variables, ended=ended))
+
+    async def _pump(self) -> None:
+        """Move a running program on; publish what happened."""
+        while True:
+            await asyncio.sleep(POLL_S)
+            if self.debugger.state is not RunState.RUNNING:
+                continue
+            stop: Stop | None = await asyncio.to_thread(self._locked, lambda d: d.poll())
+            if stop is not None:
+                self.publish(with_variables=True)
+            elif self._clock() - self._last_update >= UPDATE_S:
+                self.publish()
+
+
+def _io_of(simulator: PrivateSimulator) -> IOState:
+    """The simulator's I/O signals: inputs a student set stay set in the debugger."""
+    io: IOState = simulator.call(lambda controller, now: controller.io)
+    return io
+
+
+def _pose(arm: SimulatedArm) -> tuple[float, ...]:
+    pose = arm.pose
+    return (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)
+
+
+__all__ = ["POLL_S", "UPDATE_S", "DebugSession", "DebugUpdate"]

@@ -1,0 +1,116 @@
+"""The debugger API on a user's own simulator: breakpoints, stepping, variables, inputs,
+run to cursor, run-time errors, and the socket's ``debug`` messages."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from tests.web.conftest import Web, assert_error
+from tests.web.test_robot import ok, wait_for
+from tests.web.test_ws import until
+
+PROGRAM = """SERVO ON
+M1 = 1
+GOSUB *SUB
+M1 = M1 + 1
+WAIT M_IN(8) = 1
+MOV P1
+M2 = M1 * 10
+END
+*SUB
+M3 = 5
+RETURN
+"""
+POINTS = "DEF POS P1=(300.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+
+
+def status(browser: Any) -> dict[str, Any]:
+    return dict(ok(browser.get("/api/debug"))["status"])
+
+
+def stopped_at(browser: Any, line: int) -> bool:
+    s = status(browser)
+    return s["state"] == "paused" and s["location"]["line"] == line
+
+
+def values(out: dict[str, Any]) -> dict[str, tuple[str, bool]]:
+    return {v["name"]: (v["value"], v["changed"]) for v in out["variables"]}
+
+
+def test_breakpoint_step_over_into_variables_input_and_end(web: Web) -> None:
+    ann = web.ann
+    body = {"program": PROGRAM, "points": POINTS, "lines": [3], "speed": "instant"}
+    started = ok(ann.post("/api/debug", json=body))
+    assert started["status"]["state"] == "idle" and started["program"] == PROGRAM
+    assert [b["line"] for b in started["status"]["breakpoints"]] == [3]
+    ok(ann.post("/api/debug/command/run"))
+    wait_for(lambda: stopped_at(ann, 3))
+    assert status(ann)["stop"]["reason"] == "breakpoint"
+    ok(ann.post("/api/debug/command/step"))  # into the GOSUB: its label
+    wait_for(lambda: stopped_at(ann, 9))
+    ok(ann.post("/api/debug/command/step"))
+    wait_for(lambda: stopped_at(ann, 10))
+    ok(ann.post("/api/debug/command/step"))
+    wait_for(lambda: stopped_at(ann, 11))
+    out = ok(ann.get("/api/debug"))
+    assert values(out)["M3"] == ("5", True)  # changed by the last step
+    assert [f["line"] for f in ok(ann.get("/api/debug"))["status"]["breakpoints"]] == [3]
+    ok(ann.post("/api/debug/command/step-out"))
+    wait_for(lambda: stopped_at(ann, 4))
+    ok(ann.post("/api/debug/command/step-over"))
+    wait_for(lambda: stopped_at(ann, 5))
+    out = ok(ann.get("/api/debug"))
+    assert values(out)["M1"] == ("2", True) and values(out)["M3"] == ("5", False)
+    ok(ann.post("/api/debug/command/continue"))
+    wait_for(lambda: status(ann)["waiting"] is True)  # WAIT M_IN(8) = 1
+    assert status(ann)["location"]["line"] == 5
+    ok(ann.post("/api/debug/input", json={"bit": 8, "value": 1}))
+    wait_for(lambda: status(ann)["state"] == "finished")
+    assert ok(ann.post("/api/debug/evaluate", json={"expression": "M2"}))["value"] == "20"
+    assert_error(ann.post("/api/debug/command/continue"), 422, "debug-refused")
+
+
+def test_run_to_cursor_and_a_run_time_error_on_its_line(web: Web) -> None:
+    ann = web.ann
+    program = "SERVO ON\nM1 = 1\nM2 = 2\nM3 = M9 + 1\nEND\n"
+    ok(ann.post("/api/debug", json={"program": program, "points": "", "check": False}))
+    ok(ann.post("/api/debug/run-to", json={"line": 3}))
+    wait_for(lambda: stopped_at(ann, 3))
+    ok(ann.post("/api/debug/command/continue"))
+    wait_for(lambda: status(ann)["state"] == "failed")
+    error = status(ann)["stop"]["error"]
+    assert error["location"]["line"] == 4 and error["code"].startswith("L")
+    assert "M9" in error["explanation"] and error["number"] > 0
+
+
+def test_refusals_in_plain_words(web: Web) -> None:
+    ann = web.ann
+    assert_error(ann.get("/api/debug"), 404, "no-debug-session")
+    ok(ann.post("/api/debug", json={"program": PROGRAM, "points": POINTS}))
+    error = assert_error(ann.put("/api/debug/breakpoints", json={"lines": [99]}), 422)
+    assert "outside the program" in error["message"]
+    error = assert_error(ann.put("/api/debug/breakpoints", json={"labels": ["NOPE"]}), 422)
+    assert "*SUB" in error["message"]
+    assert_error(ann.post("/api/debug/speed", json={"speed": "warp"}), 422, "invalid-value")
+    broken = ann.post("/api/debug", json={"program": "FOO 1\n", "points": ""})
+    assert_error(broken, 422, "program-has-errors")
+    ok(ann.delete("/api/debug"))
+    assert_error(ann.get("/api/debug"), 404, "no-debug-session")
+
+
+def test_the_simulators_socket_streams_debug_updates(web: Web) -> None:
+    ann = web.ann
+    headers = ann.headers({"origin": "http://testserver"}, csrf=False)
+    with web.client.websocket_connect("/api/ws?target=mine", headers=headers) as ws:
+        until(ws, "hello")
+        body = {"program": PROGRAM, "points": POINTS, "labels": ["*SUB"], "speed": "x4"}
+        ok(ann.post("/api/debug", json=body))
+        ok(ann.post("/api/debug/command/run"))
+        for _ in range(200):
+            message = until(ws, "debug")
+            if message["status"]["state"] == "paused":
+                break
+        assert message["status"]["location"]["line"] == 9  # the line of *SUB
+        assert message["variables"] is not None and len(message["joints"]) == 6
+    # bob's simulator knows nothing of it.
+    assert_error(web.bob.get("/api/debug"), 404, "no-debug-session")
