@@ -17,8 +17,13 @@ settings.register_profile("thorough", parent=settings.get_profile("default"), ma
 _default_profile = "ci" if os.environ.get("CI") else "default"
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _default_profile))
 
+# Every simulator in the suite is strict (refuses what no real controller was seen to answer)
+# and answers refusals in the real 9-digit form, unless a test says otherwise; the
+# simulator's own tests of documented-only commands opt out in tests/sim/conftest.py.
+os.environ.setdefault("MELFA_SIM_STRICT", "1")
+
 # Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
-from tests.fixtures_sim import sim_pty_path, sim_tcp_url  # noqa: E402, F401
+from tests.fixtures_sim import not_strict, sim_pty_path, sim_tcp_url  # noqa: E402, F401
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

@@ -4,6 +4,10 @@
   pyserial at 9600 8E2 (the real serial code path). A new pty per test, because a pty drops
   parity and reopening one with parity set fails.
 - `sim_tcp_url`: `tcp://127.0.0.1:<port>` served by a fresh virtual controller.
+- `not_strict`: simulators created in the test also serve commands only the manual documents
+  (JOG, DSTATE, HNDSTS…). The suite runs every simulator strict (tests/conftest.py); tests of
+  the paths melfa keeps for a controller that turns out to accept such a command (continuous
+  JOG: `melfa doctor` probes it) ask for this.
 - `Driver`: send request strings to a `VirtualController` with a hand-moved clock.
 """
 
@@ -15,6 +19,7 @@ import pytest
 
 from melfa.protocol.messages import Ok, Reply, decode_reply
 from melfa.sim import NO_PACING, PtyServer, TcpServer, VirtualController
+from melfa.sim.config import STRICT_ENV
 
 
 class Driver:
@@ -57,3 +62,9 @@ def sim_tcp_url() -> Iterator[str]:
     """`tcp://127.0.0.1:<port>` served by a fresh `VirtualController` (no pacing)."""
     with TcpServer(VirtualController(), pacing=NO_PACING) as server:
         yield server.url
+
+
+@pytest.fixture
+def not_strict(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Simulators created from now on also serve documented-only commands (see above)."""
+    monkeypatch.setenv(STRICT_ENV, "0")

@@ -131,6 +131,7 @@ def test_override_and_hand(robot: Robot, controller: VirtualController) -> None:
         robot.override(0)
 
 
+@pytest.mark.usefixtures("not_strict")  # continuous JOG: documented only
 def test_jog_start_and_stop(robot: Robot, controller: VirtualController) -> None:
     robot.servo(True)
     assert robot.jog(JogMode.JOINT, 0, +1) is JogMethod.JOG

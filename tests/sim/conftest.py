@@ -8,9 +8,15 @@ from collections.abc import Iterator
 import pytest
 
 from melfa.sim import NO_PACING, PtyServer, SimConfig, VirtualController
-from tests.fixtures_sim import Driver, sim_pty_path, sim_tcp_url
+from tests.fixtures_sim import Driver, not_strict, sim_pty_path, sim_tcp_url
 
-__all__ = ["sim_pty_path", "sim_tcp_url"]  # repo-wide fixtures, re-exported here
+__all__ = ["not_strict", "sim_pty_path", "sim_tcp_url"]  # repo-wide fixtures, re-exported here
+
+
+@pytest.fixture(autouse=True)
+def _serve_everything(not_strict: None) -> None:
+    """The simulator's own tests cover every command it serves, the documented-only ones
+    too; tests of strict mode ask for it explicitly."""
 
 
 @pytest.fixture

@@ -62,6 +62,7 @@ def test_lease_changes_are_broadcast(web: Web) -> None:
         assert over["holder"]["user"] == "ivy" and over["previous"]["user"] == "ann"
 
 
+@pytest.mark.usefixtures("not_strict")  # continuous JOG: documented only
 def test_jog_stops_and_lease_ends_when_the_socket_closes(web: Web) -> None:
     web.ann.post("/api/robot/servo", json={"on": True})
     with web.bob.ws() as viewer:
@@ -95,6 +96,7 @@ def test_lease_stays_while_another_socket_of_the_session_is_open(web: Web) -> No
     assert web.ann.get("/api/lease").json()["holder"] is None
 
 
+@pytest.mark.usefixtures("not_strict")  # continuous JOG: documented only
 def test_jog_release_and_hand_toggle_and_stop(web: Web) -> None:
     web.ann.post("/api/robot/servo", json={"on": True})
     with web.ann.ws() as ws:
@@ -108,8 +110,12 @@ def test_jog_release_and_hand_toggle_and_stop(web: Web) -> None:
             if message["type"] == "ack" or (message["type"] == "jog" and not message["active"]):
                 seen.append(message)
         assert next(m for m in seen if m["type"] == "jog")["reason"] == "released"
+        # The first toggle's result depends on whether a hand poll came first (unknown is
+        # taken as open); the second always undoes the first.
         ws.send_json({"type": "hand_toggle", "hand": 1, "id": 3})
-        assert until(ws, "ack", id=3)["open"] is False
+        first = until(ws, "ack", id=3)["open"]
+        ws.send_json({"type": "hand_toggle", "hand": 1, "id": 5})
+        assert until(ws, "ack", id=5)["open"] is (not first)
         ws.send_json({"type": "stop", "id": 4})
         until(ws, "ack", id=4)
 

@@ -291,12 +291,12 @@ class Robot:
             raise self._refusal(reply, "STOP", fetch=False)
 
     def wait_idle(self, timeout: float = 60.0, poll: float = 0.2) -> DState:
-        """Poll ``DSTATE`` until the RUN bit (0x40) clears [DOC S1 p.55; ≥ 100 ms spacing
+        """Poll ``STATE`` until the RUN bit (0x40) clears [DOC S1 p.55; ≥ 100 ms spacing
         while running, DOC S1 §3.3.3]. `Stopped` if `stop` is called meanwhile."""
         with self._operation() as generation:
             end = time.monotonic() + timeout
             while True:
-                state = DState.parse(self._call("DSTATE").answer)
+                state = self._status()
                 if RunStatus.RUNNING not in state.status.run:
                     return state
                 if time.monotonic() > end:
@@ -392,9 +392,14 @@ class Robot:
             return State.parse(self._call("STATE").answer)
 
     def dstate(self) -> DState:
-        """``DSTATE``: the short status poll."""
+        """The short status (run/stop bits, error, line), read with ``STATE``: a real
+        controller's answer to STATE is on record, to ``DSTATE`` none is [TRACE K9b]."""
         with self._operation():
-            return DState.parse(self._call("DSTATE").answer)
+            return self._status()
+
+    def _status(self) -> DState:
+        state = State.parse(self._call("STATE").answer)
+        return DState(state.status, state.line, state.mechanism)
 
     # --------------------------------------------------------------------------- jog
 

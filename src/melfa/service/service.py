@@ -782,8 +782,8 @@ class RobotService:
         if self._restore_override is not None:
             return
         ceiling = self.config.jog_override_ceiling
-        answer = robot.request("OVRD").answer.strip()
-        current = int(answer) if answer.isdigit() else 100
+        # STATE's override field, not `OVRD`: only STATE's answer is on record [TRACE K9b].
+        current = robot.state().override or 100
         self._jog_override = current
         if current > ceiling:
             robot.override(ceiling)
@@ -796,8 +796,7 @@ class RobotService:
         target = self._override_target
         current = self._jog_override
         if current is None:
-            answer = robot.request("OVRD").answer.strip()
-            current = int(answer) if answer.isdigit() else self.config.jog_override_ceiling
+            current = robot.state().override or self.config.jog_override_ceiling
         if target is None:
             return current
         new = target if target <= current else min(target, current + self.config.jog_override_step)

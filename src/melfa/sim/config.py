@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import datetime as dt
 import enum
+import os
 from dataclasses import dataclass, field
 
 # --- timing --------------------------------------------------------------------------------
@@ -79,6 +80,17 @@ class Banner:
         return ";".join(fields) + ";"
 
 
+STRICT_ENV = "MELFA_SIM_STRICT"
+"""`1`: every simulator created without an explicit `strict` is strict (`--robot sim`, the
+web server's simulators, `melfa sim`): rehearse against what the real controller was seen
+to answer. The test suite runs this way."""
+
+
+def strict_by_default() -> bool:
+    """Whether `$MELFA_SIM_STRICT` asks for strict simulators."""
+    return os.environ.get(STRICT_ENV, "").strip() not in ("", "0")
+
+
 class KeySwitch(enum.Enum):
     """The controller's MODE key [DOC S5 §4]. Only AUTO (Ext.) lets a computer on RS-232
     operate the robot; in TEACH the teaching pendant, in AUTO (Op.) the operation panel holds
@@ -147,9 +159,10 @@ class SimConfig:
     """Refusals carry the real controller's 9 digits (`QeR602000000`: number + 5 detail
     digits) [TRACE K9b]; False answers the manual's 4 digits (`QeR6020`) [DOC S1]."""
 
-    strict: bool = False
+    strict: bool = field(default_factory=lambda: strict_by_default())
     """Refuse (6010, in the real form) every command no real controller was seen to answer:
-    only commands with recorded answers or sent by real serial clients are served."""
+    only commands with recorded answers or sent by real serial clients are served (the list:
+    docs/simulator.md). Default: `$MELFA_SIM_STRICT` (the test suite sets it)."""
 
     free_bytes: int = 225536
     """[TRACE S21] Free program memory shown by PDIR on an empty controller."""
