@@ -13,6 +13,8 @@ import enum
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
+from melfa.service.activity import Activity
+
 
 def utc_now() -> dt.datetime:
     """Now, timezone-aware UTC."""
@@ -122,6 +124,14 @@ class StateSnapshot(Event):
     lease_state: str | None = None
     """The holder's connection: ``connected``, ``no connection`` (REST only) or
     ``disconnected, robot moving`` (`melfa.service.lease.HolderState`)."""
+    program_running: bool | None = None
+    """The program runs (``running`` is the controller's RUN bit, also set by an EXEC move)."""
+    paused: bool | None = None
+    """The program was stopped mid-way (STOP without PROGRAM SELECT)."""
+    activity: Activity = Activity.OFFLINE
+    """What the robot does, the one word every view shows (`melfa.service.activity`)."""
+    activity_detail: str = ""
+    """The target of a move (``P1``) or the running line (``line 30``)."""
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -38,6 +38,7 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
 from melfa.robot.opener import open_robot_link
+from melfa.service.activity import Activity, Facts, Motion, MotionKind, activity_of
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription
 from melfa.service.config import ServiceConfig, WhenHolderLeaves
@@ -111,6 +112,8 @@ class RobotService:
         )
         self._jog = JogKeeper()
         self._step_busy = False
+        self._motion: Motion | None = None
+        """The motion the service last started (names the activity while it moves)."""
         self._restore_override: int | None = None
         """The operator's OP override while the jog ceiling holds it lower (worker only)."""
         self._jog_override: int | None = None
@@ -404,7 +407,8 @@ class RobotService:
     async def run(self, actor: Actor, *, servo: ServoPolicy | None = None) -> None:
         """Start the program (``RUN<program>;1``). ``servo``: what to do when the servo is
         off (`melfa.service.servo`; default `ServiceConfig.motion_servo`)."""
-        policy = self._motion(servo)
+        policy = self._motion_servo(servo)
+        self._motion = Motion(MotionKind.RUN)
         await self._command(actor, "run", "", lambda r: r.run(), restore=True, servo=policy)
 
     async def delete(self, actor: Actor) -> None:
@@ -419,6 +423,7 @@ class RobotService:
         statement = statement.strip()
         if not statement:
             raise ValueError("nothing to execute: the statement is empty")
+        self._motion = Motion(MotionKind.EXEC, statement)
         await self._command(
             actor, "exec", statement, lambda r: r.exec(statement), restore=True, servo=servo
         )
@@ -451,9 +456,11 @@ class RobotService:
         joints: bool = False,
         flags: tuple[int, int] = (7, 0),
         servo: ServoPolicy | None = None,
+        label: str = "",
     ) -> None:
         """Move to a point name (``MOV P1``) or explicit values: six joint angles with
-        ``joints=True`` or X, Y, Z, A, B, C; ``linear`` uses MVS. ``servo`` as in `run`."""
+        ``joints=True`` or X, Y, Z, A, B, C; ``linear`` uses MVS. ``servo`` as in `run`;
+        ``label`` names the target in the activity (``P1``) when values are sent."""
         verb = "MVS" if linear else "MOV"
         if isinstance(target, str):
             name = target.strip()
@@ -477,8 +484,16 @@ class RobotService:
             for statement in statements:
                 robot.exec(statement)
 
+        shown = label or (target.strip() if isinstance(target, str) else "the given position")
+        self._motion = Motion(MotionKind.MOVE_TO, shown)
+
         await self._command(
-            actor, "move_to", "; ".join(statements), move, restore=True, servo=self._motion(servo)
+            actor,
+            "move_to",
+            "; ".join(statements),
+            move,
+            restore=True,
+            servo=self._motion_servo(servo),
         )
 
     async def servo(self, actor: Actor, on: bool) -> None:
@@ -544,7 +559,7 @@ class RobotService:
         self._check_open()
         request = JogRequest.make(frame, axis, direction)
         command_id = next(self._ids)
-        first = self._servo_first(actor, "jog", self._motion(servo), self._renew_jog)
+        first = self._servo_first(actor, "jog", self._motion_servo(servo), self._renew_jog)
         self._check_lease(actor, command_id, "jog", request.label)
         self._audit(actor, command_id, "jog", request.label, "accepted")
         self._jog.begin(actor, request, command_id, self._clock())
@@ -634,6 +649,7 @@ class RobotService:
                 self._require_worker().poll_while_moving(robot)
 
         self._step_busy = True
+        self._motion = Motion(MotionKind.STEP, request.label)
         try:
             await self._command(
                 actor,
@@ -641,7 +657,7 @@ class RobotService:
                 request.label,
                 step,
                 priority=Priority.JOG,
-                servo=self._motion(servo),
+                servo=self._motion_servo(servo),
             )
         finally:
             self._step_busy = False
@@ -746,7 +762,7 @@ class RobotService:
         job = Job(name, Priority.USER, fn, moves=False)
         return await asyncio.wrap_future(self._require_worker().submit(job))
 
-    def _motion(self, servo: ServoPolicy | None) -> ServoPolicy:
+    def _motion_servo(self, servo: ServoPolicy | None) -> ServoPolicy:
         return servo if servo is not None else self.config.motion_servo
 
     def _servo_first(
@@ -987,7 +1003,7 @@ class RobotService:
 
     def _update(self, **changes: Any) -> None:
         info = self._lease.info()
-        self._snapshot = dataclasses.replace(
+        snapshot = dataclasses.replace(
             self._snapshot,
             **changes,
             seq=next(self._seq),
@@ -997,6 +1013,21 @@ class RobotService:
             lease_since=info.since,
             lease_state=info.state.value if info.state is not None else None,
         )
+        facts = Facts(
+            connected=snapshot.link is LinkStatus.CONNECTED,
+            busy=snapshot.busy,
+            alarm=snapshot.alarm is not None,
+            jogging=snapshot.jogging,
+            running=snapshot.running,
+            program_running=snapshot.program_running,
+            paused=snapshot.paused,
+            moving=snapshot.moving,
+            line=snapshot.line,
+        )
+        activity, detail = activity_of(facts, self._motion)
+        if activity is Activity.JOGGING and self._jog.request is not None:
+            detail = self._jog.request.label
+        self._snapshot = dataclasses.replace(snapshot, activity=activity, activity_detail=detail)
         self._bus.publish(self._snapshot)
 
     def _listeners_changed(self) -> None:

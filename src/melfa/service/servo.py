@@ -22,10 +22,8 @@ import enum
 
 from melfa.protocol import error_text
 from melfa.protocol.answers import DState, RunStatus
+from melfa.protocol.error_table import SERVO_OFF
 from melfa.robot import ControllerError, Robot
-
-SERVO_OFF = 2000
-"""L2000 The servo is OFF."""
 
 
 class ServoPolicy(enum.Enum):
@@ -65,4 +63,4 @@ def ensure_servo(robot: Robot, policy: ServoPolicy, command: str = "") -> bool:
     return True
 
 
-__all__ = ["SERVO_OFF", "ServoOff", "ServoPolicy", "ensure_servo", "servo_is_on"]
+__all__ = ["ServoOff", "ServoPolicy", "ensure_servo", "servo_is_on"]

@@ -24,7 +24,7 @@ from typing import Any
 from melfa.kin import Pose, fk, pose_inv, pose_mul
 from melfa.link import LinkError
 from melfa.protocol import RemoteProtocolError, State, error_text
-from melfa.protocol.answers import JOINT_NAMES, POSE_NAMES, RunStatus
+from melfa.protocol.answers import JOINT_NAMES, POSE_NAMES, RunStatus, StopStatus
 from melfa.robot import ControllerError, Robot, RobotError
 from melfa.service.config import ServiceConfig
 from melfa.service.errors import LinkDown
@@ -440,12 +440,17 @@ class Worker:
                     text = error_text(number)
                 self._error_texts[number] = text
             alarm = Alarm(number, text)
+        stop = state.status.stop
+        selected = StopStatus.PROGRAM_SELECT in stop
         return {
             "program": state.program,
             "line": state.line,
             "override": state.override,
             "servo": RunStatus.SERVO_ON in run,
             "running": running,
+            # An EXEC move sets RUN with PROGRAM SELECT still on; a program clears it.
+            "program_running": running and not selected,
+            "paused": not running and StopStatus.STOP in stop and not selected,
             "alarm": alarm,
         }
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.protocol.advice import FIX_LABELS, Fix, advice_for
 from melfa.service import Actor, StateSnapshot, event_to_dict
 from melfa.store import Revision, RevisionInfo, User, WorkspaceState
 from melfa.web.models import (
@@ -90,6 +91,13 @@ def state_dict(snapshot: StateSnapshot) -> dict[str, Any]:
     out = event_to_dict(snapshot)
     for key in ("name", "actor"):
         out.pop(key, None)
+    if snapshot.alarm is not None:
+        # An active alarm says what to do about it (reset-alarm where that helps).
+        advice = advice_for(snapshot.alarm.number)
+        fix = advice.to_json()
+        if fix["fix"] is None or fix["fix"] == Fix.SERVO_ON_RETRY.value:
+            fix.update(fix=Fix.RESET_ALARM.value, fix_label=FIX_LABELS[Fix.RESET_ALARM])
+        out["alarm"].update(fix)
     return out
 
 

@@ -25,6 +25,7 @@ from pydantic import BaseModel
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from melfa.link import LinkError
+from melfa.protocol.advice import advice_for
 from melfa.protocol.errors import LocalProtocolError, ProtocolError
 from melfa.robot import ControllerError
 from melfa.robot.errors import RobotError, Stopped, UploadRefused
@@ -203,27 +204,37 @@ def from_robot(exc: BaseException) -> ApiError | None:
         return ApiError(503, "service-closed", message)
     if isinstance(exc, ServiceError):
         return ApiError(409, "service-refused", message)
-    if isinstance(exc, UploadRefused):
-        return ApiError(
-            422,
-            "upload-refused",
-            message,
-            where={"line": exc.line, "column": exc.column},
-            detail={"number": exc.number, "controller_message": exc.message},
-        )
     if isinstance(exc, ControllerError):
-        return ApiError(
-            409,
-            "controller-refused",
-            message,
-            detail={"number": exc.number, "controller_message": exc.message},
-        )
+        # In the student's words (melfa.protocol.advice), never the request that was sent.
+        advice = advice_for(exc.number)
+        detail = {"number": exc.number, "controller_message": exc.message, **advice.to_json()}
+        if isinstance(exc, UploadRefused):
+            return ApiError(
+                422,
+                "upload-refused",
+                f"Line {exc.line}: {advice.message}" if exc.line else advice.message,
+                where={"line": exc.line, "column": exc.column},
+                detail=detail,
+            )
+        return ApiError(409, "controller-refused", advice.message, detail=detail)
     if isinstance(exc, LocalProtocolError):
         return ApiError(422, "not-sendable", message)
     if isinstance(exc, ProtocolError):
-        return ApiError(502, "garbled-reply", f"the controller's reply made no sense: {message}")
+        _log.warning("garbled controller reply: %s", message)
+        return ApiError(
+            502,
+            "garbled-reply",
+            "The controller's answer was garbled. Try again; if it keeps happening, "
+            "check the robot's cable.",
+        )
     if isinstance(exc, LinkError):
-        return ApiError(503, "link-down", f"the robot link failed: {message}")
+        _log.warning("robot link failed: %s", message)
+        return ApiError(
+            503,
+            "link-down",
+            "The robot is not connected right now. melfa keeps reconnecting; "
+            "try again in a moment.",
+        )
     if isinstance(exc, RobotError):
         return ApiError(422, "robot-refused", message)
     return None

@@ -287,6 +287,14 @@ class ValuesOut(BaseModel):
 class AlarmOut(BaseModel):
     number: int
     text: str
+    """The controller's own text."""
+    code: str = ""
+    """``L2000``: level letter and number, as the manual lists it."""
+    message: str = ""
+    """What happened and what to do, in a student's words (`melfa.protocol.advice`)."""
+    fix: str | None = None
+    """The one action that fixes it (``reset-alarm``, ``servo-on-retry``…), if any."""
+    fix_label: str | None = None
 
 
 class StateOut(BaseModel):
@@ -315,6 +323,12 @@ class StateOut(BaseModel):
     lease_state: str | None = Field(
         None, description="connected, no connection (REST only), disconnected, robot moving"
     )
+    program_running: bool | None = None
+    paused: bool | None = None
+    activity: str = "offline"
+    """idle, moving-to, jogging, running, paused, moving, alarm, uploading, offline: the one
+    word every view shows."""
+    activity_detail: str = ""
 
 
 class TargetOut(BaseModel):

@@ -19,11 +19,13 @@ import asyncio
 import contextlib
 import json
 import logging
+import re
 import time
 from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
+from melfa.protocol.advice import advice_for
 from melfa.service import (
     Actor,
     AuditEvent,
@@ -73,7 +75,18 @@ def message_of(event: Event) -> dict[str, Any] | None:
     if isinstance(event, LeaseChanged):
         out["holder"] = actor_dict(event.holder)
         out["previous"] = actor_dict(event.previous)
+    if isinstance(event, CommandResult) and not event.ok:
+        # Student words, never the sent request or a Python class name.
+        if event.error_number is not None:
+            advice = advice_for(event.error_number)
+            out["error"] = advice.message
+            out["advice"] = advice.to_json()
+        else:
+            out["error"] = _PYTHON_PREFIX.sub("", event.error)
     return out
+
+
+_PYTHON_PREFIX = re.compile(r"^[A-Z][A-Za-z]*(Error|Closed|Down|Cancelled|Refused|Busy)?: ")
 
 
 def origin_allowed(websocket: WebSocket, allowed: tuple[str, ...]) -> bool:

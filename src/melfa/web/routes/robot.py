@@ -117,7 +117,7 @@ async def checked_program(context: WebContext, program: str, points: str, check:
         raise ApiError(
             422,
             "program-has-errors",
-            f"line {first.line}: {first.message} (fix it, or send check=false)",
+            f"Line {first.line}: {first.message}. Fix it in the editor, then load again.",
             where={"source": "program", "line": first.line, "column": first.column},
             detail={"diagnostics": [d.to_json() for d in errors]},
         )
@@ -272,7 +272,13 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
             actor,
             "move_to",
             lambda: service.move_to(
-                actor, target, linear=body.linear, joints=joints, flags=flags, servo=policy
+                actor,
+                target,
+                linear=body.linear,
+                joints=joints,
+                flags=flags,
+                servo=policy,
+                label=point.name,
             ),
         )
         return Ok()
