@@ -12,7 +12,7 @@ from melfa.protocol.error_table import ERROR_MESSAGES
 WIRE = re.compile(r"\d;\d;|EXEC|JOG\d|RUN\d|SRVON|RSTALRM|MSVC|Error:|Traceback")
 
 
-@pytest.mark.parametrize("number", sorted(ERROR_MESSAGES) + [9999, 1])
+@pytest.mark.parametrize("number", [*sorted(ERROR_MESSAGES), 9999, 1])
 def test_every_number_reads_as_what_and_what_to_do(number: int) -> None:
     advice = advice_for(number)
     assert advice.message.endswith(".") and len(advice.message.split(".")) >= 3

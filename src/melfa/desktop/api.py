@@ -349,7 +349,7 @@ class ApiClient:
 
     def run(self) -> None:
         """`POST /api/robot/run`: start the loaded program."""
-        self._call("POST", "/api/robot/run", {}, timeout=LONG_TIMEOUT_S)
+        self._call("POST", "/api/robot/run", {"servo_on": True}, timeout=LONG_TIMEOUT_S)
 
     def stop(self) -> None:
         """`POST /api/robot/stop`: allowed to everyone, overtakes queued commands."""

@@ -154,6 +154,8 @@ class DiagnosticOut(BaseModel):
     code: str | None
     message: str
     suggestion: str | None
+    rule: str | None = None
+    """The checker's stable rule name (docs/diagnostics.md); the IDE offers a fix for some."""
 
 
 class CheckIn(Input):

@@ -13,11 +13,12 @@ from fastapi import APIRouter
 
 from melfa.lang.points import PointKind, parse_points, upload_lines
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
+from melfa.robot import ControllerError
 from melfa.service import Actor, ServoPolicy
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
 from melfa.web.deps import ContextDep, SessionDep
-from melfa.web.errors import ERROR_RESPONSES, ApiError
+from melfa.web.errors import ERROR_RESPONSES, ApiError, from_robot
 from melfa.web.logs import robot_log
 from melfa.web.models import (
     ExecIn,
@@ -221,7 +222,14 @@ async def exec_statement(body: ExecIn, drive: DriveDep) -> Ok:
     actor = drive.actor
     if any(c in body.statement for c in "\r\n"):
         raise ApiError(422, "invalid-value", "one statement only: no line breaks")
-    await operate(actor, "exec", lambda: drive.service.exec(actor, body.statement))
+    try:
+        await operate(actor, "exec", lambda: drive.service.exec(actor, body.statement))
+    except ControllerError as exc:
+        # The student's own statement may be named (never a request melfa built).
+        error = from_robot(exc)
+        assert error is not None
+        error.message = f"{body.statement.strip()}: {error.message}"
+        raise error from None
     return Ok()
 
 

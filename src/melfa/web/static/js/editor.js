@@ -171,8 +171,22 @@ export class ProgramEditor extends EventTarget {
         el("span", { class: "loc" }, `${d.line}:${d.column}`),
         el("span", {}, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
           d.code ? el("span", { class: "code" }, `  ${d.code}`) : null),
+        this.fixButton(d),
         )),
     );
+  }
+
+  /** "P1 is not defined": one click defines it from where the robot stands. */
+  fixButton(d) {
+    if (d.rule !== "undefined-point" || !this.onAddPoint) return null;
+    const r = this.rangeOf(d);
+    const name = this.session.getTextRange(r).trim();
+    if (!/^[A-Za-z][A-Za-z0-9]*$/.test(name)) return null;
+    return el("button", {
+      type: "button", class: "btn btn-sm fix-add-point",
+      onclick: (e) => { e.stopPropagation(); this.onAddPoint(name); },
+      onkeydown: (e) => e.stopPropagation(),
+    }, `Add ${name} from the current position`);
   }
 
   goTo(d) {

@@ -5,6 +5,8 @@
 // still on the way. Step mode sends one increment per press (REST jog-step).
 
 import { api } from "./api.js";
+import { describeActivity, directionWords } from "./activity.js";
+import { motionBody } from "./fixes.js";
 import { $, showError, toast } from "./ui.js";
 
 const HEARTBEAT_MS = 80;
@@ -76,6 +78,7 @@ export class JogPad {
     $("jog-frame").addEventListener("change", () => {
       this.releaseAll("frame changed");
       $("joint-group-label").hidden = $("jog-frame").value !== "joint";
+      this.app.view?.setFrame(this.frame);
       this.draw();
     });
     $("jog-joints").addEventListener("change", () => this.draw());
@@ -139,7 +142,7 @@ export class JogPad {
     if (this.held !== key) return; // let go while the speed was being set
     this.startHeartbeat();
     try {
-      await this.app.live.request({ type: "jog_start", frame: this.frame, axis, direction: dir });
+      await this.app.live.request({ type: "jog_start", frame: this.frame, axis, direction: dir, ...motionBody() });
     } catch (err) {
       if (this.held === key) {
         this.stopHeartbeat();
@@ -147,7 +150,8 @@ export class JogPad {
         this.lit.delete(key);
         this.draw();
       }
-      showError("Could not jog", err);
+      // The fix switches the servo on; the student presses the key again to move.
+      showError("Could not jog", err, { retry: () => api("POST", "/api/robot/servo", { on: true }) });
       return;
     }
     // Released before the start was acknowledged: make sure it stops now.
@@ -160,9 +164,10 @@ export class JogPad {
     const { axis, dir } = this.axisOf(key);
     try {
       await this.applySpeed();
-      await api("POST", "/api/robot/jog-step", { frame: this.frame, axis, direction: dir });
+      await api("POST", "/api/robot/jog-step", { frame: this.frame, axis, direction: dir, ...motionBody() });
     } catch (err) {
-      if (err.code !== "jog-busy") showError("Could not step", err);
+      const retry = (extra) => api("POST", "/api/robot/jog-step", { frame: this.frame, axis, direction: dir, ...extra });
+      if (err.code !== "jog-busy") showError("Could not step", err, { retry });
     } finally {
       this.stepping = false;
     }
@@ -239,6 +244,10 @@ export class JogPad {
 
   draw() {
     this.canvas.dataset.lit = [...this.lit].join(",");
+    const labels = {};
+    const said = describeActivity(this.app.state);
+    this.shownActivity = said.text;
+    this.shownHand = this.app.state?.hands?.[0];
     const ctx = this.ctx;
     const { width, height } = this.canvas;
     ctx.clearRect(0, 0, width, height);
@@ -260,15 +269,24 @@ export class JogPad {
       ctx.fillStyle = on ? "#ffffff" : "#1d2733";
       const spec = KEYS[key];
       ctx.font = "600 19px system-ui, sans-serif";
-      ctx.fillText(spec.label, x + w / 2, y + h / 2 - (spec.hand ? 6 : 8) + (on ? 2 : 0));
+      const dy = on ? 2 : 0;
+      ctx.fillText(spec.label, x + w / 2, y + (spec.hand ? h / 2 - 6 : 17) + dy);
       ctx.font = "500 12px system-ui, sans-serif";
-      ctx.fillStyle = on ? "#dbe8ff" : "#5f6b7a";
-      const sub = spec.hand ? "" : `${spec.dir > 0 ? "+" : "−"}${this.axisOf(key).label}`;
+      ctx.fillStyle = on ? "#dbe8ff" : "#4b5563";
       if (spec.hand) {
         const open = this.app.state?.hands?.[0];
         ctx.fillText(open == null ? "hand 1" : open ? "hand 1 is open: close" : "hand 1 is closed: open", x + w / 2, y + h - 9);
-      } else ctx.fillText(sub, x + w / 2, y + h / 2 + 14 + (on ? 2 : 0));
+      } else {
+        const { axis, label, dir } = this.axisOf(key);
+        ctx.fillText(`${dir > 0 ? "+" : "−"}${label}`, x + w / 2, y + 37 + dy);
+        // Where the hand really goes in this frame (tool axes turn with the hand).
+        const words = directionWords(this.frame, axis, dir, this.app.state?.pose);
+        ctx.font = "500 10px system-ui, sans-serif";
+        if (words) ctx.fillText(words.length > 11 ? words.replace(" and ", "+") : words, x + w / 2, y + 53 + dy);
+        labels[key] = `${dir > 0 ? "+" : "-"}${label}${words ? " " + words : ""}`;
+      }
     }
+    this.canvas.dataset.labels = JSON.stringify(labels);
     // Legend on the right.
     ctx.textAlign = "left";
     ctx.fillStyle = "#5f6b7a";
@@ -277,9 +295,11 @@ export class JogPad {
     const frameName = { xyz: "Base XYZ", tool: "Tool", joint: "Joint" }[this.frame];
     ctx.fillText(`Frame: ${frameName}`, lx, 40);
     ctx.fillText(`Mode: ${this.mode === "step" ? "step" : "hold to move"}`, lx, 62);
-    ctx.fillStyle = this.held ? "#1f5fbf" : "#5f6b7a";
+    // What the robot does, as the service says it (the same words as the header).
+    ctx.fillStyle = said.busy ? "#1f5fbf" : said.error ? "#b42318" : "#4b5563";
     ctx.font = "600 13px system-ui, sans-serif";
-    ctx.fillText(this.held ? `Moving ${this.axisOf(this.held).dir > 0 ? "+" : "−"}${this.axisOf(this.held).label}` : "Not moving", lx, 90);
+    ctx.fillText(said.text.length > 24 ? said.text.slice(0, 23) + "…" : said.text, lx, 90);
+    this.canvas.dataset.activity = said.text;
     if (document.activeElement !== this.canvas) {
       ctx.fillStyle = "#8a96a3";
       ctx.font = "400 12px system-ui, sans-serif";

@@ -4,6 +4,8 @@
 
 import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
+import { describeActivity } from "./activity.js";
+import { installFixes, moving } from "./fixes.js";
 import { JogPad } from "./jog.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
@@ -31,6 +33,7 @@ app.busy = (text, progress = null) => {
 };
 app.idle = (text = "Idle", error = false) => {
   app.activityLock = false;
+  app.resultShown = text !== "Idle"; // a result stays until the robot does something else
   setActivity(text, { error });
   renderActivity();
 };
@@ -57,6 +60,8 @@ async function main() {
   app.editor = editor;
   const points = new PointsTab(workspace, app);
   app.points = points;
+  editor.onAddPoint = (name) => points.addFromRobot(name);
+  installFixes(app);
   editor.addEventListener("checked", (e) => {
     points.diagnostics = e.detail.points.diagnostics;
     points.render();
@@ -66,6 +71,7 @@ async function main() {
   app.live = new Live(app.targets.socketUrl());
   wireLive(app.live);
   app.jog = new JogPad(app);
+  app.view.setFrame($("jog-frame").value);
   wireHeader();
   wireToolbar(workspace, editor);
   wireTabs();
@@ -175,29 +181,34 @@ function onState(m) {
 
 function renderActivity() {
   const m = app.state;
+  const said = describeActivity(m);
   const pill = $("run-state");
-  let text = "idle";
-  let cls = "pill";
-  if (m?.busy === "upload") { text = "uploading"; cls = "pill busy"; }
-  else if (m?.running) { text = `running${m.line ? " · line " + m.line : ""}`; cls = "pill busy"; }
-  else if (m?.jogging) { text = "jogging"; cls = "pill busy"; }
-  else if (m?.moving) { text = "moving"; cls = "pill busy"; }
-  if (m?.alarm) { text = `alarm ${m.alarm.number}`; cls = "pill bad"; }
-  pill.textContent = text;
-  pill.className = cls;
+  pill.textContent = said.pill;
+  pill.className = said.error ? "pill bad" : said.busy ? "pill busy" : "pill";
+  pill.dataset.activity = m?.activity || "";
   const alarm = $("alarm");
   alarm.hidden = !m?.alarm;
-  if (m?.alarm) alarm.textContent = `Alarm ${m.alarm.number}: ${m.alarm.text}. Reset it when the cause is gone.`;
+  if (m?.alarm) {
+    const a = m.alarm;
+    alarm.replaceChildren(
+      el("strong", {}, "Alarm "), el("span", { class: "code" }, a.code || String(a.number)), " ",
+      a.message || a.text, " ",
+      a.fix === "reset-alarm" ? el("button", { type: "button", class: "btn btn-sm btn-primary", id: "alarm-fix",
+        onclick: () => api("POST", "/api/robot/reset-alarm").catch((err) => showError("Could not reset the alarm", err)) },
+      a.fix_label || "Reset alarm") : null,
+    );
+  }
   $("servo-state").textContent = m?.servo == null ? "—" : m.servo ? "on" : "off";
   $("servo-state").className = m?.servo ? "pill on" : "pill";
   const hand = m?.hands?.[0];
   $("hand-state").textContent = hand == null ? "—" : hand ? "open" : "closed";
+  if (app.jog && (app.jog.shownActivity !== said.text || app.jog.shownHand !== hand)) app.jog.draw();
+  // An operation's own result ("Loaded…", "Load failed") stays until the robot does
+  // something else: idle never overwrites it.
   if (app.activityLock) return;
-  if (m?.busy === "upload") setActivity("Uploading…", { busy: true });
-  else if (m?.running) setActivity(`Running${m.program ? " " + m.program : ""}${m.line ? " · line " + m.line : ""}`, { busy: true });
-  else if (m?.jogging) setActivity("Jogging", { busy: true });
-  else if (m?.moving) setActivity("Robot moving", { busy: true });
-  else setActivity(m?.alarm ? `Alarm ${m.alarm.number}` : "Idle", { error: !!m?.alarm });
+  if (said.pill === "idle" && app.resultShown) return;
+  app.resultShown = false;
+  setActivity(said.text, { busy: !!said.busy, error: !!said.error });
 }
 
 function renderReadouts(m) {
@@ -345,13 +356,11 @@ async function loadProject(workspace, editor) {
 
 async function runProgram() {
   const override = Number($("override").value);
-  try {
+  await moving("Could not run the program", async (extra) => {
     if (app.state && app.state.override !== override) await api("POST", "/api/robot/override", { percent: override });
     app.view.clearPath();
-    await api("POST", "/api/robot/run");
-  } catch (err) {
-    showError("Could not run the program", err);
-  }
+    await api("POST", "/api/robot/run", extra);
+  });
 }
 
 // ---- tabs (ARIA tabs: arrows move between them) ----
@@ -426,14 +435,12 @@ function wireRobotTab() {
   $("goto-move").addEventListener("click", async () => {
     const point = select.value;
     if (!point) return;
-    app.busy(`Moving to ${point}…`);
-    try {
-      await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear: $("goto-linear").checked });
+    const linear = $("goto-linear").checked;
+    await moving(`Could not move to ${point}`, async (extra) => {
+      app.busy(`Moving to ${point}…`);
+      await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear, ...extra });
       app.idle(`At ${point}`);
-    } catch (err) {
-      app.idle("Move failed", true);
-      showError(`Could not move to ${point}`, err);
-    }
+    }, () => app.idle("Move failed", true));
   });
   $("path-clear").addEventListener("click", () => app.view.clearPath());
   $("view-reset").addEventListener("click", () => app.view.resetView());

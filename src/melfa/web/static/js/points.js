@@ -4,6 +4,7 @@
 // The text stays the source of truth (comments and unknown lines are kept as they are).
 
 import { api } from "./api.js";
+import { moving } from "./fixes.js";
 import { $, debounce, describeDiagnostic, el, hasExtension, readTextFile, showError, toast } from "./ui.js";
 
 const LINE = /^\s*(?:DEF\s+(POS|JNT)\s+)?([A-Za-z][A-Za-z0-9_]*)\s*=\s*\(([^)]*)\)\s*(?:\(([^)]*)\))?\s*(?:'.*)?$/i;
@@ -185,6 +186,25 @@ export class PointsTab {
     this.dialogCheck();
   }
 
+  /** Define `name` from where the robot stands now (the fix of "P1 is not defined"). */
+  async addFromRobot(name) {
+    const state = this.app.state;
+    const jnt = name[0].toUpperCase() === "J";
+    const values = jnt ? state?.joints : state?.pose;
+    if (!values) {
+      toast("No robot position yet", { kind: "warning", text: "The robot's position is not known: is the robot connected?" });
+      return false;
+    }
+    const point = { name, kind: jnt ? "JNT" : "POS", values: values.map((v) => Number(fmt(v))),
+      fl1: jnt ? null : state.flags?.[0] ?? 7, fl2: jnt ? null : state.flags?.[1] ?? 0 };
+    const lines = this.workspace.points.split("\n");
+    if (lines.length && lines[lines.length - 1] === "") lines.pop();
+    lines.push(formatPoint(point), "");
+    this.workspace.update({ points: lines.join("\n") });
+    toast(`${name} added`, { kind: "ok", text: "From the robot's current position (Points tab)." });
+    return true;
+  }
+
   /** The dialog's point, and problems found without asking the server. */
   readDialog() {
     const problems = [];
@@ -282,14 +302,11 @@ export class PointsTab {
   }
 
   async moveTo(row) {
-    this.app.busy(`Moving to ${row.name}…`);
-    try {
-      await api("POST", "/api/robot/move", { point: row.name, points: this.workspace.points });
+    await moving(`Could not move to ${row.name}`, async (extra) => {
+      this.app.busy(`Moving to ${row.name}…`);
+      await api("POST", "/api/robot/move", { point: row.name, points: this.workspace.points, ...extra });
       this.app.idle(`At ${row.name}`);
-    } catch (err) {
-      this.app.idle("Move failed", true);
-      showError(`Could not move to ${row.name}`, err);
-    }
+    }, () => this.app.idle("Move failed", true));
   }
 
   async openFile(input) {

@@ -1,4 +1,5 @@
-// Small shared UI helpers: toasts (human error messages from the API's error shape),
+// Small shared UI helpers: toasts (human error messages from the API's error shape, with
+// the controller's code and a one-click fix button),
 // the activity indicator, element lookup.
 
 export const $ = (id) => document.getElementById(id);
@@ -23,21 +24,28 @@ export function el(tag, attrs = {}, ...children) {
  * A toast. kind: "info" | "ok" | "warning" | "error". `items` are extra lines (for
  * example diagnostics). Errors stay until closed; the others fade after a while.
  */
-export function toast(title, { kind = "info", text = "", items = [], timeout } = {}) {
+export function toast(title, { kind = "info", text = "", items = [], timeout, code = "", actions = [] } = {}) {
   const close = el("button", { class: "close", "aria-label": "Dismiss", type: "button" }, "✕");
+  const buttons = actions.map(({ label, run }) => el("button", {
+    type: "button", class: "btn btn-sm btn-primary toast-action",
+    onclick: async () => { node.remove(); await run(); },
+  }, label));
   const node = el(
     "div",
     { class: `toast ${kind}`, role: kind === "error" ? "alert" : "status" },
-    el("div", {}, el("strong", {}, title), text ? el("span", {}, text) : null,
+    el("div", {}, el("strong", {}, title, code ? el("span", { class: "code", title: "The controller's error code (see its manual)" }, code) : null),
+      text ? el("span", {}, text) : null,
       items.length ? el("ul", {}, items.slice(0, 6).map((i) => el("li", {}, i))) : null,
-      items.length > 6 ? el("span", { class: "muted" }, `… and ${items.length - 6} more`) : null),
+      items.length > 6 ? el("span", { class: "muted" }, `… and ${items.length - 6} more`) : null,
+      buttons.length ? el("div", { class: "toast-actions" }, buttons) : null),
     close,
   );
   close.addEventListener("click", () => node.remove());
   const box = document.getElementById("toasts");
   box.append(node);
   while (box.children.length > 4) box.firstElementChild.remove();
-  const ms = timeout ?? (kind === "error" ? 12000 : 4000);
+  // Errors stay until dismissed or acted on; the others fade after a while.
+  const ms = timeout ?? (kind === "error" ? 0 : 4000);
   if (ms > 0) setTimeout(() => node.remove(), ms);
   return node;
 }
@@ -48,8 +56,18 @@ export function describeDiagnostic(d) {
   return `${where}${d.message}${d.suggestion ? " " + d.suggestion : ""}`;
 }
 
-/** Show an API error as a toast that says what went wrong and, where known, where. */
-export function showError(what, err) {
+const fixHandlers = new Map();
+/** Register the handler of a one-click fix (`detail.fix` of an API error: docs/api.md). */
+export function onFix(action, handler) {
+  fixHandlers.set(action, handler);
+}
+
+/**
+ * Show an API error as a toast that says what went wrong, where known where, the
+ * controller's code (L2000) and the one-click fix as a button. `retry(extra)` repeats the
+ * refused action (the servo fix retries with `{servo_on: true}`).
+ */
+export function showError(what, err, { retry = null } = {}) {
   if (err?.name === "AbortError") return;
   const items = [];
   const diags = err?.detail?.diagnostics;
@@ -60,8 +78,12 @@ export function showError(what, err) {
     text = `${err.detail.holder.user} is controlling the robot. Ask them to release it` +
       (err.detail.holder.role ? "" : "") + ", or an instructor can take over.";
   }
-  if (err?.code === "controller-refused" && err.detail?.number) text += ` [controller error ${err.detail.number}]`;
-  toast(what, { kind: "error", text, items });
+  const actions = [];
+  const fix = err?.detail?.fix;
+  if (fix && fixHandlers.has(fix)) {
+    actions.push({ label: err.detail.fix_label || "Fix", run: () => fixHandlers.get(fix)({ err, retry }) });
+  }
+  return toast(what, { kind: "error", text, items, code: err?.detail?.code || "", actions });
 }
 
 /** The toolbar's activity line: busy spinner, text, optional progress 0…1. */

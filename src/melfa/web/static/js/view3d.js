@@ -156,6 +156,11 @@ export class RobotView {
     this.flange.add(gripper);
     this.tcpAxes = new THREE.AxesHelper(60);
     this.flange.add(this.tcpAxes);
+    // The jog frame's axes at the tool: base-aligned for XYZ, turning with the hand for
+    // Tool, none for Joint (setFrame).
+    this.baseAxesAtTool = new THREE.AxesHelper(80);
+    this.baseAxesAtTool.visible = false;
+    root.add(this.baseAxesAtTool);
 
     // The program's path (TCP positions while it runs), in robot coordinates.
     this.pathGeometry = new THREE.BufferGeometry();
@@ -192,6 +197,7 @@ export class RobotView {
     const flange = this.flangePosition();
     this.container.dataset.joints = JSON.stringify(this.joints.map((v) => Math.round(v * 100) / 100));
     this.container.dataset.flange = JSON.stringify(flange.map((v) => Math.round(v * 10) / 10));
+    this.baseAxesAtTool?.position.set(...flange);
     this.requestRender();
   }
 
@@ -201,6 +207,16 @@ export class RobotView {
     const inv = new THREE.Matrix4().copy(this.root.matrixWorld).invert();
     const p = world.applyMatrix4(inv);
     return [p.x, p.y, p.z];
+  }
+
+  /** Show the jog frame's axes (X red, Y green, Z blue) at the tool. */
+  setFrame(frame) {
+    this.jogFrame = frame;
+    this.tcpAxes.visible = frame === "tool";
+    this.baseAxesAtTool.visible = frame === "xyz";
+    this.baseAxesAtTool.position.set(...this.flangePosition());
+    this.container.dataset.frameAxes = frame;
+    this.requestRender();
   }
 
   setHand(open) {
