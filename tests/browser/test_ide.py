@@ -170,6 +170,11 @@ def test_load_project_run_and_stop_overtakes(open_session: Any, stop_robot: None
 
     start = s.joints()
     page.click("#act-run")
+    # The servo is off: the refusal says so in plain words, keeps the code, offers the fix.
+    refused = page.locator(".toast.error", has_text="The servo is off")
+    expect(refused).to_be_visible()
+    expect(refused.locator(".code")).to_have_text("L2000")
+    refused.get_by_role("button", name="Turn on and retry").click()
     wait_until(lambda: s.joints() != start, what="the 3D view's joints to change")
     wait_until(lambda: int(page.get_attribute("#view3d", "data-path-points") or 0) > 3, what="path")
     expect(page.locator("#run-state")).to_contain_text("running")

@@ -122,6 +122,7 @@ def test_json_shape_is_exact(runner: CliRunner, tmp_path: Path) -> None:
         "end_column",
         "severity",
         "code",
+        "rule",
         "message",
         "suggestion",
     }

@@ -57,6 +57,7 @@ class Diagnostic:
             "end_column": self.end_column,
             "severity": self.severity.value,
             "code": self.code,
+            "rule": self.rule,
             "message": self.message,
             "suggestion": self.suggestion,
         }

@@ -72,9 +72,7 @@ def revision_info_out(info: RevisionInfo) -> RevisionInfoOut:
 
 def diagnostics_out(diagnostics: list[Diagnostic]) -> FileDiagnostics:
     return FileDiagnostics(
-        diagnostics=[
-            DiagnosticOut.model_validate({**d.to_json(), "rule": d.rule}) for d in diagnostics
-        ],
+        diagnostics=[DiagnosticOut.model_validate(d.to_json()) for d in diagnostics],
         errors=sum(1 for d in diagnostics if d.severity is Severity.ERROR),
         warnings=sum(1 for d in diagnostics if d.severity is Severity.WARNING),
     )
