@@ -91,23 +91,38 @@ def ros_master(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         log.close()
 
 
-@pytest.fixture(scope="module")
-def melfa_node(ros_master: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
-    """`python -m melfa ros --robot sim` as a subprocess, ready when its services are."""
-    log_path = tmp_path_factory.mktemp("node") / "node.log"
+@contextlib.contextmanager
+def node_process(log_dir: Path, *args: str, name: str = "melfa") -> Iterator[Path]:
+    """`python -m melfa ros --robot sim ARGS` as a subprocess, ready when its services are;
+    yields its log file (the node's ROS log lines go to stdout)."""
+    log_path = log_dir / f"{name}.log"
     log = log_path.open("wb")
     node = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "ros", "--robot", "sim"],
+        [sys.executable, "-m", "melfa", "ros", "--robot", "sim", "--name", name, *args],
         stdout=log,
         stderr=subprocess.STDOUT,
         start_new_session=True,
     )
     try:
         try:
-            rospy.wait_for_service("/melfa/stop", timeout=START_TIMEOUT_S)
+            rospy.wait_for_service(f"/{name}/stop", timeout=START_TIMEOUT_S)
         except rospy.ROSException:
             pytest.fail("the node did not come up:\n" + log_path.read_text())
-        yield
+        yield log_path
     finally:
         end_group(node)
         log.close()
+        deadline = time.monotonic() + 10  # the master forgets the node's services
+        while time.monotonic() < deadline:
+            try:
+                rospy.wait_for_service(f"/{name}/stop", timeout=0.2)
+            except rospy.ROSException:
+                break
+            time.sleep(0.1)
+
+
+@pytest.fixture(scope="module")
+def melfa_node(ros_master: str, tmp_path_factory: pytest.TempPathFactory) -> Iterator[None]:
+    """`python -m melfa ros --robot sim` for a whole module."""
+    with node_process(tmp_path_factory.mktemp("node")):
+        yield

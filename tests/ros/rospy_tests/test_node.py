@@ -4,14 +4,18 @@ and service proxies, as the thesis's tests drove its Execute Node with rostopic.
 from __future__ import annotations
 
 import math
-import threading
-import time
-from collections.abc import Callable
 from typing import Any
 
 import pytest
 
 from melfa.robot import RobotSettings
+from tests.ros.rospy_tests.helpers import (
+    Inbox,
+    instruction_publisher,
+    position,
+    trigger,
+    wait_for,
+)
 
 rospy: Any = pytest.importorskip("rospy", reason="ROS 1 runs under scripts/ros-env only")
 std_msgs: Any = pytest.importorskip("std_msgs.msg")
@@ -31,59 +35,10 @@ MIN_RATE_HZ = 10.0
 9600-baud line ~3–5."""
 
 
-class Inbox:
-    """Messages of one topic (rospy calls back from its own threads)."""
-
-    def __init__(self, topic: str, kind: Any) -> None:
-        self.items: list[Any] = []
-        self._lock = threading.Lock()
-        self.subscriber = rospy.Subscriber(topic, kind, self._put, queue_size=1000)
-
-    def _put(self, message: Any) -> None:
-        with self._lock:
-            self.items.append(message)
-
-    def last(self) -> Any:
-        with self._lock:
-            return self.items[-1] if self.items else None
-
-    def snapshot(self) -> list[Any]:
-        with self._lock:
-            return list(self.items)
-
-    def close(self) -> None:
-        self.subscriber.unregister()
-
-
-def wait_for(predicate: Callable[[], bool], timeout: float = 30.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.02)
-    return predicate()
-
-
-def instruction_publisher() -> Any:
-    pub = rospy.Publisher("/execute_instruction", std_msgs.String, queue_size=100)
-    assert wait_for(lambda: pub.get_num_connections() >= 1), "the node did not subscribe"
-    return pub
-
-
-def position(pose: Any) -> tuple[float, float, float]:
-    p = pose.pose.position
-    return (p.x, p.y, p.z)
-
-
 def tool_x_axis(pose: Any) -> tuple[float, float, float]:
     q = pose.pose.orientation
     x, y, z, w = q.x, q.y, q.z, q.w
     return (1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w))
-
-
-def trigger(name: str) -> Any:
-    rospy.wait_for_service(f"/melfa/{name}", timeout=30)
-    return rospy.ServiceProxy(f"/melfa/{name}", std_srvs.Trigger)()
 
 
 def test_thesis_control_messages_move_the_tool_by_one_step() -> None:
