@@ -1,12 +1,13 @@
 """State keeps flowing while a jog step moves: between the step's move and its end the
-worker never waits on the controller twice without a state poll in between (the wire
-shows DSTATE and polls interleaved), snapshots arrive during the move, and a moving arm's
+worker reads the joints after every wait check (the wire shows JPOSF between the STATE
+checks), snapshots arrive during the move, and a moving arm's
 pose is of one kind (computed or measured), never alternating."""
 
 from __future__ import annotations
 
 import asyncio
 import itertools
+import time
 
 from melfa.service import JogFrame, ServoPolicy, StateSnapshot
 from tests.service.helpers import ANN, RecordingController, make_service, run, until
@@ -17,9 +18,10 @@ TURN_ON = ServoPolicy.TURN_ON
 def test_a_jog_step_polls_state_while_it_moves() -> None:
     controller = RecordingController()
 
-    async def main() -> list[StateSnapshot]:
+    async def main() -> tuple[list[StateSnapshot], float]:
         service, _ = make_service(controller, poll_floor_s=0.005)
         snapshots: list[StateSnapshot] = []
+        done: list[float] = []
         async with service:
             with service.subscribe(StateSnapshot) as sub:
 
@@ -32,19 +34,23 @@ def test_a_jog_step_polls_state_while_it_moves() -> None:
                 await service.exec(ANN, "SERVO ON")
                 collector = asyncio.create_task(collect())
                 await service.jog_step(ANN, JogFrame.XYZ, "Z", +1, wait=True, servo=TURN_ON)
+                done.append(time.monotonic())
                 await asyncio.sleep(0.05)
                 collector.cancel()
-        return snapshots
+        return snapshots, done[0]
 
-    snapshots = run(main())
-    commands = [c.split(";", 2)[-1] for c in controller.commands()]
-    start = next(i for i, c in enumerate(commands) if c.startswith("EXECMVS P_CURR+"))
-    end = max(i for i, c in enumerate(commands) if c == "DSTATE")
-    window = commands[start + 1 : end + 1]
-    assert window.count("DSTATE") >= 3  # the move took a while
-    for a, b in itertools.pairwise(window):
-        assert not (a == "DSTATE" and b == "DSTATE"), window  # a poll between two waits
-    assert sum(c.startswith("JPOSF") for c in window) >= 2
+    snapshots, returned = run(main())
+    seen = [(s.wall, s.command.split(";", 2)[-1]) for s in controller.seen]
+    moved = next(t for t, c in seen if c.startswith("EXECMVS P_CURR+"))
+    window = [c for t, c in seen if moved < t < returned]  # while the step waited
+    assert len(window) >= 6, window  # the move took a while
+    assert sum(c.startswith("JPOSF") for c in window) >= 3, window
+    runs = [
+        len(list(g))
+        for is_joints, g in itertools.groupby(window, lambda c: c == "JPOSF")
+        if not is_joints
+    ]
+    assert max(runs) <= 3, window  # joints read after at most the wait check and a poll
 
     heights = [s.pose[2] for s in snapshots if s.pose is not None]
     assert len({round(h, 3) for h in heights}) >= 4, heights  # seen on its way up

@@ -335,10 +335,10 @@ class Worker:
         return plan
 
     def poll_while_moving(self, robot: Robot, timeout: float = 60.0) -> None:
-        """In a job: wait until the arm stops (``DSTATE``'s RUN bit), polling the state
-        between checks, so snapshots keep flowing during the move: never a silent gap
-        longer than one poll (a bare `Robot.wait_idle` would hold the line for the whole
-        move)."""
+        """In a job: wait until the arm stops (the status's RUN bit), reading the joints
+        between checks (and the pose, until the tool offset is known), so snapshots keep
+        flowing during the move: never a silent gap longer than one poll (a bare
+        `Robot.wait_idle` would hold the line for the whole move)."""
         if not self.config.polling:
             robot.wait_idle(timeout)
             return
@@ -349,14 +349,18 @@ class Worker:
             if self._clock() > end:
                 raise RobotError(f"still moving after {timeout:g} s")
             self._closing.wait(self.config.poll_floor_s)
-            self._poll(reconnect=False)
+            self._poll(reconnect=False, command="JPOSF")
+            if self._tool_offset is None:
+                self._poll(reconnect=False, command="PPOSF")
 
-    def _poll(self, *, reconnect: bool = True) -> None:
+    def _poll(self, *, reconnect: bool = True, command: str | None = None) -> None:
+        """One poll request: the next of the cycle, or ``command``."""
         robot = self.robot
         if robot is None:
             return
-        command = self._peek_poll()
-        self._cycle.pop(0)
+        if command is None:
+            command = self._peek_poll()
+            self._cycle.pop(0)
         started = self._clock()
         update: dict[str, Any] = {}
         try:
