@@ -318,3 +318,35 @@ def test_steps_are_watched_only_when_something_could_stop_there() -> None:
     assert d.interp.break_before is not None
     d.delete(bp.id)
     assert d.interp.break_before is None
+
+
+def test_step_after_a_pause_mid_move_finishes_that_move_and_stops_at_the_next_line() -> None:
+    d, clock = make("SERVO ON\nOVRD 10\nMOV P1\nM1 = 1\nEND\n", speed=REAL_TIME)
+    d.run()
+    clock.t = 0.3
+    d.poll()
+    stop = d.pause()
+    assert stop is not None and stop.location.line == 3
+    d.set_speed(INSTANT)
+    d.step()
+    stop = d.poll()
+    assert stop is not None and stop.reason is StopReason.STEP and line(d) == 4
+    assert d.evaluate("P_CURR") == melfa_text(
+        Position.from_degrees((400, 100, 500, 180, 0, 180), 7, 0)
+    )
+
+
+def test_pause_in_a_wait_and_run_again_from_the_start() -> None:
+    d, clock = make("M1 = 1\nWAIT M_IN(2) = 1\nM1 = 2\nEND\n", speed=REAL_TIME)
+    d.run()
+    clock.t = 1.0
+    assert d.poll() is None and d.waiting
+    stop = d.pause()
+    assert stop is not None and stop.reason is StopReason.PAUSE and stop.location.line == 2
+    assert d.pause() is None  # not running any more
+    d.set_input(2, 1)
+    d.continue_()
+    clock.t = 2.0
+    assert d.poll() is not None and d.evaluate("M1") == "2"
+    d.run()
+    assert d.state is RunState.RUNNING and d.time == 0.0
