@@ -4,6 +4,9 @@ session cookie's stand-in, dead once revoked."""
 
 from __future__ import annotations
 
+import pytest
+from starlette.websockets import WebSocketDisconnect
+
 from tests.web.conftest import Web, assert_error
 
 
@@ -39,3 +42,18 @@ def test_a_session_token_is_not_a_bearer_token_and_garbage_is_refused(web: Web) 
     assert_error(
         web.client.get("/api/session", headers={"authorization": "Bearer melfa_pat_nope"}), 401
     )
+
+
+def test_a_token_in_the_websocket_url_signs_in_from_any_origin(web: Web) -> None:
+    token = web.ann.post("/api/tokens", json={"label": "lab page"}).json()["token"]
+    headers = {"origin": "http://lab-page.example"}
+    with web.client.websocket_connect(f"/api/ws?token={token}", headers=headers) as ws:
+        hello = ws.receive_json()
+        assert hello["type"] == "hello" and hello["user"] == "ann"
+    for bad in (web.ann.token, "melfa_pat_forged"):  # a session token is not one
+        with (
+            pytest.raises(WebSocketDisconnect) as refused,
+            web.client.websocket_connect(f"/api/ws?token={bad}", headers=headers),
+        ):
+            pass
+        assert refused.value.code == 1008

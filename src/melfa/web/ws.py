@@ -42,6 +42,7 @@ from melfa.service import (
     event_to_dict,
 )
 from melfa.service.debugging import DebugUpdate
+from melfa.store import is_access_token
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import actor_dict, state_dict, target_dict
@@ -224,10 +225,16 @@ class Connection:
 @router.websocket("/api/ws")
 async def live(websocket: WebSocket) -> None:
     context: WebContext = websocket.app.state.web
-    if not origin_allowed(websocket, context.settings.allowed_origins):
+    # A personal access token in the URL (?token=) is a program's credential, not a
+    # browser's ambient cookie: no origin check needed for it.
+    token = websocket.query_params.get("token")
+    if token is not None and not is_access_token(token):
+        await websocket.close(code=POLICY_VIOLATION, reason="?token= takes a personal access token")
+        return
+    if token is None and not origin_allowed(websocket, context.settings.allowed_origins):
         await websocket.close(code=POLICY_VIOLATION, reason="origin not allowed")
         return
-    session = await find_session(context, websocket.cookies.get(SESSION_COOKIE))
+    session = await find_session(context, token or websocket.cookies.get(SESSION_COOKIE))
     if session is None:
         await websocket.close(code=POLICY_VIOLATION, reason="sign in first")
         return

@@ -11,6 +11,7 @@ import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
 import { TargetSwitch } from "./targets.js";
+import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
 import { Workspace } from "./workspace.js";
 
@@ -251,6 +252,7 @@ function wireHeader() {
   menu.addEventListener("keydown", (e) => {
     if (e.key === "Escape") { toggle(false); button.focus(); }
   });
+  new TokensDialog();
   $("logout").addEventListener("click", async () => {
     await app.workspace.save("autosave").catch(() => {});
     try {
