@@ -7,12 +7,15 @@ there are any; the rest is the simulator's documented choice (docs/simulator.md)
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import pytest
 
 from melfa.protocol import ErrorLogEntry, Ok, Parameter, Position, State
 from melfa.protocol.answers import RunStatus, StopStatus
 from melfa.protocol.commands import COMMANDS, Evidence
-from melfa.sim import SimConfig, VirtualController
+from melfa.sim import SUPPORTED_COMMANDS, SimConfig, VirtualController
 from melfa.sim.config import KeySwitch
 from melfa.sim.controller import strict_commands
 from tests.fixtures_sim import Driver
@@ -182,3 +185,13 @@ def test_edit_refusals_follow_the_digit_setting() -> None:
         drive = _ready(SimConfig(nine_digit_errors=nine))
         drive.ok("LOAD=E")
         assert drive.send("EMDAT10 MOV (", slot=9) == expected
+
+
+def test_the_documented_strict_list_is_the_served_list() -> None:
+    doc = (Path(__file__).parents[2] / "docs" / "simulator.md").read_text(encoding="utf-8")
+    served_part = doc.split("Served in strict mode", 1)[1].split("Refused in strict mode", 1)
+    table = [line for line in served_part[0].splitlines() if line.startswith("| `")]
+    listed = {name for line in table for name in re.findall(r"`([A-Z]+=?)`", line)}
+    assert listed == set(strict_commands())
+    refused = set(re.findall(r"`([A-Z]+=?)`", served_part[1].split("\n\n", 1)[0]))
+    assert refused == set(SUPPORTED_COMMANDS) - set(strict_commands())

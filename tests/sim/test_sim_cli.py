@@ -149,3 +149,33 @@ def test_run_into_a_closed_pipe_is_quiet(tmp_path: Path) -> None:
     )
     assert len(proc.stdout.splitlines()) == 2
     assert proc.stderr == ""
+
+
+def test_real_situation_options_reach_the_served_controller() -> None:
+    """`--key teach --digits 4 --strict --no-origin`: a controller to rehearse with."""
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    options = ["--pty", "--no-pacing", "--key", "teach", "--digits", "4", "--strict"]
+    proc = subprocess.Popen(
+        [*RUN, *options, "--no-origin"], stdout=subprocess.PIPE, text=True, env=env
+    )
+    try:
+        line = _first_line_with(proc, "listening on")
+        path = line.split("listening on ")[1].split()[0]
+        assert "MODE key TEACH" in _first_line_with(proc, "MODE key")
+        with serial.Serial(path, 9600, parity="E", stopbits=2, timeout=30) as port:
+            for request, expected in (
+                (b"1;1;OPEN=CLI\r", b"QoK3F;3F;"),
+                (b"1;1;CNTLON\r", b"QoK\r"),
+                (b"1;1;SLOTINIT\r", b"QeR6020\r"),  # TEACH, 4 digits
+                (b"1;1;DSTATE\r", b"QeR6010\r"),  # strict
+                (b"1;1;PPOSF\r", b"QoKX;****;"),  # origin not set
+            ):
+                port.write(request)
+                assert port.read_until(b"\r").startswith(expected), request
+    finally:
+        _stop(proc)
+
+
+def test_digits_other_than_4_or_9_are_a_usage_mistake() -> None:
+    result = CliRunner().invoke(app, ["sim", "--digits", "5"])
+    assert result.exit_code == 2 and "4 (manual) or 9 (real)" in result.output

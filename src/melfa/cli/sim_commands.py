@@ -21,7 +21,7 @@ from rich.console import Console
 from melfa.cli.app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
-from melfa.sim.config import DEFAULT_REPLY_LATENCY_S
+from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, KeySwitch, strict_by_default
 from melfa.sim.interp.cli_trace import run_and_trace
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
 from melfa.sim.interp.io import parse_input
@@ -30,9 +30,38 @@ console = Console(highlight=False)
 errors = Console(stderr=True, highlight=False)
 
 
-def build_controller(*, jog: bool = True) -> VirtualController:
-    """The controller `melfa sim` serves."""
-    return VirtualController(SimConfig(jog_supported=jog))
+def build_controller(
+    *,
+    jog: bool = True,
+    key: KeySwitch = KeySwitch.AUTO_EXT,
+    digits: int = 9,
+    strict: bool | None = None,
+    origin: bool = True,
+) -> VirtualController:
+    """The controller `melfa sim` serves; `strict=None` follows `$MELFA_SIM_STRICT`."""
+    if digits not in (4, 9):
+        raise ValueError(f"--digits {digits}: refusals have 4 (manual) or 9 (real) digits")
+    config = SimConfig(
+        jog_supported=jog,
+        key=key,
+        nine_digit_errors=digits == 9,
+        origin_set=origin,
+        strict=strict_by_default() if strict is None else strict,
+    )
+    return VirtualController(config)
+
+
+def describe(config: SimConfig) -> str:
+    """One line on what the served controller will do that a plain one does not."""
+    notes = [f"MODE key {config.key.value.upper()}"]
+    notes.append("9-digit refusals" if config.nine_digit_errors else "4-digit refusals")
+    if config.strict:
+        notes.append("strict: only commands a real controller was seen to answer")
+    if not config.origin_set:
+        notes.append("origin not set: positions ****, motion refused with L5150")
+    if not config.jog_supported:
+        notes.append("JOG refused (L2030)")
+    return "; ".join(notes)
 
 
 def parse_host_port(text: str) -> tuple[str, int]:
@@ -86,6 +115,7 @@ def serve_pty(controller: VirtualController, pacing: Pacing, stop: threading.Eve
 
         def announce(path: str) -> None:
             console.print(f"virtual CR2B-574 listening on [bold]{path}[/] (9600 8E2)")
+            console.print(f"  {describe(controller.config)}")
             console.print(
                 "  one client per pty: when it disconnects, the next pty path is printed here"
             )
@@ -101,6 +131,7 @@ def serve_tcp(
     """Serve on TCP until `stop` (or Ctrl-C)."""
     with TcpServer(controller, host=host, port=port, pacing=pacing) as server:
         console.print(f"virtual CR2B-574 listening on [bold]{server.url}[/] (one client at a time)")
+        console.print(f"  {describe(controller.config)}")
         console.print(f"  connect with: melfa <command> --robot {server.url}")
         _until_interrupted(stop)
 
@@ -131,6 +162,30 @@ def sim(
     no_jog: Annotated[
         bool,
         typer.Option("--no-jog", help="Refuse JOG with L2030, as a CR2B that does not take it."),
+    ] = False,
+    key: Annotated[
+        KeySwitch,
+        typer.Option(
+            "--key",
+            help="Where the MODE key stands: outside auto-ext, CNTLON is accepted but "
+            "operation (RUN, SLOTINIT, SRVON…) is refused with 6020, as on the real one.",
+        ),
+    ] = KeySwitch.AUTO_EXT,
+    digits: Annotated[
+        int,
+        typer.Option("--digits", help="Refusals with 9 digits (real CRn-5xx) or 4 (manual)."),
+    ] = 9,
+    strict: Annotated[
+        bool | None,
+        typer.Option(
+            "--strict/--lenient",
+            help="Refuse every command no real controller was seen to answer "
+            "(default: $MELFA_SIM_STRICT, else lenient).",
+        ),
+    ] = None,
+    no_origin: Annotated[
+        bool,
+        typer.Option("--no-origin", help="Origin lost: positions read ****, motion raises L5150."),
     ] = False,
     run: Annotated[
         Path | None,
@@ -196,7 +251,13 @@ def sim(
         errors.print(f"[red]error:[/] --latency {latency} must be ≥ 0 seconds")
         raise typer.Exit(2)
     pacing = NO_PACING if no_pacing else Pacing.for_baud(baud, latency)
-    controller = build_controller(jog=not no_jog)
+    try:
+        controller = build_controller(
+            jog=not no_jog, key=key, digits=digits, strict=strict, origin=not no_origin
+        )
+    except ValueError as exc:
+        errors.print(f"[red]error:[/] {exc}")
+        raise typer.Exit(2) from None
     stop = threading.Event()
     try:
         if tcp is not None:
