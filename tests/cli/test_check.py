@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from melfa.cli import app
-from melfa.cli.lang_commands import FileKind, FileReport, SourceFile, summary_line
+from melfa.cli.checking import FileKind, FileReport, SourceFile, summary_line
 from melfa.lang.diagnostics import Diagnostic, Severity
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"

@@ -14,8 +14,8 @@ import pytest
 from typer.testing import CliRunner
 
 import melfa.cli.robot_commands
-from melfa.cli.app import app
 from melfa.cli.robot_commands import FIRST_REPEAT_S, REPEAT_GAP_S, JogKeys
+from melfa.cli.typer_app import app
 from melfa.sim import PtyServer, VirtualController
 
 runner = CliRunner()

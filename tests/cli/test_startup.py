@@ -7,9 +7,14 @@ import subprocess
 import sys
 from pathlib import Path
 
-from melfa.cli.app import COMMAND_MODULES, app
+from typer.testing import CliRunner
 
-HEAVY = ("melfa.sim", "melfa.store", "melfa.kin", "melfa.web", "melfa.robot", "numpy", "fastapi")
+from melfa.cli.typer_app import COMMAND_MODULES, app
+
+HEAVY = (
+    "melfa.sim", "melfa.store", "melfa.kin", "melfa.web", "melfa.robot", "numpy", "fastapi",
+    "typer", "rich", "pydantic",
+)  # fmt: skip
 
 
 def _modules_after(argv: list[str]) -> set[str]:
@@ -33,6 +38,16 @@ def test_check_imports_nothing_heavy(tmp_path: Path) -> None:
     assert not [m for m in loaded if m.startswith(HEAVY)]
 
 
+def test_check_through_typer_gives_the_same_answer(tmp_path: Path) -> None:
+    """The Typer command `check` forwards to the same function (one set of options)."""
+    program = tmp_path / "p.MB4"
+    program.write_text("10 HOPEN\n", encoding="utf-8")
+    result = CliRunner().invoke(app, ["check", str(program), "--format", "json"])
+    assert result.exit_code == 1
+    assert '"missing-argument"' not in result.stdout  # JSON carries codes, not rule names
+    assert '"L4220"' in result.stdout
+
+
 def test_points_files_load_the_robot_model_only_when_there_are_points(tmp_path: Path) -> None:
     points = tmp_path / "p.POS"
     points.write_text("P1=(400,0,600,180,0,180)(7,0)\n", encoding="utf-8")
@@ -40,7 +55,7 @@ def test_points_files_load_the_robot_model_only_when_there_are_points(tmp_path: 
 
 
 def test_the_command_table_names_the_module_of_every_command() -> None:
-    """melfa.cli.app.COMMAND_MODULES is the lazy loader's map; keep it true."""
+    """melfa.cli.typer_app.COMMAND_MODULES is the lazy loader's map; keep it true."""
     registered = {
         (info.name or info.callback.__name__.replace("_", "-")): info.callback.__module__
         for info in app.registered_commands

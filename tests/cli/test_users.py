@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 import melfa.cli.users_commands  # noqa: F401  (registers the commands)
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.store import Store
 from tests.store.conftest import CHEAP
 

@@ -9,15 +9,38 @@ becomes one clear message and an exit code, never a traceback:
     3  link failure or timeout
 """
 
-from melfa.cli.app import app
+from __future__ import annotations
 
-# The command modules register on `app` when imported; `app` imports them on demand
-# (`melfa check` loads only the language toolkit), see melfa.cli.app.
+import sys
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from melfa.cli.typer_app import OnDemandTyper
+
+# The command modules register on `app` when imported; `app` imports them on demand, see
+# melfa.cli.typer_app. `app` itself (Typer) is imported on first use, for start-up time:
+# `import melfa.cli` stays light, so `melfa check` (melfa.cli.checking) never loads Typer.
+
+
+def __getattr__(name: str) -> Any:
+    if name == "app":
+        from melfa.cli.typer_app import app  # Typer loads only when the command line needs it
+
+        return app
+    raise AttributeError(name)
 
 
 def main() -> None:
     """Entry point of the `melfa` console script."""
+    if sys.argv[1:2] == ["check"]:
+        # `melfa check` runs without Typer or the other commands, for start-up time.
+        from melfa.cli.checking import check_main
+
+        raise SystemExit(check_main(sys.argv[2:]))
+    from melfa.cli.typer_app import app
+
     app()
 
 
+app: OnDemandTyper
 __all__ = ["app", "main"]

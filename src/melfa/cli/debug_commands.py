@@ -16,7 +16,7 @@ from typing import Annotated
 import typer
 from rich.console import Console as RichConsole
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.sim.debug.cell import Cell, CellError
 from melfa.sim.debug.console import Console
 from melfa.sim.debug.engine import DEFAULT_MAX_TIME_S, DebugError, Debugger, Speed

@@ -13,7 +13,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 
 EXIT_USAGE = 2
 INSTALL_HINT = "pip install 'melfa[desktop]'"

@@ -41,7 +41,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.link import (
     DEFAULT_TIMEOUT_S,
     ROBOT_ENV,

@@ -17,7 +17,7 @@ from rich.console import Console
 from rich.markup import escape
 
 import melfa
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 
 REEXEC_ENV = "MELFA_ROS_REEXEC"
 """Set when `melfa ros` re-executed itself under the ROS environment (no second try)."""

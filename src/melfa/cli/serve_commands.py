@@ -20,7 +20,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.link import ROBOT_ENV
 from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
 

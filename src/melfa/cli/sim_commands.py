@@ -18,7 +18,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
 from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, KeySwitch, strict_by_default

@@ -25,7 +25,7 @@ from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
 
-from melfa.cli.app import app
+from melfa.cli.typer_app import app
 from melfa.store import (
     DATA_ENV,
     DatabaseError,
