@@ -61,6 +61,6 @@ def test_points_and_programs_read_constants_alike() -> None:
 def test_the_cli_and_the_web_call_the_one_project_check() -> None:
     """One home: both callers name check_project (and no one else parses points to check)."""
     src = Path(melfa.__file__).parent
-    for caller in ("cli/lang_commands.py", "web/routes/check.py"):
+    for caller in ("cli/checking.py", "web/routes/check.py"):
         text = (src / caller).read_text(encoding="utf-8")
         assert "check_project(" in text and "parse_points(" not in text, caller
