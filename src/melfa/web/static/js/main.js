@@ -10,6 +10,7 @@ import { JogPad } from "./jog.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
+import { DebugPanel } from "./debugger.js";
 import { TargetSwitch } from "./targets.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
@@ -85,6 +86,8 @@ async function main() {
   } catch (err) {
     showError("Could not open your workspace", err);
   }
+  app.debug = new DebugPanel(app); // after the workspace: breakpoints are kept per workspace
+  app.debug.onTarget();
   points.render();
   points.check();
   if (editor.liveBox.checked) editor.check();
@@ -163,7 +166,7 @@ let lastRunning = false;
 function onState(m) {
   app.state = m;
   if (m.link) setLink(m.link);
-  if (m.joints) app.view.setJoints(m.joints);
+  if (m.joints && !app.debugging) app.view.setJoints(m.joints); // the debugger's arm wins
   if (m.hands?.length) app.view.setHand(m.hands[0]);
   if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null)) {
     setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null);
