@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import itertools
 import threading
 import time
 from collections.abc import Callable
@@ -34,6 +35,7 @@ T = TypeVar("T")
 
 POLL_S = 0.03
 """How often a running program is moved on (the engine keeps its own timing between)."""
+_SESSION_IDS = itertools.count(1)
 UPDATE_S = 0.1
 """Most often a running program's location and arm are published (stops go at once)."""
 
@@ -43,6 +45,11 @@ class DebugUpdate(Event):
     """The debugger's state for the IDE (`status` is the engine's `Status.to_json()`)."""
 
     NAME: ClassVar[str] = "debug"
+    session: int
+    """Which debug session (a new one starts its `seq` again)."""
+    seq: int
+    """Grows with every change: a view shows the highest it has seen (a command's reply and
+    the socket's message may cross)."""
     status: dict[str, Any]
     joints: tuple[float, ...] | None = None
     pose: tuple[float, ...] | None = None
@@ -89,6 +96,8 @@ class DebugSession:
         self._task: asyncio.Task[None] | None = None
         self._last_update = float("-inf")
         self._closed = False
+        self._seq = 0
+        self.id = next(_SESSION_IDS)
 
     @classmethod
     async def open(
@@ -150,6 +159,12 @@ class DebugSession:
         with self._lock:
             return self.debugger.status().to_json()
 
+    def snapshot(self) -> tuple[int, dict[str, Any], list[dict[str, Any]]]:
+        """(seq, status, variables) read together."""
+        with self._lock:
+            d = self.debugger
+            return self._seq, d.status().to_json(), [v.to_json() for v in d.variables()]
+
     def variables(self) -> list[dict[str, Any]]:
         with self._lock:
             return [v.to_json() for v in self.debugger.variables()]
@@ -158,8 +173,11 @@ class DebugSession:
         with self._lock:
             d = self.debugger
             arm = d.arm
+            self._seq += 1
             return DebugUpdate(
                 actor=self.owner,
+                session=self.id,
+                seq=self._seq,
                 status=d.status().to_json(),
                 joints=tuple(arm.joints),
                 pose=_pose(arm),

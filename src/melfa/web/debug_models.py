@@ -68,6 +68,8 @@ class DebugOut(BaseModel):
     `speed`, `stop` {reason, location, time, error, breakpoint}, `breakpoints`) and the
     variables panel (rows `{name, kind, value, changed, elements}`)."""
 
+    session: int = Field(description="Which debug session (each starts `seq` again).")
+    seq: int = Field(description="Grows with every change; show the highest seen.")
     status: dict[str, Any]
     variables: list[dict[str, Any]]
     program: str = Field(description="The text under the debugger (the editor compares).")

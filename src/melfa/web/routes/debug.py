@@ -62,7 +62,10 @@ async def _session(context: WebContext, user: str) -> DebugSession:
 
 
 def _out(session: DebugSession) -> DebugOut:
-    return DebugOut(status=session.status(), variables=session.variables(), program=session.program)
+    seq, status, variables = session.snapshot()
+    return DebugOut(
+        session=session.id, seq=seq, status=status, variables=variables, program=session.program
+    )
 
 
 async def _do(session: DebugSession, fn: Callable[[Debugger], T]) -> T:

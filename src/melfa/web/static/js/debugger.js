@@ -54,7 +54,7 @@ export class DebugPanel {
     );
     const toolbar = document.querySelector(".toolbar");
     toolbar.insertBefore(this.bar, $("activity"));
-    const keys = { F5: () => (this.active ? this.command("continue") : this.start()), F10: () => this.command("step-over"), F11: () => this.command("step") };
+    const keys = { F5: () => this.command("continue"), F10: () => this.command("step-over"), F11: () => this.command("step") };
     document.addEventListener("keydown", (e) => {
       if (!this.app.targets.isPrivate) return;
       if (e.key === "F11" && e.shiftKey) { e.preventDefault(); this.command("step-out"); return; }
@@ -153,25 +153,31 @@ export class DebugPanel {
     return !!this.session && state !== undefined;
   }
 
-  /** Load the editor's program (with its points and breakpoints) and run it. */
-  async start(first = "run") {
+  /** Load the editor's program (with its points and breakpoints), then `then` (a path
+   *  and body: run it by default). */
+  async start(then = ["/api/debug/command/run"]) {
     const app = this.app;
     try {
       this.clearError();
       const body = { program: this.editor.text, points: app.workspace.points, check: true, speed: this.speed.value, ...this.breakpointSpec() };
       this.show(await api("POST", "/api/debug", body));
       app.view.clearPath();
-      this.show(await api("POST", `/api/debug/command/${first}`));
+      this.show(await api("POST", ...then));
     } catch (err) {
       if (err.code === "program-has-errors" && err.detail?.diagnostics) this.editor.show(err.detail.diagnostics);
       showError(err.code === "program-has-errors" ? "Not debugged: the program has errors" : "Could not start the debugger", err);
     }
   }
 
+  /** Whether the session can go on from here (same text, stopped or running). */
+  get resumable() {
+    const state = this.session?.status?.state;
+    return this.active && this.session.program === this.editor.text && (state === "paused" || state === "running");
+  }
+
   async command(name) {
-    if (!this.active || this.session.program !== this.editor.text) {
-      if (name === "step" || name === "step-over") return this.start(name);
-      if (!this.active) return this.start();
+    if (!this.resumable && name !== "pause") {
+      return this.start([`/api/debug/command/${name === "continue" ? "run" : name}`]);
     }
     try {
       if (name === "run" || name === "continue") this.clearError();
@@ -183,10 +189,7 @@ export class DebugPanel {
 
   async runToCursor() {
     const line = this.editor.editor.getCursorPosition().row + 1;
-    if (!this.active || this.session.program !== this.editor.text) {
-      await this.start("step");
-      if (!this.active) return;
-    }
+    if (!this.resumable) return this.start(["/api/debug/run-to", { line }]);
     try {
       this.show(await api("POST", "/api/debug/run-to", { line }));
     } catch (err) {
@@ -254,10 +257,12 @@ export class DebugPanel {
     if (m.joints) this.app.view.setJoints(m.joints);
     if (running && m.pose) this.app.view.addPathPoint(m.pose);
     this.app.debugging = true;
-    this.show({ status: m.status, variables: m.variables ?? this.session?.variables ?? [], program: this.session?.program ?? this.editor.text });
+    this.show({ session: m.session, seq: m.seq, status: m.status, variables: m.variables ?? this.session?.variables ?? [], program: this.session?.program ?? this.editor.text });
   }
 
   show(out) {
+    // A command's reply and the socket's messages may cross: the highest `seq` wins.
+    if (this.session && out.session === this.session.session && out.seq < this.session.seq) return;
     const before = this.session?.status;
     this.session = out;
     this.app.debugging = true;

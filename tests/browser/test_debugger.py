@@ -1,0 +1,158 @@
+"""A student's own simulator and its debugger, in the browser: with the lab robot held by
+someone else, a student still runs and debugs on "My simulator" (breakpoint in the gutter,
+step, step over, step out, variables changing, an input releasing a WAIT, run to cursor, a
+run-time error stopping on its line, the current line kept across a reload)."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from tests.browser.conftest import Session
+
+pytestmark = pytest.mark.timeout(180)
+
+PROGRAM = """SERVO ON
+M1 = 1
+GOSUB *SUB
+M1 = M1 + 1
+WAIT M_IN(8) = 1
+MOV P1
+M2 = M1 * 10
+END
+*SUB
+M3 = 5
+RETURN
+"""
+POINTS = "DEF POS P1=(300.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+LOOP = "SERVO ON\n*LOOP\nMOV P1\nMOV P2\nGOTO *LOOP\n"
+LOOP_POINTS = POINTS + "DEF POS P2=(300.00,200.00,400.00,180.00,0.00,180.00)(7,0)\n"
+
+
+def to_mine(s: Session) -> None:
+    s.page.click("#target-switch [data-target=mine]")
+    expect(s.page.locator("body")).to_have_attribute("data-target", "mine")
+    s.page.wait_for_function("() => window.melfa.state && window.melfa.state.joints")
+
+
+def at_line(page: Page, line: int, state: str = "paused") -> None:
+    expect(page.locator("#dbg-status")).to_have_attribute("data-state", state)
+    expect(page.locator("#dbg-status")).to_have_attribute("data-line", str(line))
+    expect(page.locator("#editor")).to_have_attribute("data-debug-line", str(line))
+
+
+def gutter(page: Page, line: int) -> None:
+    """Click the gutter of ``line`` (a breakpoint on, or off)."""
+    cell = page.locator(".ace_gutter-cell").filter(has_text=re.compile(rf"^\s*{line}\s*$"))
+    box = cell.first.bounding_box()
+    assert box is not None
+    page.mouse.click(box["x"] + 6, box["y"] + box["height"] / 2)
+
+
+def variable(page: Page, name: str) -> Any:
+    return page.locator(f"#dbg-vars tr[data-name='{name}']")
+
+
+def test_a_student_runs_and_debugs_on_their_simulator_while_the_lab_is_held(
+    open_session: Any,
+) -> None:
+    holder: Session = open_session("bob")
+    holder.page.click("#lease-take")
+    expect(holder.page.locator("#lease-text")).to_contain_text("you")
+
+    s: Session = open_session("carol")
+    page = s.page
+    expect(page.locator("#lease-text")).to_contain_text("bob")
+    to_mine(s)
+    expect(page.locator(".lease")).to_be_hidden()  # no lease on one's own simulator
+    expect(page.locator(".view-head h2")).to_have_text("My simulator")
+
+    # Load and run on the simulator: nobody's lease is in the way.
+    s.set_program(LOOP)
+    s.set_points(LOOP_POINTS)
+    page.click("#act-load")
+    expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
+    page.click("#tab-robot")
+    page.click("#servo-on")
+    expect(page.locator("#servo-state")).to_have_text("on")
+    page.click("#tab-editor")
+    page.click("#act-run")
+    page.wait_for_function("() => window.melfa.state && window.melfa.state.running === true")
+    page.click("#act-stop")
+    page.wait_for_function("() => window.melfa.state && window.melfa.state.running === false")
+
+    # The debugger: a breakpoint in the gutter, then step, step out, step over.
+    s.set_program(PROGRAM)
+    s.set_points(POINTS)
+    gutter(page, 3)
+    expect(page.locator(".ace_gutter-cell.melfa-breakpoint")).to_have_count(1)
+    page.select_option("#dbg-speed", "instant")
+    page.click("#dbg-start")
+    at_line(page, 3)
+    expect(page.locator("#dbg-status")).to_contain_text("breakpoint")
+    expect(variable(page, "M1")).to_contain_text("1")
+    page.click("#dbg-step")  # into the GOSUB: its label line
+    at_line(page, 9)
+    page.click("#dbg-step")
+    at_line(page, 10)
+    page.click("#dbg-step")
+    at_line(page, 11)
+    expect(variable(page, "M3")).to_have_class(re.compile("changed"))
+    expect(variable(page, "M3")).to_contain_text("5")
+    page.click("#dbg-out")
+    at_line(page, 4)
+    page.click("#dbg-next")
+    at_line(page, 5)
+    expect(variable(page, "M1")).to_have_class(re.compile("changed"))
+    expect(variable(page, "M1").locator("td")).to_have_text("2")
+    expect(variable(page, "M3")).not_to_have_class(re.compile("changed"))
+
+    # The current line survives a reload: the server holds the session.
+    page.reload()
+    s.wait_ready()
+    at_line(page, 5)
+    expect(page.locator("body")).to_have_attribute("data-target", "mine")
+
+    # A WAIT on an input: the panel offers to set it, and the program goes on.
+    page.click("#dbg-continue")
+    expect(page.locator("#dbg-wait")).to_contain_text("WAIT M_IN(8)")
+    page.click("#dbg-release")
+    expect(page.locator("#dbg-status")).to_have_attribute("data-state", "finished")
+    expect(variable(page, "M2").locator("td")).to_have_text("20")
+    s.screenshot("debugger")
+
+    # Run to cursor: no breakpoint, the cursor on line 7.
+    gutter(page, 3)
+    expect(page.locator(".ace_gutter-cell.melfa-breakpoint")).to_have_count(0)
+    s.eval("() => window.melfa.editor.editor.gotoLine(7, 0, false)")
+    page.click("#dbg-cursor")  # from the start again; M_IN(8) is still 1: no wait
+    at_line(page, 7)
+    holder.page.click("#lease-release")
+
+
+def test_a_run_time_error_stops_on_its_line_with_the_controllers_number(
+    open_session: Any,
+) -> None:
+    s: Session = open_session("alice")
+    page = s.page
+    to_mine(s)
+    s.set_program("SERVO ON\nM1 = 1\nM2 = M9 + 1\nEND\n")
+    s.set_points("")
+    page.select_option("#dbg-speed", "instant")
+    page.click("#dbg-start")
+    error = page.locator("#dbg-error")
+    expect(error).to_be_visible()
+    expect(error).to_have_attribute("data-line", "3")
+    expect(error).to_contain_text("at line 3")
+    expect(error).to_contain_text(re.compile(r"Error L\d{4}"))
+    expect(error).to_contain_text("M9")
+    expect(page.locator(".ace_marker-layer .melfa-debug-error")).to_have_count(1)
+    at_line(page, 3, state="failed")
+    s.screenshot("debugger-error")
+    # Back on the lab robot the debugger is out of the way.
+    page.click("#target-switch [data-target=lab]")
+    expect(page.locator("#debug-bar")).to_be_hidden()
+    expect(page.locator(".lease")).to_be_visible()
