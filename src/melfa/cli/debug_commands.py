@@ -8,6 +8,7 @@ when the program cannot be loaded or the last run stopped with a run-time error,
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from pathlib import Path
@@ -110,6 +111,10 @@ def debug(
     console = Console(debugger, sys.stdout, idle=lambda: time.sleep(REAL_TIME_TICK_S), cell=cell)
     interactive = sys.stdin.isatty()
     if interactive:
+        # Line editing and history at the prompt; imported only for a terminal (it is slow
+        # to load and changes how input() behaves).
+        with contextlib.suppress(ImportError):
+            import readline  # noqa: F401
         print(f"{program.name}: {len(debugger.lines)} lines; help lists the commands")
     while True:
         try:
