@@ -58,3 +58,44 @@ def test_a_jog_step_polls_state_while_it_moves() -> None:
     kinds = [s.pose_measured for s in moving]
     changes = sum(a != b for a, b in itertools.pairwise(kinds))
     assert changes <= 1, kinds  # one kind while moving (at most the switch at the start)
+
+
+def _step_time(stop_first: bool) -> tuple[float, bool | None]:
+    """Controller time a 10 mm base-frame step takes (from its MVS to its last status
+    check), after a program was stopped mid-move or not; and whether the state says a
+    program runs afterwards."""
+    controller = RecordingController()
+
+    returned: list[float] = []
+
+    async def main() -> bool | None:
+        service, _ = make_service(controller, poll_floor_s=0.005)
+        async with service:
+            assert await until(lambda: service.state.joints is not None)
+            await service.exec(ANN, "SERVO ON")
+            if stop_first:
+                program = ["10 SERVO ON", "20 SPD 5", "30 MVS P1", "40 END"]
+                await service.upload_program(ANN, program)
+                await service.upload_points(
+                    ANN, ["DEF POS P1=(400.00,0.00,300.00,180.00,0.00,180.00)(7,0)"]
+                )
+                await service.run(ANN)
+                assert await until(lambda: bool(service.want_state().running))
+                await service.stop(ANN)
+                assert await until(lambda: service.want_state().running is False)
+            await service.jog_step(ANN, JogFrame.XYZ, "Z", +1, wait=True, servo=TURN_ON)
+            returned.append(time.monotonic())
+            await asyncio.sleep(0.3)
+            return service.want_state().running
+
+    running = run(main())
+    seen = [s for s in controller.seen if s.wall < returned[0]]  # up to the step's end
+    start = max(s.now for s in seen if "EXECMVS P_CURR+" in s.command)
+    return seen[-1].now - start, running
+
+
+def test_after_a_stop_a_jog_step_moves_at_jog_speed_and_nothing_runs() -> None:
+    plain, _ = _step_time(stop_first=False)
+    after_stop, running = _step_time(stop_first=True)
+    assert running is False  # not "running line 30" after the stop
+    assert after_stop < 2 * plain, (plain, after_stop)  # no crawl at the program's SPD 5
