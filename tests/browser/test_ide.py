@@ -46,8 +46,14 @@ def test_login_form_and_typo_suggestion_inline(open_session: Any) -> None:
     page.click("button[type=submit]")
     s.wait_ready()
     expect(page.locator("#user-name")).to_have_text("alice")
+    # An empty workspace starts with the welcome project and its three-step guide.
+    expect(page.locator(".toast", has_text="Welcome!")).to_be_visible()
+    assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
+    assert "PPICK" in s.eval("() => window.melfa.workspace.points")
 
     page.click("#editor")
+    page.keyboard.press("Control+A")
+    page.keyboard.press("Delete")
     page.keyboard.type("DEF INTE M1\nWIHLE M1 < 3\nWEND\n")
     # The typo is suggested inline within a second: problems list, gutter, underline.
     problem = page.locator("#problem-list li", has_text="Did you mean WHILE")
@@ -88,7 +94,17 @@ def test_open_mb4_strips_numbers_and_a_txt_is_refused(open_session: Any, tmp_pat
     page = s.page
     numbered = tmp_path / "demo.MB4"
     numbered.write_bytes(b"10 MOV P1\r\n20 GOTO 10\r\n30 END\r\n")
+    # Over the work in the editor (the welcome program) it asks first; Cancel keeps it.
+    before = s.eval("() => window.melfa.editor.text")
+    assert before.strip()
     page.set_input_files("#file-mb4", str(numbered))
+    dialog = page.locator("#open-dialog")
+    expect(dialog).to_be_visible()
+    expect(dialog).to_contain_text("demo.MB4 would replace the program")
+    page.click("#open-cancel")
+    assert s.eval("() => window.melfa.editor.text") == before
+    page.set_input_files("#file-mb4", str(numbered))
+    page.click("#open-replace")
     expect(page.locator(".toast", has_text="Opened demo.MB4")).to_be_visible()
     text = s.eval("() => window.melfa.editor.text")
     assert text.startswith("10 MOV P1\nGOTO 10\nEND")  # jump target kept, others stripped
@@ -101,6 +117,18 @@ def test_open_mb4_strips_numbers_and_a_txt_is_refused(open_session: Any, tmp_pat
     page.click("#tab-points")
     page.set_input_files("#file-pos", str(numbered))
     expect(page.locator(".toast.error", has_text="demo.MB4 was not loaded")).to_be_visible()
+    # The replaced program is a named revision; History compares it with now.
+    page.click("#tab-editor")
+    page.click("#history-button")
+    saved = page.locator("#history-list li").last  # the oldest: the welcome program
+    expect(saved).to_be_visible()
+    saved.get_by_role("button", name="Compare").click()
+    diff = page.locator("#diff-dialog")
+    expect(diff).to_be_visible()
+    expect(diff.locator(".del").first).to_contain_text("Welcome to melfa")
+    expect(diff.locator(".add", has_text="GOTO 10")).to_be_visible()
+    s.screenshot("history-diff")
+    diff.get_by_role("button", name="Close").click()
 
 
 def test_points_by_dialog_and_by_importing_the_current_position(
@@ -251,7 +279,7 @@ def test_history_restores_a_revision(open_session: Any) -> None:
     page.evaluate("() => window.melfa.workspace.save('save')")
     page.click("#history-button")
     first = page.locator("#history-list li").nth(1)
-    first.locator("button").click()
+    first.get_by_role("button", name="Restore").click()
     expect(page.locator(".ace_content")).to_contain_text("version one")
 
 

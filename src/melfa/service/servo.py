@@ -2,7 +2,7 @@
 
 The controller starts with its servo off, and a move sent then is refused with L2000 and
 leaves an alarm that blocks the next *Run*. So before a command that moves the arm the
-service reads ``DSTATE`` and, when the servo is off, does what the caller chose:
+service reads ``STATE`` and, when the servo is off, does what the caller chose:
 
 - `ServoPolicy.TURN_ON`: the operator asked to move, so switch the servo on first (one
   ``SRVON``, audited as its own ``servo`` entry naming the move it was for);
@@ -21,7 +21,7 @@ from __future__ import annotations
 import enum
 
 from melfa.protocol import error_text
-from melfa.protocol.answers import DState, RunStatus
+from melfa.protocol.answers import RunStatus, Status
 from melfa.protocol.error_table import SERVO_OFF
 from melfa.robot import ControllerError, Robot
 
@@ -42,9 +42,9 @@ class ServoOff(ControllerError):
         super().__init__(SERVO_OFF, error_text(SERVO_OFF), command=command)
 
 
-def servo_is_on(state: DState) -> bool:
-    """The servo bit of a ``DSTATE`` answer."""
-    return RunStatus.SERVO_ON in state.status.run
+def servo_is_on(status: Status) -> bool:
+    """The servo bit of a ``STATE`` answer's status field."""
+    return RunStatus.SERVO_ON in status.run
 
 
 def ensure_servo(robot: Robot, policy: ServoPolicy, command: str = "") -> bool:
@@ -52,12 +52,12 @@ def ensure_servo(robot: Robot, policy: ServoPolicy, command: str = "") -> bool:
     servo on (the caller audits that), False when nothing was needed."""
     if policy is ServoPolicy.LEAVE:
         return False
-    state = robot.dstate()
-    if servo_is_on(state):
+    status = robot.state().status  # STATE: every firmware answers it (DSTATE not all)
+    if servo_is_on(status):
         return False
     if policy is ServoPolicy.ASK:
         raise ServoOff(command)
-    if state.status.error == SERVO_OFF:
+    if status.error == SERVO_OFF:
         robot.reset_alarm()
     robot.servo(True)
     return True

@@ -10,7 +10,7 @@ from collections.abc import AsyncIterator
 
 from fastapi import FastAPI
 from fastapi.routing import APIRoute
-from fastapi.staticfiles import StaticFiles
+from starlette.middleware.gzip import GZipMiddleware
 
 from melfa import __version__
 from melfa.service import RobotService
@@ -36,6 +36,7 @@ from melfa.web.routes import (
     workspaces,
 )
 from melfa.web.routes.pages import STATIC
+from melfa.web.static_files import CachedStaticFiles
 from melfa.web.targets import Targets as TargetRegistry
 from melfa.web.ws import router as ws_router
 
@@ -117,6 +118,7 @@ def create_app(
     )
     errors.install(app)
     app.add_middleware(RequestLog)
+    app.add_middleware(GZipMiddleware, minimum_size=1024)  # the IDE: < 1 MB on first load
     for router in (
         session.router,
         workspaces.router,
@@ -136,7 +138,7 @@ def create_app(
     app.include_router(pages.router)
     app.include_router(ws_router)
     app.include_router(rosbridge_routes())
-    app.mount("/static", StaticFiles(directory=STATIC), name="static")
+    app.mount("/static", CachedStaticFiles(directory=STATIC), name="static")
     return app
 
 

@@ -13,6 +13,7 @@ from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse, Resp
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.deps import find_session
+from melfa.web.static_files import cache_headers
 
 router = APIRouter(include_in_schema=False)
 STATIC = Path(__file__).resolve().parent.parent / "static"
@@ -42,7 +43,17 @@ async def index(request: Request) -> Response:
     request.state.user = session.user.username
     if not vendor_ready():
         return HTMLResponse(VENDOR_MISSING, status_code=503)
-    return FileResponse(STATIC / "index.html", media_type="text/html")
+    response = FileResponse(STATIC / "index.html", media_type="text/html")
+    cache_headers(response)
+    return response
+
+
+@router.get("/favicon.ico")
+async def favicon() -> FileResponse:
+    """Browsers ask for it whatever the page says."""
+    response = FileResponse(STATIC / "favicon.svg", media_type="image/svg+xml")
+    cache_headers(response)
+    return response
 
 
 @router.get("/docs")

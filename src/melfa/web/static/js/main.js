@@ -6,6 +6,7 @@ import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
 import { describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
+import { keyboardExit, nameWorkspace, robotBadge, welcome } from "./first.js";
 import { JogPad } from "./jog.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
@@ -64,6 +65,7 @@ async function main() {
   app.points = points;
   editor.onAddPoint = (name) => points.addFromRobot(name);
   installFixes(app);
+  keyboardExit(editor);
   editor.addEventListener("checked", (e) => {
     points.diagnostics = e.detail.points.diagnostics;
     points.render();
@@ -83,6 +85,8 @@ async function main() {
 
   try {
     await workspace.open();
+    nameWorkspace(workspace, app.user);
+    await welcome(workspace, editor);
   } catch (err) {
     showError("Could not open your workspace", err);
   }
@@ -109,6 +113,7 @@ function wireLive(live) {
     if (!up) setStatus("robot-status", "down", "unknown");
   });
   live.on("hello", (m) => {
+    robotBadge(m);
     app.targets.confirm(m.target);
     setLink(m.link);
     setLease(m.lease_holder);

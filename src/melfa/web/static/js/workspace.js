@@ -4,6 +4,7 @@
 // are never dropped silently.
 
 import { api, ApiError, OfflineError, downloadText } from "./api.js";
+import { showDiff } from "./opener.js";
 import { $, debounce, el, showError, toast } from "./ui.js";
 
 const AUTOSAVE_MS = 1200;
@@ -55,6 +56,7 @@ export class Workspace extends EventTarget {
     const ws = await api("GET", `/api/workspaces/${id}`);
     this.id = ws.id;
     this.owner = ws.owner;
+    this.kind = ws.kind; // personal | group (shared: first.js names it)
     this.base = ws.revision;
     this.saved = { program: ws.program, points: ws.points };
     this.program = ws.program;
@@ -228,9 +230,11 @@ export class Workspace extends EventTarget {
       list.replaceChildren(
         ...out.revisions.map((rev) =>
           el("li", {},
-            el("span", {}, el("strong", {}, `#${rev.number}`), ` ${rev.reason}${rev.restored_from ? ` of #${rev.restored_from}` : ""} · ${rev.author}`),
+            el("span", {}, el("strong", {}, `#${rev.number}`), ` ${REASONS[rev.reason] ?? rev.reason}${rev.restored_from ? ` #${rev.restored_from}` : ""} · ${rev.author}`),
             el("span", { class: "when" }, formatTime(rev.created), ` · ${rev.program_chars} chars`),
-            el("button", { type: "button", class: "btn btn-sm", "aria-label": `Restore revision ${rev.number}`, onclick: () => this.restore(rev.number) }, "Restore"),
+            el("span", { class: "rev-actions" },
+              el("button", { type: "button", class: "btn btn-sm", "aria-label": `Compare revision ${rev.number} with now`, onclick: () => showDiff(this, rev.number, (n) => this.restore(n)).catch((err) => showError("Could not compare", err)) }, "Compare"),
+              el("button", { type: "button", class: "btn btn-sm", "aria-label": `Restore revision ${rev.number}`, onclick: () => this.restore(rev.number) }, "Restore")),
           )),
       );
       if (!out.revisions.length) list.replaceChildren(el("li", { class: "muted" }, "No revisions yet: the first save makes one."));
@@ -255,6 +259,9 @@ export class Workspace extends EventTarget {
     }
   }
 }
+
+// Revisions named by what made them.
+const REASONS = { autosave: "Autosaved", save: "Saved", file: "Opened a file", restore: "Restored", import: "Imported", theirs: "Their version" };
 
 function formatTime(iso) {
   const date = new Date(/[zZ]|[+-]\d\d:?\d\d$/.test(iso) ? iso : iso + "Z"); // store times are UTC

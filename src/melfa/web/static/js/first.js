@@ -1,0 +1,75 @@
+// The student's first hour: the workspace named (and the shared one saying so), a clear
+// "Virtual robot" badge, a welcome project with a guided first run for an empty workspace,
+// and the keyboard way out of the editor (Esc, then Tab), stated on screen.
+
+import { $, el, toast } from "./ui.js";
+
+/** Name the workspace next to the editor's buttons: "My workspace" / "Group X (shared)". */
+export function nameWorkspace(workspace, user) {
+  let label = $("workspace-name");
+  if (!label) {
+    label = el("span", { id: "workspace-name", class: "workspace-name" });
+    $("history-button").after(label);
+  }
+  const shared = workspace.kind === "group";
+  label.textContent = shared ? `Group ${workspace.owner} · shared with your group` : workspace.owner === user ? "My workspace" : `${workspace.owner}'s workspace`;
+  label.classList.toggle("shared", shared);
+  label.title = shared ? "Everyone in the group edits this program: changes are saved for all of you." : "Only you edit this program.";
+}
+
+/** A clear badge when the robot is the virtual one (no arm moves in the lab). */
+export function robotBadge(hello) {
+  let badge = $("robot-badge");
+  if (!badge) {
+    badge = el("span", { id: "robot-badge", class: "robot-badge", role: "note" });
+    document.querySelector(".brand").append(badge);
+  }
+  const virtual = (hello.robot || "").trim() === "sim" || hello.target?.kind === "private";
+  badge.textContent = virtual ? "Virtual robot" : "Real robot";
+  badge.classList.toggle("real", !virtual);
+  badge.title = virtual ? "A simulated RV-6S: nothing moves in the lab." : "The lab's RV-6S: the real arm moves.";
+}
+
+/** An empty workspace starts with the welcome project and a three-step guide. */
+export async function welcome(workspace, editor) {
+  if (workspace.program.trim() || workspace.points.trim()) return false;
+  const [program, points] = await Promise.all(
+    ["welcome.MB4", "welcome.POS"].map((f) => fetch(`/static/welcome/${f}`).then((r) => (r.ok ? r.text() : ""))),
+  );
+  if (!program) return false;
+  workspace.replace({ program, points }, "welcome");
+  editor.check();
+  toast("Welcome! Your first run in three steps", {
+    kind: "info",
+    timeout: 0,
+    items: [
+      "1. Read the program: each line has a comment saying what it does.",
+      "2. Press Load project: the program and its points go to the robot.",
+      "3. Press Run: melfa asks to switch the servo on (say yes), then watch the arm on the right.",
+    ],
+  });
+  return true;
+}
+
+/** Esc, then Tab (or Shift+Tab) leaves the editor; the hint under it says so. */
+export function keyboardExit(editor) {
+  const box = editor.editor.container;
+  let armed = false;
+  const hint = el("p", { class: "hint editor-hint", id: "editor-hint" },
+    "In the editor Tab indents. To leave it with the keyboard press ", el("kbd", {}, "Esc"), " then ", el("kbd", {}, "Tab"), ".");
+  box.closest(".editor-wrap").after(hint);
+  box.setAttribute("aria-describedby", "editor-hint");
+  box.addEventListener("keydown", (e) => {
+    if (e.key === "Escape") { armed = true; return; }
+    if (e.key === "Tab" && armed) {
+      e.preventDefault();
+      e.stopPropagation();
+      armed = false;
+      editor.editor.blur();
+      const target = e.shiftKey ? $("history-button") : ($("problem-list").querySelector("li, button") || $("live-check"));
+      target.focus();
+      return;
+    }
+    if (!["Shift", "Control", "Alt", "Meta"].includes(e.key)) armed = false;
+  }, true);
+}
