@@ -52,6 +52,7 @@ from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import suggest
 
 E, W = Severity.ERROR, Severity.WARNING
+_LOGIC = frozenset({A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR})
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
 
 # Constant arguments with a range: (low, high, what) for the first argument (§4.2–§4.6).
@@ -351,21 +352,25 @@ class _Analyzer(NameChecks):
             )
 
     def binary(self, node: A.Binary) -> None:
-        if self.string_arithmetic(node):
+        op = node.op
+        if op in _LOGIC:
             return
-        if node.op not in (A.BinaryOp.MUL, A.BinaryOp.DIV):
+        kind_of = self.symbols.kind_of
+        left, right = kind_of(node.left), kind_of(node.right)
+        if self.string_arithmetic(node, left, right):
             return
-        left, right = self.symbols.kind_of(node.left), self.symbols.kind_of(node.right)
+        if op is not A.BinaryOp.MUL and op is not A.BinaryOp.DIV:
+            return
         if left is Kind.NUM and right in (Kind.POS, Kind.JNT):
-            op = node.op.value
+            sign = op.value
             self.add(
                 node.span,
                 E,
-                f"A number {op} a position is not allowed",
+                f"A number {sign} a position is not allowed",
                 "type-mismatch",
                 "L4390",
-                f"Put the position first: {_shown(node.right)} {op} {_shown(node.left)}."
-                if op == "*"
+                f"Put the position first: {_shown(node.right)} {sign} {_shown(node.left)}."
+                if sign == "*"
                 else "Divide the position by the number instead (P / M).",
             )
 

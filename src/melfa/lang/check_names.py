@@ -10,6 +10,8 @@ those of melfa-basic-iv.md.
 
 from __future__ import annotations
 
+import functools
+
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.model import (
@@ -35,6 +37,7 @@ _FUNCTION_NAMES = tuple(FUNCTIONS)
 _EXAMPLE = {Kind.NUM: "M1", Kind.STR: "C1$", Kind.POS: "P1", Kind.JNT: "J1"}
 
 
+@functools.cache
 def _close_system_variable(name: str) -> str | None:
     """The system variable `name` is one edit away from (same type letter), else None.
 
@@ -288,14 +291,13 @@ class NameChecks:
                 "Write the flags as (FL1, FL2), e.g. (7, 0).",
             )
 
-    def string_arithmetic(self, node: A.Binary) -> bool:
-        """``C1$ * 2``, ``"5" + 1``: a string where a number is needed (§2.4). True when
-        reported."""
+    def string_arithmetic(self, node: A.Binary, left: Kind | None, right: Kind | None) -> bool:
+        """``C1$ * 2``, ``"5" + 1``: a string where a number is needed (§2.4); `left` and
+        `right` are the operands' kinds. True when reported."""
+        if left is None or right is None or (left is not Kind.STR and right is not Kind.STR):
+            return False
         op = node.op
         if op not in _ARITHMETIC and not op.is_comparison:
-            return False
-        left, right = self.symbols.kind_of(node.left), self.symbols.kind_of(node.right)
-        if Kind.STR not in (left, right) or left is None or right is None:
             return False
         if left is right and (op is A.BinaryOp.ADD or op.is_comparison):
             return False  # joining or comparing two strings
@@ -328,6 +330,8 @@ class NameChecks:
     def interrupt_returns(self) -> None:
         """The routine DEF ACT … GOSUB jumps to ends with RETURN 0 or RETURN 1; a GOSUB
         routine with a plain RETURN (§4.5, [S1 RETURN])."""
+        if not self.symbols.interrupt_targets and not self.symbols.returns_with_mode:
+            return  # no interrupt routine and no RETURN 0|1: nothing to match
         lines = self.program.lines
         where: dict[str | int, int] = {}
         for index, line in enumerate(lines):

@@ -50,6 +50,7 @@ class Symbols:
     interrupts: dict[int, int] = field(default_factory=dict)  # DEF ACT priority -> line
     interrupt_targets: list[A.JumpTarget] = field(default_factory=list)  # DEF ACT … GOSUB
     duplicates: list[tuple[A.Name, Made, str]] = field(default_factory=list)  # (name, first, how)
+    returns_with_mode: bool = False  # some RETURN 0|1 (an interrupt routine's end)
 
     @classmethod
     def collect(cls, program: A.Program, points: Iterable[str]) -> Symbols:
@@ -95,6 +96,8 @@ class Symbols:
                 self.interrupts.setdefault(int(prio.value), index)
             if stmt.kind is A.JumpKind.GOSUB:
                 self.interrupt_targets.append(stmt.target)
+        elif isinstance(stmt, A.Return):
+            self.returns_with_mode |= stmt.mode is not None
         elif isinstance(stmt, A.For):
             defined.add(stmt.counter.name)
         elif isinstance(stmt, A.Input):
@@ -105,6 +108,8 @@ class Symbols:
             for branch in (stmt.then, stmt.else_):
                 if isinstance(branch, A.Assign) and not isinstance(branch.target, A.Element):
                     defined.add(target_name(branch.target).name)
+                elif isinstance(branch, A.Return):
+                    self.returns_with_mode |= branch.mode is not None
 
     def declare(self, index: int, name: A.Name, kind: Kind, how: str) -> None:
         first = self.declared_at.get(name.name)
