@@ -68,10 +68,13 @@ class Melfa:
         return list(self.get("/api/robot/state")["pose"])
 
     def wait_pose(self, want: Callable[[list[float]], bool], timeout: float = 90.0) -> list[float]:
+        """The pose once it satisfies ``want`` as measured by the controller (PPOSF: the
+        pose computed from two-decimal joints while moving may differ by ~0.1 mm)."""
         end = time.monotonic() + timeout
         while time.monotonic() < end:
-            pose = self.pose()
-            if want(pose):
+            state = self.get("/api/robot/state")
+            pose = list(state["pose"])
+            if state["pose_measured"] and want(pose):
                 return pose
             time.sleep(0.1)
         raise AssertionError(f"the arm did not get there; it is at {self.pose()}")

@@ -15,6 +15,7 @@ from typing import Any, ClassVar
 
 from melfa.ros import interface as ri
 from melfa.ros.messages import Stamp
+from melfa.ros.urdf import rv6s_urdf
 
 ROSAPI_NODE = "/rosapi"
 BRIDGE_NODE = "/rosbridge_websocket"
@@ -100,7 +101,9 @@ class Rosapi:
 
     def __init__(self, namespace: str, clock: Callable[[], dt.datetime] | None = None) -> None:
         self.namespace = namespace.strip("/")
-        self.params: dict[str, Any] = {}
+        self.params: dict[str, Any] = {"/robot_description": rv6s_urdf()}
+        """Per connection; ``/robot_description`` is the RV-6S URDF, as on a ROS master
+        where `melfa ros` runs (roslibjs's UrdfClient reads it)."""
         self._now = clock or (lambda: dt.datetime.now(dt.UTC))
 
     @property

@@ -27,6 +27,7 @@ from melfa.web.routes import (
     debug,
     health,
     lease,
+    model,
     pages,
     robot,
     session,
@@ -136,6 +137,7 @@ def create_app(
     app.include_router(session.pages)
     app.include_router(audit.pages)
     app.include_router(pages.router)
+    app.include_router(model.router)
     app.include_router(ws_router)
     app.include_router(rosbridge_routes())
     app.mount("/static", CachedStaticFiles(directory=STATIC), name="static")

@@ -8,17 +8,9 @@
 import * as THREE from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 
+import { DH, HOME } from "/model/rv6s.js"; // generated from melfa.kin: one DH table
+
 const DEG = Math.PI / 180;
-export const DH = [
-  // a, d, alpha, theta offset
-  { a: 85, d: 350, alpha: -90, offset: 0 },
-  { a: 280, d: 0, alpha: 0, offset: -90 },
-  { a: 100, d: 0, alpha: -90, offset: -90 },
-  { a: 0, d: 315, alpha: 90, offset: 0 },
-  { a: 0, d: 0, alpha: -90, offset: 0 },
-  { a: 0, d: 85, alpha: 0, offset: 180 },
-];
-const HOME = [0, 0, 90, 0, 90, 0];
 
 /** Materials: light grey castings, dark joint covers, a blue accent on the gripper. */
 function materials() {
