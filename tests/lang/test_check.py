@@ -358,7 +358,7 @@ def test_messages_spell_names_as_written() -> None:
     assert d.message == "Position Pa is not defined"
     assert "Pa" in (d.suggestion or "") and "PA" not in (d.suggestion or "")
     [d] = check("MCounter12 = 0\n")
-    assert d.message == "Name MCounter12 is longer than 8 characters"
+    assert d.message.startswith("Name MCounter12 is longer than 8 characters")
     [d] = check("M1 = 1\nCmsg$ = 5\n")
     assert d.message.endswith("the string variable Cmsg$")
     [d] = check("GOTO *myLabel\n")

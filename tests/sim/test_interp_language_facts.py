@@ -82,3 +82,26 @@ def test_a_nested_select_stops_as_the_checker_says() -> None:
         "M1 = 1", "SELECT M1", "CASE 1", "SELECT M1", "CASE 1", "END SELECT", "END SELECT", "END"
     )
     assert number == errors.SELECT_UNMATCH
+
+
+def test_plt_as_a_value_runs() -> None:
+    """§4.1: ``PLACE = PLT 1, M1`` (COSIMIR's IV palette example) is the same grid point
+    as the parenthesised form."""
+    v = variables(
+        "P1 = (300, 0, 400, 180, 0, 180)(7, 0)",
+        "P2 = (300, 100, 400, 180, 0, 180)(7, 0)",
+        "P3 = (400, 0, 400, 180, 0, 180)(7, 0)",
+        "DEF PLT 1, P1, P2, P3, , 3, 2, 1",
+        "M1 = 2",
+        "PLACE = PLT 1, M1",
+        "PBOTH = (PLT 1, M1)",
+        "END",
+    )
+    assert v["PLACE"] == v["PBOTH"]
+    assert v["PLACE"] != v["P1"]
+
+
+def test_pallet_and_interrupt_ranges_are_the_languages() -> None:
+    """§4.6: pallets and DEF ACT priorities 1…8, the model's RANGES."""
+    number, _ = fails("DEF ACT 9, M_IN(1) = 1 GOSUB *IRQ", "END", "*IRQ", "RETURN 1")
+    assert number == errors.ARGUMENT_OUT_OF_RANGE

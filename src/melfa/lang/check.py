@@ -325,7 +325,8 @@ class _Analyzer(NameChecks):
             self.add(
                 node.span,
                 E,
-                f"Name {node.written} is longer than {MAX_NAME_LENGTH} characters",
+                f"Name {node.written} is longer than {MAX_NAME_LENGTH} characters, the limit "
+                "of MELFA BASIC IV (longer names are MELFA BASIC V's)",
                 "name-too-long",
                 "L4300",
                 f"Shorten it to {MAX_NAME_LENGTH} characters.",

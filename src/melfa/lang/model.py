@@ -50,6 +50,7 @@ MAX_DIM_SIZE = 999  # DIM sizes are constants 1…999 (§3)
 MIN_DLY = 0.05  # seconds, the IV minimum (§4.5)
 MAX_LOOP_DEPTH = 16  # FOR/WHILE nesting (§4.5), L3240
 MAX_IF_DEPTH = 8  # block IF nesting, L3253
+MAX_GOSUB_DEPTH = 800  # nested GOSUBs, about 800 (§4.5)
 MAX_FN_ARGS = 16  # DEF FN dummy arguments (§4.6)
 MAX_POSITION_ELEMENTS = 8  # X,Y,Z,A,B,C,L1,L2 (§2.2)
 MAX_JOINT_ELEMENTS = 8  # J1…J8 (§2.2)

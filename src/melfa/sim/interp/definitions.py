@@ -10,6 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from melfa.lang import ast
+from melfa.lang import model as lang_model
 from melfa.sim.interp import errors
 from melfa.sim.interp.exprs import Thunk
 from melfa.sim.interp.state import MAX_DIM_SIZE, ActDef, Array, PalletDef
@@ -143,10 +144,9 @@ class DefinitionStatements(CompilerBase):
 
         def run() -> None:
             n = integer(num(), "DEF PLT")
-            if not 1 <= n <= 8:
-                raise errors.RunError(
-                    errors.ARGUMENT_OUT_OF_RANGE, f"pallet number {n} is not 1..8"
-                )
+            low, high, what = lang_model.RANGES["PLT"]  # the language's range (one home)
+            if not low <= n <= high:
+                raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"{what}, got {n}")
             d = integer(direction(), "DEF PLT")
             if d == 3:
                 raise errors.RunError(
@@ -177,8 +177,9 @@ class DefinitionStatements(CompilerBase):
 
         def run() -> None:
             n = integer(prio(), "DEF ACT")
-            if not 1 <= n <= 8:
-                raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"ACT priority {n} is not 1..8")
+            low, high, what = lang_model.RANGES["ACT"]  # the language's range (one home)
+            if not low <= n <= high:
+                raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"{what}, got {n}")
             if isinstance(dest, errors.RunError):
                 raise errors.RunError(errors.JUMP_DESTINATION_MISSING, dest.message)
             old = st.acts.get(n)

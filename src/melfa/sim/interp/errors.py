@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import enum
 
+from melfa.lang import model as lang_model
 from melfa.protocol.error_table import ERROR_MESSAGES
 from melfa.sim.runner import RunnerError, StepError
 
@@ -63,10 +64,9 @@ NOT_SUPPORTED = SYNTAX_ERROR
 #: reports position errors in the L2600/H2180 family; kin may give a more exact number.
 UNREACHABLE = POSITION_LIMIT
 
-#: Hard cap on nested GOSUB frames [S2c p.164 "GOSUB ≈800"].
-MAX_GOSUB_DEPTH = 800
-#: FOR/WHILE nesting limit [S1 FOR], [S2c].
-MAX_LOOP_DEPTH = 16
+#: Nesting limits are the language's (`melfa.lang.model`, one home with the checker).
+MAX_GOSUB_DEPTH = lang_model.MAX_GOSUB_DEPTH
+MAX_LOOP_DEPTH = lang_model.MAX_LOOP_DEPTH
 
 
 class RunError(StepError):

@@ -15,6 +15,7 @@ import enum
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from melfa.lang import model as lang_model
 from melfa.sim.interp import errors, posmath
 from melfa.sim.interp.values import Position, Value, VarType, round_half_away
 from melfa.sim.runner import RunnerError, RunnerStatus
@@ -22,7 +23,7 @@ from melfa.sim.runner import RunnerError, RunnerStatus
 ARRAY_LOWER_BOUND = 1
 """[GUESS] First subscript of a DIM array (DIM M(10) has M(1)…M(10))."""
 
-MAX_DIM_SIZE = 999  # DIM subscripts 1…999 [S1 DIM]
+MAX_DIM_SIZE = lang_model.MAX_DIM_SIZE  # DIM subscripts 1…999: the language's limit
 
 
 class StepKind(enum.Enum):
