@@ -91,6 +91,22 @@ def serve(
             "pages may use the sign-in cookie on WebSockets; repeatable.",
         ),
     ] = None,
+    require_simulation: Annotated[
+        bool,
+        typer.Option(
+            "--require-simulation",
+            help="The instructor's gate: the lab robot loads and runs a program only after "
+            "the same text passed a simulated run without pre-flight errors.",
+        ),
+    ] = False,
+    private_idle: Annotated[
+        float,
+        typer.Option(
+            "--private-idle",
+            help="Free a student's private simulator after this many seconds unused.",
+            min=1.0,
+        ),
+    ] = 1800.0,
 ) -> None:
     """Serve the web IDE and its API (docs at /docs)."""
     import uvicorn
@@ -129,7 +145,11 @@ def serve(
     shown = f"[{host}]" if ":" in host else host
     _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
     settings = WebSettings(
-        data_dir=data_dir, robot=spec, allowed_origins=tuple(allowed_origins or ())
+        data_dir=data_dir,
+        robot=spec,
+        allowed_origins=tuple(allowed_origins or ()),
+        require_simulation=require_simulation,
+        private_idle_s=private_idle,
     )
     web_app = create_app(settings, store=store)
     config = uvicorn.Config(

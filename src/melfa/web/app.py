@@ -20,6 +20,7 @@ from melfa.web.audit_sink import ServiceAuditSink
 from melfa.web.config import WebSettings
 from melfa.web.context import WebContext
 from melfa.web.logs import RequestLog
+from melfa.web.preflight import Preflight as PreflightState
 from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
     audit,
@@ -29,6 +30,7 @@ from melfa.web.routes import (
     lease,
     model,
     pages,
+    preflight,
     robot,
     session,
     targets,
@@ -48,6 +50,7 @@ TAGS = [
     {"name": "robot", "description": "Robot operations (lease, audit)."},
     {"name": "targets", "description": "Which robot: the lab's, or your own simulator."},
     {"name": "debug", "description": "The debugger on your own simulator."},
+    {"name": "preflight", "description": "A simulated run checked before the arm moves."},
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
     {"name": "users", "description": "Accounts (admins)."},
@@ -91,7 +94,13 @@ def create_app(
                 idle_s=config.private_idle_s,
                 audit=ServiceAuditSink(the_store.audit),
             )
-            app.state.web = WebContext(config, the_store, the_service, registry)
+            app.state.web = WebContext(
+                config,
+                the_store,
+                the_service,
+                registry,
+                PreflightState(config.data_dir, require_simulation=config.require_simulation),
+            )
             reaper = asyncio.create_task(_reap(registry), name="melfa-private-reaper")
             try:
                 yield
@@ -127,6 +136,7 @@ def create_app(
         robot.router,
         targets.router,
         debug.router,
+        preflight.router,
         lease.router,
         audit.router,
         users.router,

@@ -35,6 +35,10 @@ class WebSettings:
     """A private simulator nobody used (no request, no open socket) for this long is freed;
     its owner's programs stay in the workspace and a new one is made on next use."""
 
+    require_simulation: bool = False
+    """The instructor's gate: the lab robot loads and runs a program only after the same
+    text passed a simulated run without pre-flight errors (docs/ide.md)."""
+
     def __post_init__(self) -> None:
         if not 0.5 <= self.snapshot_hz <= 200:
             raise ValueError("snapshot_hz must be 0.5–200 per second")

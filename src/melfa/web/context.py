@@ -12,6 +12,7 @@ from typing import ParamSpec, TypeVar
 from melfa.service import Actor, RobotService
 from melfa.store import Store
 from melfa.web.config import WebSettings
+from melfa.web.preflight import Preflight
 from melfa.web.targets import Targets
 
 P = ParamSpec("P")
@@ -50,6 +51,8 @@ class WebContext:
     service: RobotService
     targets: Targets
     """The lab robot (``service``) and every user's private simulator."""
+    preflight: Preflight
+    """The lab's cell model and the instructor's gate."""
     sockets: Sockets = field(default_factory=Sockets)
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:

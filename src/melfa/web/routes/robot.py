@@ -36,9 +36,10 @@ from melfa.web.models import (
     UploadOut,
     ValuesOut,
 )
+from melfa.web.preflight import fingerprint
 from melfa.web.routes.check import check_texts
 from melfa.web.routes.workspaces import default_workspace, open_workspace
-from melfa.web.target_deps import DriveDep
+from melfa.web.target_deps import Drive, DriveDep
 
 router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
 
@@ -124,6 +125,22 @@ async def checked_program(context: WebContext, program: str, points: str, check:
         )
 
 
+def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
+    """The instructor's gate: on the lab robot, only texts that passed pre-flight."""
+    state = context.preflight
+    if not state.require_simulation or not drive.target.shared:
+        return
+    if not state.has_passed(program, points):
+        raise ApiError(
+            409,
+            "simulation-required",
+            "this lab runs a program on the robot only after the same program and points "
+            "passed a simulated run without pre-flight errors: run Pre-flight (or debug it "
+            "on My simulator) first",
+            detail={"offer": "preflight"},
+        )
+
+
 def _upload_out(report: object) -> UploadOut:
     return UploadOut.model_validate(report, from_attributes=True)
 
@@ -139,10 +156,13 @@ async def load_project(
     assert program is not None and points is not None
     lines = _points_for_upload(points)
     await checked_program(context, program, points, body.check)
+    gate(context, drive, program, points)
     service = drive.service
     report = await operate(
         actor, "load_project", lambda: service.load_project(actor, program, lines)
     )
+    if drive.target.shared:
+        context.preflight.lab_loaded = fingerprint(program, points)
     return _upload_out(report)
 
 
@@ -154,8 +174,11 @@ async def upload_program(
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
     await checked_program(context, program, points, body.check)
+    gate(context, drive, program, points)
     service = drive.service
     report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
+    if drive.target.shared:
+        context.preflight.lab_loaded = fingerprint(program, points)
     return _upload_out(report)
 
 
@@ -171,6 +194,8 @@ async def upload_points(
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
     report = await operate(actor, "upload_points", lambda: service.upload_points(actor, lines))
+    if drive.target.shared:
+        context.preflight.lab_loaded = None  # the gate asks for program and points together
     return _upload_out(report)
 
 
@@ -188,8 +213,17 @@ def servo_policy(servo_on: bool) -> ServoPolicy:
 
 
 @router.post("/run", response_model=Ok, summary="Run the program")
-async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
+async def run(drive: DriveDep, context: ContextDep, body: RunIn | None = None) -> Ok:
     actor = drive.actor
+    state = context.preflight
+    if state.require_simulation and drive.target.shared and state.lab_loaded is None:
+        raise ApiError(
+            409,
+            "simulation-required",
+            "this lab runs on the robot only a program loaded after passing pre-flight: "
+            "run Pre-flight, then Load project",
+            detail={"offer": "preflight"},
+        )
     policy = servo_policy(body.servo_on if body is not None else False)
     await operate(actor, "run", lambda: drive.service.run(actor, servo=policy))
     return Ok()

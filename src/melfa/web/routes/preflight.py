@@ -1,0 +1,101 @@
+"""`/api/preflight`: a program's simulated run checked before the real arm moves (cycle time,
+joint margins, unreachable targets, singularities, the tool below the table or inside a
+box of the lab's cell), the cell model instructors edit, and the instructor's gate."""
+
+from __future__ import annotations
+
+import asyncio
+from typing import Any
+
+from fastapi import APIRouter
+from pydantic import BaseModel, Field
+
+from melfa.sim.debug.cell import Cell, CellError
+from melfa.sim.debug.engine import DebugError
+from melfa.sim.debug.preflight import preflight
+from melfa.web.context import WebContext
+from melfa.web.deps import ContextDep, SessionDep, StaffDep
+from melfa.web.errors import ERROR_RESPONSES, ApiError
+from melfa.web.models import Input, SourceIn
+from melfa.web.routes.robot import checked_program, sources
+
+router = APIRouter(prefix="/api", tags=["preflight"], responses=ERROR_RESPONSES)
+
+
+class PreflightIn(SourceIn):
+    inputs: dict[int, int] = Field(
+        default_factory=dict, description="`M_IN(n)` values the run starts with."
+    )
+
+
+class PreflightOut(BaseModel):
+    """The report (`ok`, `finished`, `cycle_time`, `duration`, `joints` margins, `findings`
+    `{kind, severity, message, line, segment: {move, start, end}}`, `path` samples
+    `[t, x, y, z, move, line]`, `error`), and whether it opens the gate."""
+
+    report: dict[str, Any]
+    passed: bool = Field(description="No pre-flight error: the lab robot may run this text.")
+    cell: dict[str, Any]
+
+
+class CellIn(Input):
+    floor_z: float | None = Field(0.0, description="The table plane (mm); null: no check.")
+    boxes: list[dict[str, Any]] = Field(
+        default_factory=list, description="`{name, min: [x,y,z], max: [x,y,z]}` in mm."
+    )
+
+
+class PreflightSettingsOut(BaseModel):
+    cell: dict[str, Any]
+    require_simulation: bool = Field(
+        description="The lab robot runs only texts that passed pre-flight (the gate)."
+    )
+
+
+def settings_out(context: WebContext) -> PreflightSettingsOut:
+    state = context.preflight
+    return PreflightSettingsOut(
+        cell=state.cell.to_json(), require_simulation=state.require_simulation
+    )
+
+
+@router.post("/preflight", response_model=PreflightOut, summary="Pre-flight a program")
+async def run_preflight(
+    body: PreflightIn, session: SessionDep, context: ContextDep
+) -> PreflightOut:
+    """Runs the program (from the body, else the workspace) at instant speed on a fresh
+    simulated arm in the lab's cell; nothing moves. A report without errors lets the lab
+    robot run the same text when the gate is on."""
+    program, points = await sources(context, session, body)
+    assert program is not None and points is not None
+    await checked_program(context, program, points, body.check)
+    state = context.preflight
+    cell = state.cell
+    try:
+        report = await asyncio.to_thread(
+            preflight, program, points, cell=cell, inputs=tuple(body.inputs.items())
+        )
+    except DebugError as exc:
+        raise ApiError(422, "debug-refused", str(exc)) from None
+    if report.ok:
+        state.passed(program, points)
+    return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
+
+
+@router.get("/preflight", response_model=PreflightSettingsOut, summary="Cell and gate")
+async def get_settings(session: SessionDep, context: ContextDep) -> PreflightSettingsOut:
+    return settings_out(context)
+
+
+@router.put("/preflight/cell", response_model=PreflightSettingsOut, summary="Edit the cell")
+async def put_cell(body: CellIn, session: StaffDep, context: ContextDep) -> PreflightSettingsOut:
+    """Instructors and admins: the table plane and the box obstacles (mm, base frame)."""
+    try:
+        cell = Cell.from_json(body.model_dump())
+    except CellError as exc:
+        raise ApiError(422, "invalid-cell", str(exc), where={"field": "cell"}) from None
+    await asyncio.to_thread(context.preflight.save_cell, cell)
+    return settings_out(context)
+
+
+__all__ = ["router"]
