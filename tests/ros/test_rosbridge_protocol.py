@@ -226,3 +226,23 @@ def test_thesis_mode_answers_only_when_asked_without_parentheses(server: Server)
         assert values[0] > 0.1 and values[3] != 0  # metres and radians, X and roll set
     finally:
         ros.close()
+
+
+def test_override_and_state_services(server: Server) -> None:
+    ros = ros_at(f"{server.ws_url}?token={server.token('ivy')}")
+    try:
+
+        def call(name: str, args: dict[str, Any]) -> dict[str, Any]:
+            service = roslibpy.Service(ros, f"/melfa/{name}", "std_srvs/Trigger")
+            reply: dict[str, Any] = service.call(roslibpy.ServiceRequest(args), timeout=30)
+            return reply
+
+        missing = call("override", {})
+        assert missing["success"] is False and "~override" in missing["message"]
+        assert call("override", {"override": 150})["success"] is False
+        assert call("override", {"override": 40}) == {"success": True, "message": "override 40 %"}
+        assert wait_for(lambda: "override 40 %" in call("state", {})["message"])
+        assert "link connected" in call("state", {})["message"]
+        assert call("reset", {}) == {"success": True, "message": "alarm reset"}
+    finally:
+        ros.close()
