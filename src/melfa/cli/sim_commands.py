@@ -53,7 +53,7 @@ def build_controller(
 
 def describe(config: SimConfig) -> str:
     """One line on what the served controller will do that a plain one does not."""
-    notes = [f"MODE key {config.key.value.upper()}"]
+    notes = [f"MODE key {config.key.label}"]
     notes.append("9-digit refusals" if config.nine_digit_errors else "4-digit refusals")
     if config.strict:
         notes.append("strict: only commands a real controller was seen to answer")

@@ -100,6 +100,11 @@ class KeySwitch(enum.Enum):
     AUTO_OP = "auto-op"
     AUTO_EXT = "auto-ext"
 
+    @property
+    def label(self) -> str:
+        """As the controller's panel writes it: `TEACH`, `AUTO (Op.)`, `AUTO (Ext.)`."""
+        return {"teach": "TEACH", "auto-op": "AUTO (Op.)", "auto-ext": "AUTO (Ext.)"}[self.value]
+
 
 @dataclass(frozen=True, slots=True)
 class SimConfig:
