@@ -47,7 +47,6 @@ def test_login_form_and_typo_suggestion_inline(open_session: Any) -> None:
     s.wait_ready()
     expect(page.locator("#user-name")).to_have_text("alice")
     # An empty workspace starts with the welcome project and its three-step guide.
-    expect(page.locator(".toast", has_text="Welcome!")).to_be_visible()
     assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
     assert "PPICK" in s.eval("() => window.melfa.workspace.points")
 

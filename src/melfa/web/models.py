@@ -213,6 +213,11 @@ class UploadOut(BaseModel):
     requests: int
     bytes_sent: int
     seconds: float
+    step_lines: dict[int, int] | None = Field(
+        None,
+        description="Step number the controller reports -> line of the program as sent "
+        "(`melfa.lang.numbering.step_lines`): the running line in the student's own text.",
+    )
 
 
 SERVO_ON_FIELD = Field(

@@ -5,12 +5,14 @@ did. Its refusals map to 4xx in the one error shape (423 ``lease-required``, 409
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Awaitable, Callable
 from typing import TypeVar
 
 from fastapi import APIRouter
 
+from melfa.lang.numbering import NumberingError, step_lines
 from melfa.lang.points import PointKind, parse_points, upload_lines
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
@@ -141,8 +143,13 @@ def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
         )
 
 
-def _upload_out(report: object) -> UploadOut:
-    return UploadOut.model_validate(report, from_attributes=True)
+def _upload_out(report: object, program: str | None = None) -> UploadOut:
+    out = UploadOut.model_validate(report, from_attributes=True)
+    if program is not None:
+        # The controller reports step numbers; the IDE shows the student's own lines.
+        with contextlib.suppress(NumberingError):
+            out.step_lines = step_lines(program)
+    return out
 
 
 @router.post("/project", response_model=UploadOut, summary="Load program and points")
@@ -163,7 +170,7 @@ async def load_project(
     )
     if drive.target.shared:
         context.preflight.lab_loaded = fingerprint(program, points)
-    return _upload_out(report)
+    return _upload_out(report, program)
 
 
 @router.post("/program", response_model=UploadOut, summary="Upload the program only")
@@ -179,7 +186,7 @@ async def upload_program(
     report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
     if drive.target.shared:
         context.preflight.lab_loaded = fingerprint(program, points)
-    return _upload_out(report)
+    return _upload_out(report, program)
 
 
 @router.post("/points", response_model=UploadOut, summary="Upload the points only")

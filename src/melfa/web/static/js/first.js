@@ -51,6 +51,8 @@ export async function welcome(workspace, editor) {
   return true;
 }
 
+const FOCUSABLE = 'a[href], button:not([disabled]), input:not([disabled]):not([type=hidden]), select, textarea, [tabindex]:not([tabindex="-1"])';
+
 /** Esc, then Tab (or Shift+Tab) leaves the editor; the hint under it says so. */
 export function keyboardExit(editor) {
   const box = editor.editor.container;
@@ -66,8 +68,11 @@ export function keyboardExit(editor) {
       e.stopPropagation();
       armed = false;
       editor.editor.blur();
-      const target = e.shiftKey ? $("history-button") : ($("problem-list").querySelector("li, button") || $("live-check"));
-      target.focus();
+      // The next (or previous) focusable control in page order, outside the editor.
+      const all = [...document.querySelectorAll(FOCUSABLE)].filter((n) => n.offsetParent !== null && !box.contains(n));
+      const after = all.filter((n) => box.compareDocumentPosition(n) & Node.DOCUMENT_POSITION_FOLLOWING);
+      const before = all.filter((n) => box.compareDocumentPosition(n) & Node.DOCUMENT_POSITION_PRECEDING);
+      (e.shiftKey ? before.at(-1) : after[0])?.focus();
       return;
     }
     if (!["Shift", "Control", "Alt", "Meta"].includes(e.key)) armed = false;

@@ -122,9 +122,13 @@ function wireLive(live) {
   live.on("link", (m) => setLink(m.status, m.detail));
   live.on("state", (m) => onState(m));
   live.on("lease", (m) => {
-    setLease(m.holder);
+    setLease(m.holder, m.since, m.holder_state);
     if (m.reason === "taken over" && m.previous?.user === app.user) {
       toast("Control taken over", { kind: "warning", text: `${m.holder?.user ?? "An instructor"} took control of the robot.` });
+    }
+    // Nothing takes control silently: a command that took the free lease says so.
+    if (m.holder?.user === app.user && m.reason?.startsWith("taken by ")) {
+      toast("You have control of the robot", { kind: "info", text: `Taken when you used ${m.reason.slice(9)}. Others can watch; press Release when you are done.` });
     }
   });
   live.on("progress", (m) => {
@@ -141,8 +145,9 @@ function setStatus(id, state, text) {
   const node = $(id);
   node.dataset.state = state;
   $(`${id}-text`).textContent = text;
-  const what = id === "web-status" ? "Server connection" : "Robot link";
-  node.setAttribute("aria-label", `${what}: ${text}. Click to reconnect.`);
+  // The accessible name starts with the visible text ("Server connected"), then the hint.
+  const what = id === "web-status" ? "Server" : "Robot";
+  node.setAttribute("aria-label", `${what} ${text}. Click to reconnect.`);
 }
 
 function setLink(status, detail = "") {
@@ -150,16 +155,23 @@ function setLink(status, detail = "") {
   setStatus("robot-status", state, status + (detail && state !== "up" ? ` (${detail})` : ""));
 }
 
-function setLease(holder) {
+function setLease(holder, since = undefined, state = undefined) {
   app.leaseHolder = holder;
+  if (since !== undefined) app.leaseSince = since;
+  if (state !== undefined) app.leaseState = state;
   const text = $("lease-text");
   const mine = holder?.user === app.user;
   const staff = app.role === "instructor" || app.role === "admin";
+  // Who holds control, since when, and their connection (one user's tabs share it).
+  const when = holder && app.leaseSince ? new Date(app.leaseSince) : null;
   text.replaceChildren(
     "Control: ",
     holder ? el("strong", {}, mine ? "you" : holder.user) : el("strong", {}, "free"),
-    holder && !mine ? ` (${holder.role})` : "",
+    holder && !mine && holder.role ? ` (${holder.role})` : "",
+    when && !isNaN(when) ? el("span", { class: "lease-since" }, ` since ${when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" })}`) : "",
+    holder && app.leaseState && app.leaseState !== "connected" ? el("span", { class: "lease-state" }, ` · ${app.leaseState}`) : "",
   );
+  text.title = holder ? `${mine ? "You hold" : holder.user + " holds"} control${app.leaseState ? " (" + app.leaseState + ")" : ""}` : "Nobody holds control: the first to move the robot takes it";
   text.classList.toggle("mine", mine);
   text.dataset.holder = holder?.user ?? "";
   $("lease-take").hidden = !!holder;
@@ -173,19 +185,36 @@ function onState(m) {
   if (m.link) setLink(m.link);
   if (m.joints && !app.debugging) app.view.setJoints(m.joints); // the debugger's arm wins
   if (m.hands?.length) app.view.setHand(m.hands[0]);
-  if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null)) {
-    setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null);
+  if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null) || (m.lease_since ?? null) !== (app.leaseSince ?? null) || (m.lease_state ?? null) !== (app.leaseState ?? null)) {
+    setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null, m.lease_since ?? null, m.lease_state ?? null);
   }
   // The program's path: TCP samples while it runs (cleared when a new run starts).
   if (m.running && !lastRunning) app.view.clearPath();
   if (m.running && m.pose) app.view.addPathPoint(m.pose);
   lastRunning = !!m.running;
-  // The running step, in the editor: the upload numbered every line 10, 20, 30… so step
-  // N is line N/10 — as long as the editor still holds what was loaded.
-  const step = m.running && m.line && app.loaded === app.editor.text ? m.line / 10 : null;
-  app.editor.markRunLine(Number.isInteger(step) ? step - 1 : null);
+  // The running (or paused) step, in the editor: mapped through the real numbering of
+  // the loaded text (the server's step_lines), as long as the editor still holds it.
+  const shows = (m.program_running || m.paused || m.running) && m.line;
+  const line = shows ? loadedLine(m.line) : null;
+  app.editor.markRunLine(line ? line - 1 : null);
   renderReadouts(m);
   renderActivity();
+}
+
+// What was loaded and its step -> line map, kept in this browser so a reload still
+// highlights the running line.
+function rememberLoaded(program, lines) {
+  app.loaded = { program, lines: lines || {} };
+  try {
+    localStorage.setItem(`melfa.loaded.${app.user}`, JSON.stringify(app.loaded));
+  } catch { /* storage full: the highlight just will not survive a reload */ }
+}
+function loadedLine(step) {
+  if (!app.loaded) {
+    try { app.loaded = JSON.parse(localStorage.getItem(`melfa.loaded.${app.user}`) || "null"); } catch { app.loaded = null; }
+  }
+  if (!app.loaded || app.loaded.program !== app.editor.text) return null;
+  return app.loaded.lines?.[String(step)] ?? null;
 }
 
 function renderActivity() {
@@ -347,7 +376,7 @@ async function loadProject(workspace, editor) {
   try {
     const program = workspace.program;
     const out = await api("POST", "/api/robot/project", { program, points: workspace.points, check: true });
-    app.loaded = program;
+    rememberLoaded(program, out.step_lines);
     app.idle(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`);
     setActivity(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`, { progress: 1 });
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });

@@ -119,7 +119,7 @@ export class PointsTab {
           el("td", {}, row.kind === "POS" ? String(row.fl2 ?? "") : ""),
           el("td", { class: "check-cell" }, status),
           el("td", { class: "actions" },
-            el("button", { type: "button", class: "btn btn-sm", "aria-label": `Move the robot to ${row.name}`, onclick: () => this.moveTo(row) }, "Move to"),
+            el("button", { type: "button", class: "btn btn-sm", "aria-label": `Move to ${row.name}`, onclick: () => this.moveTo(row) }, "Move to"),
             el("button", { type: "button", class: "btn btn-sm", "aria-label": `Edit ${row.name}`, onclick: () => this.openDialog(row) }, "Edit"),
             el("button", { type: "button", class: "btn btn-sm btn-danger-ghost", "aria-label": `Delete ${row.name}`, onclick: () => this.remove(row) }, "Delete"),
           ),
