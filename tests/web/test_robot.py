@@ -201,3 +201,11 @@ def test_a_move_with_the_servo_off_is_refused_until_the_operator_asks_for_it(
     entries = web.ivy.get("/api/audit").json()["entries"]
     servo = [e for e in entries if e["action"] == "robot.servo"]
     assert any("before move_to" in str(e["details"]) for e in servo)
+
+
+def test_the_upload_reply_maps_steps_to_the_students_own_lines(web: Web, ws_id: int) -> None:
+    numbered = "5 MOV P1\n\n7 HLT\n9 END\n"
+    report = ok(web.ann.post("/api/robot/project", json={"program": numbered}))
+    assert report["step_lines"] == {"5": 1, "7": 3, "9": 4}
+    plain = ok(web.ann.post("/api/robot/project", json={"program": "MOV P1\n' note\nEND\n"}))
+    assert plain["step_lines"] == {"10": 1, "20": 2, "30": 3}
