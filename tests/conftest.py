@@ -22,6 +22,13 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", _default_profile))
 # simulator's own tests of documented-only commands opt out in tests/sim/conftest.py.
 os.environ.setdefault("MELFA_SIM_STRICT", "1")
 
+# A robot profile (`melfa doctor`) of the developer's own must never change what tests see.
+if "MELFA_PROFILE" not in os.environ:
+    import tempfile
+    from pathlib import Path
+
+    os.environ["MELFA_PROFILE"] = str(Path(tempfile.mkdtemp(prefix="melfa-test-")) / "p.json")
+
 # Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
 from tests.fixtures_sim import not_strict, sim_pty_path, sim_tcp_url  # noqa: E402, F401
 

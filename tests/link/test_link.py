@@ -140,7 +140,7 @@ def test_open_link_pyserial_url_loop() -> None:
 
 
 def test_open_link_unknown_scheme_is_link_error() -> None:
-    with pytest.raises(LinkError, match="cannot open"):
+    with pytest.raises(LinkError, match="unknown scheme"):
         open_link("nosuch://x")
 
 

@@ -47,6 +47,10 @@ def standard(line: bytes) -> bytes | None:
         return OPEN_BANNER
     if line.endswith(b"JPOSF"):
         return JPOSF
+    if line.endswith(b"PARRLNG"):
+        return b"QoKRLNG;1;1\r"
+    if line.endswith(b"STATE"):
+        return b"QoK;0;100;0;01120;0;1;;;;;;;;;REP;START;1;0\r"  # real [K9b-RUN]
     return b"QoK\r"
 
 
@@ -133,7 +137,7 @@ def test_stop_overtakes_a_slow_reply(fake_robot) -> None:  # type: ignore[no-unt
     robot.stop()
     worker.join(30)
     assert not worker.is_alive()
-    assert fake.lines[-2:] == [b"1;1;JPOSF", b"1;0;STOP"]
+    assert fake.lines[-2:] == [b"1;1;JPOSF", b"1;1;STOP"]
     assert len(results) == 1 and results[0].values("J1") == (1.0,)  # type: ignore[attr-defined]
 
 

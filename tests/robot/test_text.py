@@ -99,7 +99,7 @@ def test_only_comments_and_strings_change(lines: list[str]) -> None:
 def test_every_upload_path_folds_accents_before_numbering() -> None:
     """The web IDE and the service upload through `program_items` too, not only the CLI:
     a program with Catalan comments becomes numbered ASCII items, line for line."""
-    from melfa.robot.client import program_items
+    from melfa.robot.upload import program_items
 
     items = program_items("' Piràmide\nMOV P1 ' repòs\nGOTO *FI\n*FI\nEND")
     assert [item.text for item in items] == [

@@ -20,18 +20,13 @@ from __future__ import annotations
 
 import contextlib
 import enum
-import functools
-import inspect
 import json
 import sys
 import time
-from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
-from rich.console import Console
 from rich.markup import escape
 from rich.progress import (
     BarColumn,
@@ -41,226 +36,24 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from melfa.cli.typer_app import app
-from melfa.link import (
-    DEFAULT_TIMEOUT_S,
-    ROBOT_ENV,
-    SIM_SPEC,
-    LinkError,
-    LinkSettings,
-    LinkTimeout,
+from melfa.cli.robot_session import (
+    EXIT_REFUSED,
+    EXIT_USAGE,
+    RESET_HINT,
+    Target,
+    _err,
+    _fail,
+    _out,
+    _session,
+    alarm_hint,
+    robot_command,
 )
 from melfa.protocol import (
     JOINT_NAMES,
     POSE_NAMES,
     JogMode,
-    LocalProtocolError,
-    RemoteProtocolError,
 )
-from melfa.protocol.error_table import DURING_ERROR, PROGRAM_NOT_FOUND
-from melfa.robot import ControllerError, Robot, RobotError, Stopped
 from melfa.robot.status import Alarm
-
-EXIT_REFUSED = 1
-EXIT_USAGE = 2
-EXIT_LINK = 3
-
-_out = Console(highlight=False, soft_wrap=True, emoji=False)
-_err = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
-
-
-def _fail(message: str, code: int) -> typer.Exit:
-    _err.print(f"[bold red]error:[/] {escape(message)}")
-    return typer.Exit(code)
-
-
-# --- shared options ----------------------------------------------------------------------
-
-RobotOpt = Annotated[
-    str | None,
-    typer.Option(
-        "--robot",
-        "-r",
-        envvar=ROBOT_ENV,
-        show_default=False,
-        metavar="ROBOT",
-        help="Serial device (/dev/ttyUSB0, COM3), tcp://host:port, a pyserial URL "
-        "(socket://, rfc2217://) or 'sim': a throw-away simulator that lives only for this "
-        "one command (start `melfa sim --tcp 127.0.0.1:7000` for one that keeps what you "
-        f"upload). Default: ${ROBOT_ENV}, else sim.",
-    ),
-]
-BaudOpt = Annotated[
-    int, typer.Option("--baud", help="Baud rate; must match the controller's CBAU232.")
-]
-ParityOpt = Annotated[str, typer.Option("--parity", help="Parity N, E or O; must match CPRTY232.")]
-StopbitsOpt = Annotated[
-    int, typer.Option("--stopbits", help="Stop bits 1 or 2; must match CSTOP232.")
-]
-TimeoutOpt = Annotated[
-    float,
-    typer.Option("--timeout", metavar="S", help="Seconds to wait for each reply before giving up."),
-]
-TraceOpt = Annotated[
-    bool,
-    typer.Option("--trace", help="Print every byte sent and received to stderr (MELFA_TRACE=1)."),
-]
-
-
-@dataclass(frozen=True)
-class Target:
-    """Where and how to connect, from the shared options."""
-
-    spec: str
-    settings: LinkSettings
-    trace: bool | None
-
-
-def _target(
-    robot: str | None, baud: int, parity: str, stopbits: int, timeout: float, trace: bool
-) -> Target:
-    try:
-        settings = LinkSettings(
-            baudrate=baud, parity=parity.upper(), stopbits=stopbits, timeout=timeout
-        )
-    except ValueError as exc:
-        raise _fail(str(exc), EXIT_USAGE) from None
-    return Target((robot or "").strip() or SIM_SPEC, settings, True if trace else None)
-
-
-_SHARED_OPTIONS: tuple[tuple[str, Any, Any], ...] = (
-    ("robot", RobotOpt, None),
-    ("baud", BaudOpt, 9600),
-    ("parity", ParityOpt, "E"),
-    ("stopbits", StopbitsOpt, 2),
-    ("timeout", TimeoutOpt, DEFAULT_TIMEOUT_S),
-    ("trace", TraceOpt, False),
-)
-
-
-def robot_command(
-    *args: Any, **kwargs: Any
-) -> Callable[[Callable[..., None]], Callable[..., None]]:
-    """`app.command` for a command that talks to a robot.
-
-    Adds the connection options every such command shares (--robot, --baud, --parity,
-    --stopbits, --timeout, --trace, in one place) and hands the command the `Target` they
-    describe as its keyword-only ``target`` argument.
-    """
-
-    def decorate(fn: Callable[..., None]) -> Callable[..., None]:
-        own = [
-            p
-            for p in inspect.signature(fn, eval_str=True).parameters.values()
-            if p.name != "target"
-        ]
-        shared = [
-            inspect.Parameter(
-                name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=hint
-            )
-            for name, hint, default in _SHARED_OPTIONS
-        ]
-
-        @functools.wraps(fn)
-        def command(*a: Any, **kw: Any) -> None:
-            options = [kw.pop(name) for name, _, _ in _SHARED_OPTIONS]
-            fn(*a, target=_target(*options), **kw)
-
-        params = [*own, *shared]
-        command.__signature__ = inspect.Signature(params)  # type: ignore[attr-defined]
-        command.__annotations__ = {p.name: p.annotation for p in params}
-        app.command(*args, **kwargs)(command)
-        return fn
-
-    return decorate
-
-
-RESET_HINT = "clear it with `melfa reset`"
-
-
-def alarm_hint(alarm: Alarm | None) -> str:
-    """The sentence that ends a refusal while an alarm is active.
-
-    >>> alarm_hint(Alarm(2600, "L2600 Position data exceeds the limit"))
-    'An alarm is active (L2600 Position data exceeds the limit): clear it with `melfa reset`.'
-    """
-    what = f" ({alarm.detail})" if alarm is not None else ""
-    return f"An alarm is active{what}: {RESET_HINT}."
-
-
-def _is_serial(spec: str) -> bool:
-    return "://" not in spec and spec != SIM_SPEC and not spec.startswith(SIM_SPEC + ":")
-
-
-def link_advice(spec: str, settings: LinkSettings) -> str:
-    """What to check after a link failure, for the kind of port ``spec`` is.
-
-    >>> print(link_advice("/dev/ttyUSB0", LinkSettings()))  # doctest: +ELLIPSIS
-    Check the cable ... that --baud 9600 --parity E --stopbits 2 match the controller's ...
-    """
-    if _is_serial(spec) or spec.startswith(("rfc2217://", "spy://", "loop://")):
-        return (
-            "Check the cable and that the controller is switched on, and that --baud "
-            f"{settings.baudrate} --parity {settings.parity} --stopbits {settings.stopbits} "
-            "match the controller's CBAU232/CPRTY232/CSTOP232."
-        )
-    return (
-        "Check the address and that the controller (or `melfa sim --tcp HOST:PORT`) is "
-        "running there."
-    )
-
-
-SIM_HINT = (
-    "--robot sim is a throw-away simulator, empty for every command: start "
-    "`melfa sim --tcp 127.0.0.1:7000` and use --robot tcp://127.0.0.1:7000 to keep an upload."
-)
-
-
-def _refusal_message(exc: ControllerError, robot: Robot | None, target: Target) -> str:
-    text = str(exc)
-    if exc.number == PROGRAM_NOT_FOUND and target.spec == SIM_SPEC:
-        return f"{text}\n{SIM_HINT}"
-    if robot is None or not (exc.alarm or exc.number == DURING_ERROR):
-        return text
-    alarm: Alarm | None = None
-    with contextlib.suppress(Exception):
-        alarm = robot.active_alarm()
-    if alarm is None and exc.number != DURING_ERROR:
-        return text  # the alarm cleared itself meanwhile
-    return f"{text}\n{alarm_hint(alarm)}"
-
-
-def _link_failure(target: Target, message: str) -> typer.Exit:
-    """Exit 3 with the port named and what to check (unless the message says already)."""
-    if "plugged in" not in message:
-        end = "" if message.endswith((".", "?", ")")) else "."
-        message = f"{message}{end} {link_advice(target.spec, target.settings)}"
-    return _fail(message, EXIT_LINK)
-
-
-@contextlib.contextmanager
-def _session(target: Target) -> Iterator[Robot]:
-    """Open the robot and turn every failure into one message and its exit code."""
-    robot: Robot | None = None
-    try:
-        robot = Robot.open(target.spec, target.settings, trace=target.trace)
-        yield robot
-    except ControllerError as exc:
-        raise _fail(_refusal_message(exc, robot, target), EXIT_REFUSED) from None
-    except Stopped as exc:
-        raise _fail(str(exc), EXIT_REFUSED) from None
-    except LinkTimeout as exc:
-        raise _link_failure(target, f"no answer from {target.spec}: {exc}") from None
-    except LinkError as exc:
-        raise _link_failure(target, f"the link to {target.spec} failed: {exc}") from None
-    except RemoteProtocolError as exc:
-        raise _link_failure(target, f"garbled reply from {target.spec}: {exc}") from None
-    except (LocalProtocolError, RobotError) as exc:
-        raise _fail(str(exc), EXIT_USAGE) from None
-    finally:
-        if robot is not None:
-            robot.close()
-
 
 # --- upload ------------------------------------------------------------------------------
 
@@ -281,10 +74,12 @@ def _read_text(path: Path, what: str) -> tuple[str, object]:
 @robot_command(
     help="Check, number and upload a program (and its points) as program 1 in slot 1.\n\n"
     "Program and points go in one LOAD…SAVE session that replaces what was there; nothing "
-    "is saved unless every line was accepted. The controller takes ASCII only: accents in "
-    "comments and strings are sent as plain letters (your file is not changed). "
-    "With --robot sim the upload goes to a throw-away simulator: start "
-    "`melfa sim --tcp 127.0.0.1:7000` (or --pty) for one that persists between commands."
+    "is saved unless every line was accepted, and afterwards the controller's directory "
+    "must list the program with as many steps and positions as were sent (--verify also "
+    "reads every line back). The controller takes ASCII only: accents in comments and "
+    "strings are sent as plain letters (your file is not changed). With --robot sim the "
+    "upload goes to a throw-away simulator: start `melfa sim --tcp 127.0.0.1:7000` (or "
+    "--pty) for one that persists between commands."
 )
 def upload(
     program: Annotated[Path, typer.Argument(help="MELFA BASIC IV program (.MB4).")],
@@ -294,21 +89,24 @@ def upload(
     force: Annotated[
         bool, typer.Option("--force", help="Upload even if the checker finds errors.")
     ] = False,
+    verify: Annotated[
+        bool,
+        typer.Option("--verify", help="Read every line and position back after saving."),
+    ] = False,
     *,
     target: Target,
 ) -> None:
     """See the help text above."""
     from melfa.cli.lang_commands import check_files, print_text
     from melfa.lang.diagnostics import Severity
-    from melfa.lang.points import parse_points, upload_lines
+    from melfa.robot.upload import UploadPreparationError, prepare_upload
 
     text, program_source = _read_text(program, "program")
     sources = [program_source]
-    point_lines: list[str] = []
+    points_text: str | None = None
     if points is not None:
         points_text, points_source = _read_text(points, "points")
         sources.append(points_source)
-        point_lines = upload_lines(parse_points(points_text).points)
     reports = check_files(sources)  # type: ignore[arg-type]
     errors = [d for r in reports for d in r.diagnostics if d.severity is Severity.ERROR]
     if errors and not force:
@@ -317,8 +115,13 @@ def upload(
             f"{program}: not uploaded because of the errors above (--force to upload anyway)",
             EXIT_REFUSED,
         )
-    # The robot layer numbers an unnumbered program (jump targets rewritten) as it uploads.
-    text, point_lines = _controller_ascii(program, text, points, point_lines)
+    try:
+        prepared = prepare_upload(text, points_text if points_text is not None else "")
+    except UploadPreparationError as exc:
+        path = program if exc.source == "program" else points
+        raise _fail(f"{path}:{exc.line}:{exc.column}: {exc.reason}", EXIT_REFUSED) from None
+    if prepared.note is not None:
+        _err.print(f"note: {escape(program.name)}: {escape(prepared.note)}")
 
     with _session(target) as session, _progress() as bar:
         task = bar.add_task(f"upload {program.name}", total=None)
@@ -326,36 +129,13 @@ def upload(
         def progress(sent: int, total: int) -> None:
             bar.update(task, completed=sent, total=total)
 
-        report = session.load_project(text, point_lines, progress=progress)
+        report = session.load_project(prepared, progress=progress, verify=verify)
     _out.print(
         f"uploaded {program.name}"
-        + (f" and {len(point_lines)} points" if points is not None else "")
+        + (f" and {prepared.point_count} points" if points is not None else "")
         + f" to {target.spec}: {report.items} items in {report.requests} EMDAT requests, "
-        f"{report.bytes_sent} bytes, {report.seconds:.1f} s"
+        f"{report.bytes_sent} bytes, {report.seconds:.1f} s; {report.confirmation}"
     )
-
-
-def _controller_ascii(
-    program: Path, text: str, points: Path | None, point_lines: list[str]
-) -> tuple[str, list[str]]:
-    """Accents in comments and strings go as plain letters (with one note); anything else
-    non-ASCII (only possible with --force) is refused here, with where it is."""
-    from melfa.robot.text import convert, find_non_ascii
-
-    conversion = convert(text)
-    note = conversion.note()
-    if note is not None:
-        _err.print(f"note: {escape(program.name)}: {escape(note)}")
-    for path, lines in ((program, conversion.text), (points, point_lines)):
-        bad = find_non_ascii(lines)
-        if bad is not None and path is not None:
-            where = f"{path}:{bad.line}:{bad.column}" if path == program else f"{path}"
-            raise _fail(
-                f"{where}: {bad.char!r} is not ASCII and is not in a comment or string; "
-                "the controller only takes ASCII (rename it)",
-                EXIT_REFUSED,
-            )
-    return conversion.text, point_lines
 
 
 def _progress() -> Progress:
@@ -378,14 +158,19 @@ def run(
     wait: Annotated[
         bool, typer.Option("--wait/--no-wait", help="Wait until the program has finished.")
     ] = False,
+    resume: Annotated[
+        bool,
+        typer.Option("--resume", help="Continue a program paused by STOP where it stopped."),
+    ] = False,
     *,
     target: Target,
 ) -> None:
-    """Start program 1 in slot 1 once (cycle mode); needs a persistent robot, not sim.
+    """Start program 1 in slot 1 once (cycle mode) from its first line; needs a persistent
+    robot, not sim.
 
     With --wait, exit 1 if the program stopped on an error (line and error shown)."""
     with _session(target) as session:
-        session.run()
+        session.run(resume=resume)
         if not wait:
             _out.print("started")
             return
@@ -409,7 +194,7 @@ def stop(
     *,
     target: Target,
 ) -> None:
-    """Stop every slot and any motion now (needs no operation rights)."""
+    """Stop the program and any motion now (needs no operation rights)."""
     with _session(target) as session:
         session.stop()
     _out.print("stopped")

@@ -18,6 +18,7 @@ from rich.markup import escape
 
 import melfa
 from melfa.cli.typer_app import app
+from melfa.link import RobotSpecError, parse_robot
 
 REEXEC_ENV = "MELFA_ROS_REEXEC"
 """Set when `melfa ros` re-executed itself under the ROS environment (no second try)."""
@@ -48,17 +49,17 @@ def ros(
             show_default=False,
         ),
     ] = None,
-    robot: Annotated[
-        str,
+    robot_option: Annotated[
+        str | None,
         typer.Option(
             "--robot",
             "-r",
-            envvar="MELFA_ROBOT",
             metavar="ROBOT",
             help="Serial device, tcp://host:port, a pyserial URL, or 'sim' (the in-process "
-            "virtual controller).",
+            "virtual controller). Default: $MELFA_ROBOT, else sim.",
+            show_default=False,
         ),
-    ] = "sim",
+    ] = None,
     name: Annotated[
         str, typer.Option("--name", help="Node name; services live under /NAME/.")
     ] = "melfa",
@@ -113,6 +114,10 @@ def ros(
         dialect_named(mode)
     except ValueError as exc:
         raise _fail(f"--mode: {exc}", 2) from None
+    try:
+        robot = parse_robot(robot_option).text
+    except RobotSpecError as exc:
+        raise _fail(str(exc), 2) from None
     from melfa.ros.node import ros_available
 
     args = list(remap or [])

@@ -21,7 +21,7 @@ from rich.console import Console
 from rich.markup import escape
 
 from melfa.cli.typer_app import app
-from melfa.link import ROBOT_ENV
+from melfa.link import ROBOT_ENV, RobotSpecError, parse_robot
 from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
 
 if TYPE_CHECKING:
@@ -114,7 +114,12 @@ def serve(
     from melfa.web import WebSettings, create_app
     from melfa.web.logs import configure
 
-    spec = (robot or os.environ.get(ROBOT_ENV) or "sim").strip() or "sim"
+    try:
+        parsed = parse_robot(robot)
+    except RobotSpecError as exc:
+        _err.print(f"[bold red]error:[/] {escape(str(exc))}")
+        raise typer.Exit(EXIT_USAGE) from None
+    spec = parsed.text
     data_dir = data or Path(os.environ.get(DATA_ENV) or "data")
     configure()
     try:
@@ -141,7 +146,7 @@ def serve(
             f"[bold yellow]warning:[/] the browser IDE's libraries are missing ({VENDOR}); "
             "run scripts/setup (or scripts/build-frontend) to make them. The API works meanwhile."
         )
-    robot_text = "virtual controller (in process)" if spec == "sim" else spec
+    robot_text = "virtual controller (in process)" if parsed.is_sim else spec
     shown = f"[{host}]" if ":" in host else host
     _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
     settings = WebSettings(

@@ -21,6 +21,7 @@ from melfa.link.opener import (
 )
 from melfa.link.serial_link import SerialLink
 from melfa.link.settings import BAUDRATES, DEFAULT_TIMEOUT_S, PARITIES, STOPBITS, LinkSettings
+from melfa.link.spec import RobotSpec, RobotSpecError, SpecKind, parse_robot
 from melfa.link.tcp import TcpLink, parse_tcp_url
 from melfa.link.wrappers import PacedLink, TraceLink, render
 
@@ -42,12 +43,16 @@ __all__ = [
     "MemoryLink",
     "PacedLink",
     "Responder",
+    "RobotSpec",
+    "RobotSpecError",
     "SerialLink",
+    "SpecKind",
     "TcpLink",
     "TraceLink",
     "default_robot",
     "is_sim_spec",
     "open_link",
+    "parse_robot",
     "parse_tcp_url",
     "render",
     "wrap_link",

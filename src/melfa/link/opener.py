@@ -24,12 +24,20 @@ from melfa.link.base import Link
 from melfa.link.errors import LinkError
 from melfa.link.serial_link import SerialLink
 from melfa.link.settings import LinkSettings
+from melfa.link.spec import ROBOT_ENV, SIM_SPEC, RobotSpecError, SpecKind, parse_robot
 from melfa.link.tcp import TcpLink
 from melfa.link.wrappers import PacedLink, TraceLink
 
-SIM_SPEC = "sim"
 TRACE_ENV = "MELFA_TRACE"
-ROBOT_ENV = "MELFA_ROBOT"
+__all__ = [
+    "ROBOT_ENV",
+    "SIM_SPEC",
+    "TRACE_ENV",
+    "default_robot",
+    "is_sim_spec",
+    "open_link",
+    "wrap_link",
+]
 
 
 def trace_requested() -> bool:
@@ -47,18 +55,19 @@ def open_link(
 ) -> Link:
     """Open the link ``spec`` names; `LinkError` with a clear message when it cannot."""
     settings = settings or LinkSettings()
-    spec = spec.strip()
-    if not spec:
-        raise LinkError("no robot given: use a serial device, tcp://host:port, a URL, or sim")
+    try:
+        parsed = parse_robot(spec)
+    except RobotSpecError as exc:
+        raise LinkError(str(exc)) from None
     link: Link
-    if is_sim_spec(spec):
+    if parsed.is_sim:
         raise LinkError(
             "'sim' is the in-process virtual controller: open it with "
             "melfa.robot.open_robot_link (melfa.link opens real transports only)"
         )
-    if spec.startswith("tcp://"):
+    if parsed.kind is SpecKind.TCP:
         link = TcpLink(spec, settings)
-    elif "://" in spec:
+    elif parsed.kind is SpecKind.URL:
         link = SerialLink(spec, settings)
     else:
         if not Path(spec).exists() and not spec.upper().startswith("COM"):
@@ -72,8 +81,10 @@ def open_link(
 
 def is_sim_spec(spec: str) -> bool:
     """``sim`` (or ``sim:…``): the in-process virtual controller."""
-    spec = spec.strip()
-    return spec == SIM_SPEC or spec.startswith(SIM_SPEC + ":")
+    try:
+        return parse_robot(spec).is_sim
+    except RobotSpecError:
+        return False
 
 
 def wrap_link(
@@ -92,5 +103,5 @@ def wrap_link(
 
 
 def default_robot() -> str:
-    """``$MELFA_ROBOT`` or ``sim``."""
-    return os.environ.get(ROBOT_ENV, "").strip() or SIM_SPEC
+    """``$MELFA_ROBOT`` or ``sim`` (`RobotSpecError` if ``$MELFA_ROBOT`` is malformed)."""
+    return parse_robot(None).text

@@ -26,6 +26,8 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Final
 
+from melfa.protocol.messages import EditRefused, Ok, Reply, Request
+
 
 class SlotForm(enum.Enum):
     """The ``<slot>`` field a command is sent with."""
@@ -198,6 +200,81 @@ def needs_rights(command: str) -> bool:
     """Whether ``command`` needs the operation rights (unknown commands: no)."""
     spec = lookup(command)
     return spec is not None and spec.rights
+
+
+class Answer(enum.Enum):
+    """What a successful reply to a command carries: how a reply is checked to *fit* its
+    request, so a reply that belongs to another request is caught, never passed on."""
+
+    EMPTY = "empty"  # a bare QoK/Qok [TRACE: every one on record]
+    DATA = "data"  # some answer text
+    ANY = "any"  # not known well enough to check
+
+
+_EMPTY: Final = frozenset(
+    {"CLOSE", "CNTLON", "CNTLOFF", "KEYWD", "SRVON", "SLOTINIT", "RUN", "LOAD=", "NEW"}
+    | {"ECLR", "EMDAT", "EDATA", "SAVE", "FDEL", "JOGST"}
+)
+"""Commands whose QoK carries nothing, every one confirmed by real traffic [TRACE K9b]."""
+_DATA: Final = frozenset(
+    {"OPEN=", "STATE", "DSTATE", "JPOSF", "PPOSF", "GJPOSF", "GPPOSF", "PAR", "PNR"}
+    | {"TIME", "PTIME", "OVRD="}
+)
+_EDIT_REFUSALS: Final = frozenset({"EMDAT", "EDATA"})
+
+
+def answer_kind(command: str) -> Answer:
+    """`Answer` for ``command`` (ANY when unknown)."""
+    spec = lookup(command)
+    if spec is None:
+        return Answer.ANY
+    if spec.name in _EMPTY:
+        return Answer.EMPTY
+    return Answer.DATA if spec.name in _DATA else Answer.ANY
+
+
+def fits(request: Request | str, reply: Reply) -> bool:
+    """Whether ``reply`` can be the answer to ``request``.
+
+    A refusal fits any request (an edit refusal only EMDAT/EDATA); an answer must have the
+    shape its command gives: empty for NEW/EMDAT/SAVE…, ``J1;…`` for JPOSF, ``X;…`` for
+    PPOSF, ``RLNG;…`` for ``PARRLNG``, ≥ 12 fields for OPEN, ≥ 5 for STATE.
+
+    >>> fits("EMDAT10 END", Ok("")), fits("EMDAT10 END", Ok("RLNG;1;1")), fits("PARRLNG", Ok(""))
+    (True, False, False)
+    """
+    command = request.command if isinstance(request, Request) else request
+    spec = lookup(command)
+    if isinstance(reply, EditRefused):
+        return spec is not None and spec.name in _EDIT_REFUSALS
+    if not isinstance(reply, Ok):
+        return True
+    kind = answer_kind(command)
+    answer = reply.answer
+    if kind is Answer.EMPTY:
+        return answer == ""
+    if kind is Answer.ANY or spec is None:
+        return True
+    if not answer:
+        return False
+    name = spec.name
+    if name in ("PAR", "PNR"):
+        return answer.upper().startswith(command[len(name) :].strip().upper() + ";")
+    if name in ("JPOSF", "GJPOSF"):
+        return answer.startswith("J1;")
+    if name in ("PPOSF", "GPPOSF"):
+        return answer.startswith("X;")
+    if name == "OPEN=":
+        return answer.count(";") >= 11
+    if name == "STATE":
+        return answer.count(";") >= 4
+    return True
+
+
+RESYNC_COMMAND: Final = "PARRLNG"
+"""The request that resynchronises the pairing after a timeout or an unreadable reply: its
+answer names itself (``QoKRLNG;1;1`` [TRACE K4a-CR2B]), reads nothing that changes, and
+needs no rights, so every reply before it can be dropped as late or stray."""
 
 
 def changes_nothing(command: str) -> bool:

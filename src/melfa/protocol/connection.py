@@ -1,21 +1,25 @@
-"""The client's turn-taking rules as a small state machine (h11's ``_state.py``, shrunk).
+"""The client's turn-taking rules as a small state machine: pairing that cannot shift silently.
 
-One request, one reply, strictly in turn [DOC S1 §1]. The only exception is ``STOP``: a stop
-must never wait behind a slow reply, so it may be sent while one request is outstanding. The
-controller buffers its serial input and answers in order, so replies are matched to requests
-first-in, first-out [GUESS: the controller queues a request that arrives while it is still
-answering the previous one; bborrell's fire-and-forget JOG relies on the same]. After a
-garbled reply or an abandoned request the pairing is lost: the connection is BROKEN until the
-caller has drained the line and calls `reset`.
+One request, one reply, strictly in turn [DOC S1 §1]; the controller answers in order. The
+only exception is ``STOP``: it must never wait behind a slow reply, so it may be sent while
+requests are outstanding. Replies are matched first-in, first-out, and every reply is
+checked to *fit* its request (`melfa.protocol.commands.fits`: an empty ``QoK`` to NEW/EMDAT/
+SAVE, ``J1;…`` to JPOSF, ``RLNG;…`` to PARRLNG…). A reply that does not fit, a reply with
+no request, an unreadable reply or an abandoned request (timeout) loses the pairing: the
+connection is BROKEN, and nothing but STOP is sent until it has been *resynchronised* with a
+request whose answer names itself (``PARRLNG`` → ``QoKRLNG;…``): every reply before that
+answer is dropped as late or stray, so a late reply can never be taken for a later
+request's.
 
 State table::
 
-    IDLE            --send(r)-->          AWAITING_REPLY
-    AWAITING_REPLY  --send(STOP)-->       AWAITING_REPLY   (one more outstanding)
-    AWAITING_REPLY  --send(other)-->      LocalProtocolError (unless within a pipelining window)
-    AWAITING_REPLY  --last reply-->       IDLE
-    any             --garbage/abandon-->  BROKEN
-    BROKEN          --reset()-->          IDLE
+    IDLE            --send(r)-->            AWAITING_REPLY
+    AWAITING_REPLY  --send(STOP)-->         AWAITING_REPLY   (one more outstanding)
+    AWAITING_REPLY  --send(other)-->        LocalProtocolError (unless within a window)
+    AWAITING_REPLY  --last fitting reply--> IDLE
+    any             --garbage/unfit/unsolicited/abandon--> BROKEN
+    BROKEN          --begin_resync()-->     RESYNCING  (PARRLNG sent)
+    RESYNCING       --QoKRLNG;…-->          IDLE      (`Resynced` with what was dropped)
 
 >>> c = ClientConnection()
 >>> c.send(Request("JPOSF"))
@@ -23,7 +27,7 @@ b'1;1;JPOSF\\r'
 >>> c.send(Request("STOP"))  # overtakes
 b'1;1;STOP\\r'
 >>> c.receive_data(b"QoKJ1;0.00;;****,****;100;0.00;00000000\\rQoK\\r")
->>> c.next_reply()[0].command, c.next_reply()[0].command, c.state.name
+>>> c.next_event().request.command, c.next_event().request.command, c.state.name
 ('JPOSF', 'STOP', 'IDLE')
 """
 
@@ -31,11 +35,15 @@ from __future__ import annotations
 
 import enum
 from collections import deque
+from dataclasses import dataclass
 
-from melfa.protocol.commands import OVERTAKING_COMMANDS
+from melfa.protocol.commands import OVERTAKING_COMMANDS, RESYNC_COMMAND, fits
 from melfa.protocol.errors import LocalProtocolError, RemoteProtocolError
-from melfa.protocol.messages import Reply, Request
+from melfa.protocol.messages import Ok, Reply, Request
 from melfa.protocol.reader import MAX_REPLY_BYTES, ReplyReader
+
+MAX_DROPPED = 32
+"""Replies dropped while resynchronising before we give up on the line."""
 
 
 class ClientState(enum.Enum):
@@ -44,22 +52,66 @@ class ClientState(enum.Enum):
     IDLE = "idle"
     AWAITING_REPLY = "awaiting reply"
     BROKEN = "broken"
+    RESYNCING = "resynchronising"
+
+
+@dataclass(frozen=True)
+class Paired:
+    """``reply`` answers ``request``."""
+
+    request: Request
+    reply: Reply
+
+
+@dataclass(frozen=True)
+class Unanswered:
+    """``request`` will get no reply of its own: the reply that arrived in its turn fits
+    the STOP sent after it, not it (the controller answered the STOP and dropped it)."""
+
+    request: Request
+    reason: str
+
+
+@dataclass(frozen=True)
+class Resynced:
+    """The resynchronising request was answered: pairing is sound again. ``dropped`` are the
+    replies thrown away before its answer (late or stray); ``orphans`` the requests that
+    were outstanding meanwhile (a STOP sent while broken), whose replies are among them."""
+
+    dropped: tuple[Reply, ...]
+    orphans: tuple[Request, ...]
+
+
+Event = Paired | Unanswered | Resynced
 
 
 class ClientConnection:
-    """Pairs replies with requests and refuses out-of-turn sends. No I/O."""
+    """Pairs replies with requests, checks that each fits, refuses out-of-turn sends. No I/O."""
 
-    def __init__(self, max_reply_size: int = MAX_REPLY_BYTES) -> None:
+    def __init__(
+        self, max_reply_size: int = MAX_REPLY_BYTES, resync_command: str = RESYNC_COMMAND
+    ) -> None:
         self._reader = ReplyReader(max_reply_size)
         self._outstanding: deque[Request] = deque()
         self._broken: str | None = None
+        self._fence: Request | None = None
+        self._fence_command = resync_command
+        self._dropped: list[Reply] = []
+        self._ready: deque[Event] = deque()
 
     @property
     def state(self) -> ClientState:
         """Current state."""
+        if self._fence is not None:
+            return ClientState.RESYNCING
         if self._broken is not None:
             return ClientState.BROKEN
         return ClientState.AWAITING_REPLY if self._outstanding else ClientState.IDLE
+
+    @property
+    def broken_reason(self) -> str | None:
+        """Why the pairing was lost (None while it is sound)."""
+        return self._broken
 
     @property
     def outstanding(self) -> tuple[Request, ...]:
@@ -70,46 +122,131 @@ class ClientConnection:
         """Register ``request`` as sent and return its bytes.
 
         ``window`` > 1 allows that many requests in flight (opt-in pipelining of a batch such
-        as EMDAT chunks; [GUESS] the controller buffers them, see `PIPELINE` in the robot
-        settings). STOP is always allowed through.
+        as EMDAT chunks). STOP is always allowed through, even while broken.
         """
-        if self._broken is not None:
-            raise LocalProtocolError(f"connection is broken ({self._broken}); reset it first")
-        if len(self._outstanding) >= max(window, 1) and request.name not in OVERTAKING_COMMANDS:
-            raise LocalProtocolError(
-                f"cannot send {request.name or request.command!r} while "
-                f"{self._outstanding[0].name!r} awaits its reply"
-            )
+        overtaking = request.name in OVERTAKING_COMMANDS
+        if not overtaking:
+            if self._fence is not None or self._broken is not None:
+                raise LocalProtocolError(
+                    f"replies are out of step ({self._broken}); resynchronise first"
+                )
+            waiting = [r for r in self._outstanding if r.name not in OVERTAKING_COMMANDS]
+            if len(waiting) >= max(window, 1):
+                raise LocalProtocolError(
+                    f"cannot send {request.name or request.command!r} while "
+                    f"{waiting[0].name!r} awaits its reply"
+                )
         self._outstanding.append(request)
         return request.to_bytes()
+
+    def begin_resync(self, robot: int = 1) -> bytes:
+        """From BROKEN: the bytes of the resynchronising request (``1;1;PARRLNG``)."""
+        if self._broken is None:
+            raise LocalProtocolError("the pairing is sound; nothing to resynchronise")
+        self._reader.clear()
+        self._dropped = []
+        self._fence = Request(self._fence_command, robot=robot)
+        return self._fence.to_bytes()
 
     def receive_data(self, data: bytes) -> None:
         """Hand over received bytes."""
         self._reader.feed(data)
 
-    def next_reply(self) -> tuple[Request, Reply] | None:
-        """The oldest outstanding request with its reply, or None if more data is needed."""
-        if self._broken is not None:
-            raise LocalProtocolError(f"connection is broken ({self._broken}); reset it first")
+    @property
+    def pending(self) -> int:
+        """Received bytes not yet making a whole reply."""
+        return self._reader.pending
+
+    def next_event(self) -> Event | None:
+        """The next pairing event, or None if more data is needed.
+
+        Raises `RemoteProtocolError` (and the connection is BROKEN) for an unreadable reply,
+        a reply with no request, or a reply that does not fit its request.
+        """
+        if self._ready:
+            return self._ready.popleft()
+        if self._broken is not None and self._fence is None:
+            raise LocalProtocolError(f"replies are out of step ({self._broken}); resynchronise")
         try:
             reply = self._reader.next_reply()
         except RemoteProtocolError as exc:
-            self._broken = str(exc)
-            raise
+            if self._fence is None:
+                self._break(f"unreadable reply ({exc})")
+                raise
+            self._dropped.append(Ok("<unreadable>"))  # while resynchronising: more to drop
+            self._check_dropped()
+            return None
         if reply is None:
             return None
+        if self._fence is not None:
+            return self._resync_step(reply)
         if not self._outstanding:
-            self._broken = "reply without a request"
-            raise RemoteProtocolError(f"unsolicited reply {reply!r}")
-        return self._outstanding.popleft(), reply
+            self._break("a reply came with no request")
+            raise RemoteProtocolError(f"unsolicited reply {_show(reply)}: replies are out of step")
+        head = self._outstanding[0]
+        if fits(head, reply):
+            self._outstanding.popleft()
+            return Paired(head, reply)
+        stops = [r for r in list(self._outstanding)[1:] if r.name in OVERTAKING_COMMANDS]
+        if stops and fits(stops[0], reply):
+            self._outstanding.popleft()
+            self._outstanding.remove(stops[0])
+            self._break(f"{head.name} got no reply of its own")
+            self._ready.append(Paired(stops[0], reply))
+            return Unanswered(head, f"no reply to {head.command[:40]!r}; the STOP was answered")
+        self._break(f"reply {_show(reply)} does not fit {head.command[:40]!r}")
+        raise RemoteProtocolError(
+            f"the reply {_show(reply)} does not fit the request {head.command[:40]!r}: "
+            "replies are out of step"
+        )
+
+    def _resync_step(self, reply: Reply) -> Event | None:
+        assert self._fence is not None
+        if isinstance(reply, Ok) and fits(self._fence, reply):
+            dropped, orphans = tuple(self._dropped), tuple(self._outstanding)
+            self._fence = None
+            self._broken = None
+            self._dropped = []
+            self._outstanding.clear()
+            return Resynced(dropped, orphans)
+        self._dropped.append(reply)
+        self._check_dropped()
+        return None
+
+    def _check_dropped(self) -> None:
+        if len(self._dropped) > MAX_DROPPED:
+            self._fence = None
+            raise RemoteProtocolError(
+                f"{len(self._dropped)} replies without the resynchronising answer: "
+                "the line is not carrying this controller's replies"
+            )
+        return
+
+    def _break(self, reason: str) -> None:
+        self._broken = reason
 
     def abandon(self, reason: str) -> None:
         """Give up on the outstanding replies (timeout, cancel): pairing is lost."""
-        if self._outstanding or self._reader.pending:
+        if self._outstanding or self._reader.pending or self._fence is not None:
             self._broken = reason
+            self._fence = None
+            self._outstanding.clear()
+
+    def mark_broken(self, reason: str) -> None:
+        """Declare the pairing lost (stray bytes seen while idle, a lost reply)."""
+        self._broken = reason
+        self._outstanding.clear()
 
     def reset(self) -> None:
-        """Start afresh after the caller has drained the line."""
+        """Start afresh on a fresh line (a new session after reconnecting)."""
         self._reader.clear()
         self._outstanding.clear()
         self._broken = None
+        self._fence = None
+        self._dropped = []
+        self._ready.clear()
+
+
+def _show(reply: Reply) -> str:
+    text = repr(reply)
+    return text if len(text) <= 60 else text[:59] + "…"

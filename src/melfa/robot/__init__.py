@@ -9,19 +9,21 @@ even while another request is in flight.
 """
 
 from melfa.robot.channel import Channel
-from melfa.robot.client import (
-    Progress,
-    Robot,
-    UploadItem,
-    UploadReport,
-    point_items,
-    program_items,
-)
+from melfa.robot.client import Robot
+from melfa.robot.edit import Progress, SaveOutcomeUnknown, UploadReport, VerifyFailed
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.opener import open_robot_link
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus
 from melfa.robot.text import to_controller_ascii
+from melfa.robot.upload import (
+    PreparedUpload,
+    UploadItem,
+    UploadPreparationError,
+    point_items,
+    prepare_upload,
+    program_items,
+)
 
 __all__ = [
     "Alarm",
@@ -30,16 +32,21 @@ __all__ = [
     "ControllerStatus",
     "HandMethod",
     "JogMethod",
+    "PreparedUpload",
     "Progress",
     "Robot",
     "RobotError",
     "RobotSettings",
+    "SaveOutcomeUnknown",
     "Stopped",
     "UploadItem",
+    "UploadPreparationError",
     "UploadRefused",
     "UploadReport",
+    "VerifyFailed",
     "open_robot_link",
     "point_items",
+    "prepare_upload",
     "program_items",
     "to_controller_ascii",
 ]

@@ -1,15 +1,16 @@
-"""One link, many threads: requests in turn, except that STOP may overtake.
+"""One link, many threads: requests in turn, STOP first, pairing that cannot shift.
 
-The worker thread sends one request and waits for its reply. Another thread calling
-`Robot.stop` must not wait behind that reply (a 254-byte EMDAT takes ~0.3 s on the wire, a
-stuck controller up to the timeout), so the channel *pipelines* STOP: its bytes go out at once,
-right after the in-flight request, and the replies are paired with the requests first-in,
-first-out (`melfa.protocol.ClientConnection`). Whichever waiting thread holds the read lock
-reads replies and hands each to its owner, so neither thread ever reads the other's reply.
+The worker thread sends one request and waits for its reply. `Channel.stop` (any thread)
+never waits behind it: STOP's bytes go out at once, after only the bytes already being
+written, never behind a resynchronisation or another request's wait. Replies are paired
+first-in, first-out and checked to fit their requests (`melfa.protocol.ClientConnection`).
 
-Failure rules: a timeout, a garbled reply or a dead link loses the pairing, so *every*
-outstanding request fails with that error and the channel drains the line (discarding late
-replies) before the next request.
+Failure rules: a timeout, an unreadable or unfitting reply, or stray bytes seen while no
+request is outstanding lose the pairing. Every outstanding request then fails with that
+error, and before the next request the channel resynchronises: it sends ``PARRLNG`` and
+drops every reply before ``QoKRLNG;…``, so a late reply is never taken for a later
+request's. STOP's own rule: it succeeds when the controller accepted it, even if an
+earlier request was never answered (the last reply after STOP went out is its answer).
 """
 
 from __future__ import annotations
@@ -20,70 +21,101 @@ import time
 from collections import deque
 from collections.abc import Generator, Iterable
 from dataclasses import dataclass, field
+from typing import Final
 
 from melfa.link import Link, LinkError, LinkTimeout
 from melfa.protocol import (
     OVERTAKING_COMMANDS,
     ClientConnection,
     ClientState,
+    LocalProtocolError,
+    Ok,
     RemoteProtocolError,
     Reply,
     Request,
 )
+from melfa.protocol.connection import Paired, Resynced, Unanswered
 
-_WAIT_S = 0.02
+_WAIT_S: Final = 0.02
+STRAY_POLL_S: Final = 0.002
+"""How long the channel looks for stray bytes before a request sent on a quiet line."""
+
+
+class RepliesOutOfStep(RemoteProtocolError):
+    """The pairing of replies with requests was lost (a late, stray or unfitting reply)."""
+
+
+class StopOvertook(Exception):
+    """A STOP went out since the batch began: the next request of the batch was not sent."""
 
 
 @dataclass
 class _Ticket:
     request: Request
     deadline: float
+    after: int = 0
+    """Replies received before this request was sent."""
     reply: Reply | None = None
     error: BaseException | None = None
     done: threading.Event = field(default_factory=threading.Event)
+
+    @property
+    def is_stop(self) -> bool:
+        return self.request.name in OVERTAKING_COMMANDS
 
 
 class Channel:
     """Thread-safe request/reply over a `Link`."""
 
-    def __init__(self, link: Link) -> None:
+    def __init__(self, link: Link, robot: int = 1) -> None:
         self.link = link
+        self.robot = robot
         self._conn = ClientConnection()
-        self._send_lock = threading.Lock()
+        self._send_lock = threading.Lock()  # normal requests, in turn (may be held long)
+        self._state_lock = threading.Lock()  # pairing state + writes: held only briefly
         self._read_lock = threading.Lock()
         self._tickets: deque[_Ticket] = deque()
-        self._tickets_lock = threading.Lock()
+        self._fence: _Ticket | None = None
+        self._last_reply: Reply | None = None
         self.sent_bytes = 0
         self.received_replies = 0
+        self.resyncs = 0
+        self.dropped_replies = 0
+        self.stops_sent = 0
+        """STOPs registered so far; a batch sent with ``stops_seen`` ends at the next one."""
+
+    @property
+    def in_step(self) -> bool:
+        """False while the pairing is lost (the next request resynchronises first)."""
+        return self._conn.state not in (ClientState.BROKEN, ClientState.RESYNCING)
 
     def request(self, request: Request, timeout: float | None = None) -> Reply:
-        """Send ``request`` and return its reply (or raise the link/protocol error).
-
-        Only STOP overtakes: any other request first waits for the replies still
-        outstanding (a STOP pipelined by another thread), so that e.g. the ``NEW`` that
-        abandons a stopped upload is sent in turn instead of being refused as out of turn.
-        """
-        if request.command not in OVERTAKING_COMMANDS:
+        """Send ``request`` and return its reply (or raise the link/protocol error)."""
+        if request.name in OVERTAKING_COMMANDS:
+            return self.stop(request, timeout)
+        with self._send_lock:
             self._settle()
+            ticket = self._submit(request, timeout)
+        return self._await(ticket)
+
+    def stop(self, request: Request, timeout: float | None = None) -> Reply:
+        """Send STOP at once and return its reply. Never takes the send lock."""
         return self._await(self._submit(request, timeout))
 
-    def _settle(self) -> None:
-        """Wait until no request is outstanding; their owners get the replies or errors."""
-        while True:
-            with self._tickets_lock:
-                if not self._tickets:
-                    return
-                oldest = self._tickets[0]
-            with contextlib.suppress(Exception):  # the owner sees the error, not us
-                self._await(oldest)
-
     def pipeline(
-        self, requests: Iterable[Request], window: int, timeout: float | None = None
+        self,
+        requests: Iterable[Request],
+        window: int,
+        timeout: float | None = None,
+        *,
+        stops_seen: int | None = None,
     ) -> Generator[Reply, None, None]:
         """Send ``requests`` keeping up to ``window`` in flight; yield replies in order.
 
         If the consumer stops early (a refusal), the replies still in flight are read and
-        dropped before the generator closes, so the pairing stays intact.
+        dropped before the generator closes, so the pairing stays intact. With
+        ``stops_seen`` (`stops_sent` when the batch began), no request of the batch goes
+        out after a STOP: `StopOvertook` instead, checked under the lock STOP registers in.
         """
         pending: deque[_Ticket] = deque()
         source = iter(requests)
@@ -93,7 +125,11 @@ class Channel:
                     request = next(source, None)
                     if request is None:
                         break
-                    pending.append(self._submit(request, timeout, window=window))
+                    with self._send_lock:
+                        if not pending:
+                            self._settle()
+                        ticket = self._submit(request, timeout, window, stops_seen)
+                        pending.append(ticket)
                 if not pending:
                     return
                 yield self._await(pending.popleft())
@@ -102,21 +138,89 @@ class Channel:
                 with contextlib.suppress(Exception):
                     self._await(ticket)
 
-    def _submit(self, request: Request, timeout: float | None, window: int = 1) -> _Ticket:
-        limit = self.link.settings.timeout if timeout is None else timeout
+    def resync(self, timeout: float | None = None) -> None:
+        """Resynchronise now if the pairing is lost (also done before the next request)."""
         with self._send_lock:
-            if self._conn.state is ClientState.BROKEN and not self._tickets:
-                self._resync()
+            self._settle(timeout)
+
+    # ----------------------------------------------------------------------- plumbing
+
+    def _settle(self, timeout: float | None = None) -> None:
+        """Under the send lock: wait out STOPs in flight, resynchronise if needed, and
+        look for stray bytes on a quiet line."""
+        while True:
+            with self._state_lock:
+                oldest = self._tickets[0] if self._tickets else None
+            if oldest is None:
+                break
+            with contextlib.suppress(Exception):  # its owner sees the error, not us
+                self._await(oldest)
+        if self._conn.state is ClientState.IDLE:
+            self._poll_stray()
+        if self._conn.state is ClientState.BROKEN:
+            self._resync(timeout)
+
+    def _poll_stray(self) -> None:
+        """Bytes on a quiet line are a reply with no request: the pairing is lost. (If a
+        STOP registered meanwhile, from another thread, they are its reply: pass them on.)"""
+        if not self._read_lock.acquire(blocking=False):
+            return
+        try:
+            data = self.link.read_some(time.monotonic() + STRAY_POLL_S)
+        except LinkError:  # LinkTimeout: a quiet line, as it should be; others: next write
+            return
+        finally:
+            self._read_lock.release()
+        with self._state_lock:
+            self._conn.receive_data(data)
+            if self._tickets:
+                return
+            with contextlib.suppress(RemoteProtocolError, LocalProtocolError):
+                self._conn.next_event()  # a reply with no request: BROKEN
+            if self._conn.state is not ClientState.BROKEN:
+                self._conn.mark_broken("stray bytes on a quiet line")
+
+    def _resync(self, timeout: float | None) -> None:
+        limit = self.link.settings.timeout if timeout is None else timeout
+        with self._state_lock:
+            data = self._conn.begin_resync(self.robot)
+            fence = _Ticket(Request("PARRLNG", robot=self.robot), time.monotonic() + limit)
+            self._fence = fence
+            self._write(data)
+        self.resyncs += 1
+        try:
+            self._await(fence)
+        except LinkTimeout as exc:
+            raise LinkTimeout(
+                f"the controller did not answer the resynchronising PARRLNG ({exc})"
+            ) from None
+
+    def _write(self, data: bytes) -> None:
+        """Under the state lock."""
+        try:
+            self.link.write(data)
+        except LinkError as exc:
+            self._fail_all_locked(exc)
+            raise
+        self.sent_bytes += len(data)
+
+    def _submit(
+        self,
+        request: Request,
+        timeout: float | None,
+        window: int = 1,
+        stops_seen: int | None = None,
+    ) -> _Ticket:
+        limit = self.link.settings.timeout if timeout is None else timeout
+        with self._state_lock:
+            if stops_seen is not None and self.stops_sent != stops_seen:
+                raise StopOvertook("a STOP was sent")
             data = self._conn.send(request, window=window)  # LocalProtocolError if out of turn
-            ticket = _Ticket(request, time.monotonic() + limit)
-            with self._tickets_lock:
-                self._tickets.append(ticket)
-            try:
-                self.link.write(data)
-            except LinkError as exc:
-                self._fail_all(exc)
-                raise
-            self.sent_bytes += len(data)
+            if request.name in OVERTAKING_COMMANDS:
+                self.stops_sent += 1
+            ticket = _Ticket(request, time.monotonic() + limit, self.received_replies)
+            self._tickets.append(ticket)
+            self._write(data)
         return ticket
 
     def _await(self, ticket: _Ticket) -> Reply:
@@ -132,44 +236,95 @@ class Channel:
         assert ticket.reply is not None
         return ticket.reply
 
+    def _oldest(self) -> _Ticket | None:
+        if self._tickets:
+            return self._tickets[0]
+        return self._fence
+
     def _pump(self) -> None:
-        """Read until the oldest outstanding request has its reply, then hand it over."""
-        with self._tickets_lock:
-            if not self._tickets:
-                return
-            head = self._tickets[0]
+        """Read until one event resolves a ticket, then hand it over."""
+        with self._state_lock:
+            head = self._oldest()
+        if head is None:
+            return
         try:
             while True:
-                pair = self._conn.next_reply()
-                if pair is not None:
-                    break
-                self._conn.receive_data(self.link.read_some(head.deadline))
+                with self._state_lock:
+                    event = self._conn.next_event()
+                    if event is not None:
+                        self._dispatch(event)
+                        return
+                data = self.link.read_some(head.deadline)
+                with self._state_lock:
+                    self._conn.receive_data(data)
         except LinkTimeout as exc:
-            self._fail_all(
-                LinkTimeout(f"no reply to {head.request.command[:40]!r} in time ({exc})")
-            )
-            return
-        except (LinkError, RemoteProtocolError) as exc:
+            self._timed_out(head, exc)
+        except RemoteProtocolError as exc:
+            self._fail_all(RepliesOutOfStep(str(exc)))
+        except (LinkError, LocalProtocolError) as exc:
             self._fail_all(exc)
+
+    def _dispatch(self, event: Paired | Unanswered | Resynced) -> None:
+        """Under the state lock."""
+        if isinstance(event, Resynced):
+            self.dropped_replies += len(event.dropped)
+            orphans = [t for t in self._tickets if t.request in event.orphans]
+            for ticket in orphans:
+                self._tickets.remove(ticket)
+                last = event.dropped[-1] if event.dropped else None
+                if ticket.is_stop and isinstance(last, Ok):
+                    self._resolve(ticket, last)
+                else:
+                    self._reject(ticket, LinkTimeout("its reply was lost while resynchronising"))
+            if self._fence is not None:
+                self._resolve(self._fence, Ok("RLNG"))
+                self._fence = None
             return
-        with self._tickets_lock:
-            ticket = self._tickets.popleft()
-        ticket.reply = pair[1]
+        ticket = next(t for t in self._tickets if t.request is event.request)
+        self._tickets.remove(ticket)
+        if isinstance(event, Unanswered):
+            self._reject(ticket, LinkTimeout(event.reason))
+            return
         self.received_replies += 1
+        self._last_reply = event.reply
+        self._resolve(ticket, event.reply)
+
+    def _timed_out(self, head: _Ticket, exc: LinkTimeout) -> None:
+        """The oldest request's deadline passed: it and everything behind it fail, except
+        a STOP the controller answered (a reply came after it went out)."""
+        error = LinkTimeout(f"no reply to {head.request.command[:40]!r} in time ({exc})")
+        with self._state_lock:
+            answered_stop = [
+                t
+                for t in self._tickets
+                if t.is_stop
+                and self.received_replies > t.after
+                and isinstance(self._last_reply, Ok)
+            ]
+            for ticket in answered_stop:
+                self._tickets.remove(ticket)
+                assert self._last_reply is not None
+                self._resolve(ticket, self._last_reply)
+        self._fail_all(error)
+
+    def _resolve(self, ticket: _Ticket, reply: Reply) -> None:
+        ticket.reply = reply
+        ticket.done.set()
+
+    def _reject(self, ticket: _Ticket, error: BaseException) -> None:
+        ticket.error = error
         ticket.done.set()
 
     def _fail_all(self, error: BaseException) -> None:
-        self._conn.abandon(str(error))
-        with self._tickets_lock:
-            tickets = list(self._tickets)
-            self._tickets.clear()
-        for ticket in tickets:
-            ticket.error = error
-            ticket.done.set()
+        with self._state_lock:
+            self._fail_all_locked(error)
 
-    def _resync(self) -> None:
-        """After a lost pairing: drop whatever is still arriving, then start afresh."""
-        if not self.link.closed:
-            with contextlib.suppress(LinkError):
-                self.link.drain(quiet=0.2, limit=2.0)
-        self._conn.reset()
+    def _fail_all_locked(self, error: BaseException) -> None:
+        self._conn.abandon(str(error))
+        tickets = list(self._tickets)
+        self._tickets.clear()
+        if self._fence is not None:
+            tickets.append(self._fence)
+            self._fence = None
+        for ticket in tickets:
+            self._reject(ticket, error)

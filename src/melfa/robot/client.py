@@ -14,20 +14,16 @@ request in flight.
 from __future__ import annotations
 
 import contextlib
-import re
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass
 from typing import Final
 
 from melfa.link import Link, LinkError, LinkSettings
 from melfa.protocol import (
     EDIT_SLOT,
-    REQUEST_LIMIT,
     DState,
-    EditRefused,
-    EmdatChunk,
+    ErrorCode,
     ErrorStatus,
     Jog,
     JogMode,
@@ -36,10 +32,10 @@ from melfa.protocol import (
     OpenBanner,
     Position,
     Refused,
+    RemoteProtocolError,
     Reply,
     Request,
     State,
-    chunk_emdat,
     error_text,
 )
 from melfa.protocol.answers import RunStatus
@@ -49,77 +45,20 @@ from melfa.protocol.error_table import (
     JOG_NOT_ACCEPTED,
     NO_RIGHTS,
     PROGRAM_NOT_FOUND,
-    PROGRAM_RUNNING,
 )
+from melfa.robot import edit
 from melfa.robot.channel import Channel
-from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
+from melfa.robot.edit import Progress, UploadReport
+from melfa.robot.errors import ControllerError, RobotError, Stopped
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus
-from melfa.robot.text import to_controller_ascii
-
-Progress = Callable[[int, int], None]
-"""``progress(bytes_sent, bytes_total)`` during an upload."""
+from melfa.robot.upload import PreparedUpload, prepare_upload
 
 JOG_JOINT_VARIABLE: Final = "JMJOG"
 """Joint variable the step jog assigns (≤ 8 characters, L4300; leading J = joint type)."""
 
 COMMAND_SHOWN: Final = 80
 """A refused command is quoted in the error up to this many characters."""
-
-_NUMBERED = re.compile(r"\s*\d+(\s|$)")
-_DEF_POINT = re.compile(r"\s*DEF\s+(POS|JNT)\s+", re.IGNORECASE)
-
-
-@dataclass(frozen=True)
-class UploadItem:
-    """One EMDAT item and where it came from (1-based line of the caller's text)."""
-
-    text: str
-    source_line: int
-    source: str = "program"
-
-
-@dataclass(frozen=True)
-class UploadReport:
-    """What an upload sent."""
-
-    items: int
-    requests: int
-    bytes_sent: int
-    seconds: float
-
-
-def program_items(program: str | Sequence[str]) -> list[UploadItem]:
-    """Program text -> numbered EMDAT items. Accents in comments and strings are folded to
-    ASCII (`melfa.robot.text`; the line count is unchanged), and an unnumbered program is
-    numbered 10, 20, … with `melfa.lang.numbering.number_lines` (jump targets rewritten)."""
-    text = program if isinstance(program, str) else "\n".join(program)
-    lines = to_controller_ascii(text)[0].splitlines()
-    lines = [line.rstrip("\r\n \t") for line in lines]
-    if not all(_NUMBERED.match(line) for line in lines if line.strip()):
-        from melfa.lang.numbering import NumberingError, number_lines
-
-        try:
-            lines = number_lines("\n".join(lines)).split("\n")
-        except NumberingError as exc:
-            raise RobotError(f"cannot number the program: {exc}") from None
-    return [
-        UploadItem(line.strip(), index, "program")
-        for index, line in enumerate(lines, start=1)
-        if line.strip()
-    ]
-
-
-def point_items(points: str | Sequence[str]) -> list[UploadItem]:
-    """Points -> EMDAT items ``Pname=(…)(fl1,fl2)``: ``DEF POS``/``DEF JNT`` stripped
-    [protocol.md §4.2 item 4], blank and comment lines skipped."""
-    lines = points.splitlines() if isinstance(points, str) else list(points)
-    out = []
-    for index, line in enumerate(lines, start=1):
-        text = _DEF_POINT.sub("", line.strip(), count=1).strip()
-        if text and not text.startswith("'"):
-            out.append(UploadItem(text, index, "points"))
-    return out
 
 
 class Robot:
@@ -136,7 +75,7 @@ class Robot:
     def __init__(self, link: Link, settings: RobotSettings | None = None) -> None:
         self.link = link
         self.settings = settings or RobotSettings()
-        self.channel = Channel(link)
+        self.channel = Channel(link, self.settings.robot)
         self.banner: OpenBanner | None = None
         self.alarm = False
         """True while the last reply was ``Qok``/``Qer`` (an alarm is active)."""
@@ -156,11 +95,14 @@ class Robot:
         settings: RobotSettings | None = None,
         *,
         trace: bool | None = None,
+        trace_sink: Callable[[str], None] | None = None,
     ) -> Robot:
-        """Open the link ``spec`` names (see `melfa.robot.open_robot_link`) and wrap it."""
-        from melfa.robot.opener import open_robot_link
+        """Open the link ``spec`` names (see `melfa.robot.open_robot_link`) and wrap it;
+        ``trace_sink`` receives the byte trace (``--trace FILE``)."""
+        from melfa.robot.opener import open_robot_link  # lazily: it may import the simulator
 
-        return cls(open_robot_link(spec, link_settings, trace=trace), settings)
+        link = open_robot_link(spec, link_settings, trace=trace, trace_sink=trace_sink)
+        return cls(link, settings)
 
     # ----------------------------------------------------------------- session basics
 
@@ -180,15 +122,24 @@ class Robot:
         return EDIT_SLOT
 
     def connect(self) -> OpenBanner:
-        """Open the session once (``OPEN=<client name>``); later calls return the banner."""
+        """Open the session once (``OPEN=<client name>``); later calls return the banner.
+
+        A banner that cannot be read ends the session (link closed, `RemoteProtocolError`):
+        whatever answers is not a controller we understand, or the line settings are wrong.
+        """
         with self._open_lock:
             if self.banner is None:
-                reply = self._send(f"OPEN={self.settings.client_name}")
-                ok = self._expect_ok(reply, f"OPEN={self.settings.client_name}")
+                command = f"OPEN={self.settings.client_name}"
                 try:
+                    reply = self._send(command)
+                    ok = self._expect_ok(reply, command)
                     self.banner = OpenBanner.parse(ok.answer)
-                except Exception:
-                    self.banner = OpenBanner(0x3F, 0x3F, "", "", "", "", "", "", None)
+                except RemoteProtocolError as exc:
+                    self.link.close()
+                    raise RemoteProtocolError(
+                        f"unreadable answer to OPEN ({exc}); session ended. Check that the "
+                        "line settings match the controller (9600 8E2 by default)"
+                    ) from None
             return self.banner
 
     def close(self) -> None:
@@ -211,32 +162,53 @@ class Robot:
     # ------------------------------------------------------------------------ program
 
     def upload_program(
-        self, program: str | Sequence[str], progress: Progress | None = None
+        self,
+        program: str | Sequence[str] | PreparedUpload,
+        progress: Progress | None = None,
+        *,
+        verify: bool = False,
     ) -> UploadReport:
         """Replace program `settings.program` (slot program "1") with ``program``.
 
-        Sequence: NEW, LOAD=1, [PRTVERLISTL, PRTVEREMDAT], ECLR, EMDAT… to the edit slot,
-        SAVE. SAVE is sent only if every EMDAT was accepted; on any failure (refusal, link
-        loss, stop) the edit is closed with NEW, so the old program stays, and the error is
-        raised. An `UploadRefused` names the line and column in ``program``.
-        ECLR also clears the program's positions: use `load_project` to send both.
+        Sequence and guarantees: `melfa.robot.edit` (slot reset, NEW, LOAD=, ECLR, EMDAT…,
+        a self-identifying PARRLNG before SAVE, PDIR confirmation, read-back on ``verify``).
+        On any failure the edit is closed with NEW, so the old program stays. An
+        `UploadRefused` names the line and column in ``program``. ECLR also clears the
+        program's positions: use `load_project` to send both.
         """
-        with self._operation():
-            return self._edit(program_items(program), progress)
+        prepared = program if isinstance(program, PreparedUpload) else prepare_upload(program)
+        with self._operation() as generation:
+            return edit.write_program(
+                self,
+                prepared,
+                generation,
+                progress,
+                clear=self.settings.clear_with_eclr,
+                verify=verify,
+            )
 
     def upload_points(
-        self, points: str | Sequence[str], progress: Progress | None = None
+        self,
+        points: str | Sequence[str] | PreparedUpload,
+        progress: Progress | None = None,
+        *,
+        verify: bool = False,
     ) -> UploadReport:
         """Add or replace positions (``P1=(…)(7,0)`` or ``DEF POS P1=…`` lines) in the
         program, keeping its steps (no ECLR)."""
-        with self._operation():
-            return self._edit(point_items(points), progress, clear=False)
+        prepared = points if isinstance(points, PreparedUpload) else prepare_upload(None, points)
+        with self._operation() as generation:
+            return edit.write_program(
+                self, prepared, generation, progress, clear=False, verify=verify
+            )
 
     def load_project(
         self,
-        program: str | Sequence[str],
+        program: str | Sequence[str] | PreparedUpload,
         points: str | Sequence[str] = (),
         progress: Progress | None = None,
+        *,
+        verify: bool = False,
     ) -> UploadReport:
         """Program and points in one LOAD…SAVE session (they live in the same program, and
         one session saves the NEW/LOAD/handshake/SAVE round trips of a second one).
@@ -245,45 +217,61 @@ class Robot:
         *inside* the edit: ``ECLR`` clears the old steps and positions [DOC S1 §5.2; TRACE
         S21], so nothing of the old program survives a successful upload, and a failed one
         leaves the old program whole (the thesis's FDEL first would have lost it)."""
+        prepared = (
+            program if isinstance(program, PreparedUpload) else prepare_upload(program, points)
+        )
+        with self._operation() as generation:
+            return edit.write_program(
+                self, prepared, generation, progress, clear=True, verify=verify
+            )
+
+    def find_program(self) -> edit.ProgramEntry | None:
+        """What PDIR lists for program `settings.program`, or None."""
         with self._operation():
-            return self._edit(program_items(program) + point_items(points), progress)
+            return edit.find_program(self, self.settings.program)
 
     def delete(self) -> None:
-        """Delete the program and its points: RSTPRG (release the slot), FDEL<program>.
-        Deleting a program that does not exist is not an error."""
+        """Delete the program and its points: slot reset under rights (CNTLON, SLOTINIT),
+        then FDEL<program>, as RT ToolBox does [TRACE K9b-DEL]. Deleting a program that
+        does not exist is not an error."""
         with self._operation():
-            with contextlib.suppress(ControllerError):
-                self._call("RSTPRG")
+            edit.reset_slot(self)
             try:
                 self._call(f"FDEL{self.settings.program}")
             except ControllerError as exc:
                 if exc.number != PROGRAM_NOT_FOUND:
                     raise
 
-    def run(self) -> None:
-        """Start the program: ``RUN<program>;1`` (cycle mode) [S7 ``1;1;RUN1;1``]."""
+    def run(self, *, resume: bool = False) -> None:
+        """Start the program from its beginning: slot reset (``SLOTINIT``) under rights,
+        then ``RUN<program>;1`` (cycle mode) [TRACE K9b-RUN; S7 ``1;1;RUN1;1``]. With
+        ``resume`` a program paused by STOP continues where it stopped (no reset)."""
         with self._operation():
+            if not resume:
+                edit.reset_slot(self)
             mode = 1 if self.settings.cycle_mode else 0
             self._call(f"RUN{self.settings.program};{mode}")
 
     def reset_program(self) -> None:
-        """``RSTPRG``: back to the program's first line (after a stop)."""
+        """``RSTPRG`` under operation rights: back to the program's first line."""
         with self._operation():
             self._call("RSTPRG")
 
     def stop(self) -> None:
-        """Stop everything: ``<robot>;0;STOP`` (all slots) [DOC S5: always allowed, no rights].
+        """Stop: ``1;1;STOP``, the form real serial clients send (`settings.stop_slot`;
+        0 gives the manual's all-slots ``1;0;STOP``) [DOC S5: always allowed, no rights].
 
         Callable from any thread at any time. It never waits behind the worker: the STOP
-        bytes go out at once, even while another request awaits its reply (the channel
-        pipelines STOP and pairs replies in order). Then any multi-request operation in
-        progress (upload, jog, wait) raises `Stopped` at its next step; an upload closes its
-        edit with NEW. STOP's own reply is awaited (one request timeout at most).
+        bytes go out at once, even while another request awaits its reply, never behind a
+        resynchronisation. Then any multi-request operation in progress (upload, jog, wait)
+        raises `Stopped` at its next step; an upload closes its edit with NEW. STOP
+        succeeds when the controller accepted it, even if an earlier request is never
+        answered (`melfa.robot.channel`).
         """
         self._stop_generation += 1
         if self.banner is None:
             self.connect()
-        reply = self.channel.request(
+        reply = self.channel.stop(
             Request("STOP", robot=self.settings.robot, slot=self.settings.stop_slot)
         )
         self._note(reply)
@@ -514,17 +502,22 @@ class Robot:
         raise self._refusal(reply, command)
 
     def _refusal(self, reply: Reply, command: str, *, fetch: bool = True) -> ControllerError:
-        number = getattr(reply, "error", 0)
-        message = self._error_message(number) if fetch else error_text(number)
+        code = getattr(reply, "code", None)
+        number = code.number if isinstance(code, ErrorCode) else 0
+        wire = code.wire if isinstance(code, ErrorCode) else None
+        message = self._error_message(number, wire) if fetch else error_text(number)
         shown = command if len(command) <= COMMAND_SHOWN else command[: COMMAND_SHOWN - 1] + "…"
-        return ControllerError(number, message, command=shown, alarm=reply.alarm)
+        return ControllerError(number, message, command=shown, alarm=reply.alarm, code=wire)
 
-    def _error_message(self, number: int) -> str:
+    def _error_message(self, number: int, wire: str | None = None) -> str:
+        """The controller's text: ``ERRORMES`` with the number exactly as it was received
+        (9 digits after a 9-digit refusal, as RT ToolBox asks [TRACE K9b-PROG]), with the
+        level letter from melfa's table; the table's text if that fails."""
         fallback = error_text(number)
         if not self.settings.fetch_error_text or self.banner is None:
             return fallback
         try:
-            reply = self._send(f"ERRORMES{number}")
+            reply = self._send(f"ERRORMES{wire or f'{number:04d}'}")
         except (LinkError, LocalProtocolError):
             raise
         except Exception:
@@ -534,91 +527,8 @@ class Robot:
             return f"{letter}{number:04d} {reply.answer.strip()}" if letter else reply.answer
         return fallback
 
-    def _edit(
-        self, items: list[UploadItem], progress: Progress | None, *, clear: bool | None = None
-    ) -> UploadReport:
-        """The LOAD…SAVE session shared by every upload."""
-        with self._operation() as generation:
-            started = time.monotonic()
-            sent_before = self.channel.sent_bytes
-            chunks = self._chunks(items)
-            total = sum(len(c.request.to_bytes()) for c in chunks)
-            if progress is not None:
-                progress(0, total)
-            program = self.settings.program
-            self._call("NEW")
-            try:
-                self._call(f"LOAD={program}")
-            except ControllerError as exc:
-                if exc.number != PROGRAM_RUNNING:
-                    raise
-                self._call("RSTPRG")  # a paused run holds the program: release it, retry
-                self._call(f"LOAD={program}")
-            sent = 0
-            try:
-                if self.settings.prtver_handshakes:
-                    self._call("PRTVERLISTL")
-                    self._call("PRTVEREMDAT")
-                if self.settings.clear_with_eclr if clear is None else clear:
-                    self._call("ECLR")
-                replies = self.channel.pipeline(
-                    (c.request for c in chunks), self.settings.emdat_window
-                )
-                refused: tuple[Reply, EmdatChunk] | None = None
-                try:
-                    for chunk, reply in zip(chunks, replies, strict=True):
-                        self._note(reply)
-                        if not isinstance(reply, Ok):
-                            refused = (reply, chunk)
-                            break
-                        sent += len(chunk.request.to_bytes())
-                        if progress is not None:
-                            progress(sent, total)
-                        self._checkpoint(generation)
-                finally:
-                    replies.close()  # reads (and drops) replies still in flight
-                if refused is not None:
-                    raise self._upload_refusal(refused[0], refused[1], items)
-                self._checkpoint(generation)
-                self._call("SAVE", timeout=self.settings.save_timeout)
-            except BaseException:
-                with contextlib.suppress(Exception):
-                    self._send("NEW")  # close without saving: the old program stays
-                raise
-            return UploadReport(
-                len(items),
-                len(chunks),
-                self.channel.sent_bytes - sent_before,
-                time.monotonic() - started,
-            )
-
-    def _chunks(self, items: list[UploadItem]) -> list[EmdatChunk]:
-        slot = self.edit_slot
-        prefix = len(f"{self.settings.robot};{slot};EMDAT")
-        for item in items:
-            if len(item.text) > REQUEST_LIMIT - prefix:
-                raise RobotError(
-                    f"{item.source} line {item.source_line} is {len(item.text)} characters; "
-                    f"one EMDAT request carries at most {REQUEST_LIMIT - prefix}"
-                )
-        try:
-            return chunk_emdat([i.text for i in items], robot=self.settings.robot, slot=slot)
-        except LocalProtocolError as exc:
-            raise RobotError(str(exc)) from None
-
-    def _upload_refusal(
-        self, reply: Reply, chunk: EmdatChunk, items: list[UploadItem]
-    ) -> ControllerError:
-        if isinstance(reply, EditRefused):
-            index = chunk.line_index(reply.item or 1)
-            item = items[min(index, len(items) - 1)]
-            return UploadRefused(
-                reply.error,
-                self._error_message(reply.error),
-                line=item.source_line,
-                column=reply.column,
-                text=item.text,
-                alarm=reply.alarm,
-                source=item.source,
-            )
-        return self._refusal(reply, "EMDAT")
+    def _release_rights(self) -> None:
+        """``CNTLOFF`` if the rights are held (RT ToolBox releases them before editing)."""
+        if self._rights:
+            self._expect_ok(self._send("CNTLOFF"), "CNTLOFF")
+            self._rights = False

@@ -44,12 +44,20 @@ class ControllerError(RobotError):
     """
 
     def __init__(
-        self, number: int, message: str, *, command: str = "", alarm: bool = False
+        self,
+        number: int,
+        message: str,
+        *,
+        command: str = "",
+        alarm: bool = False,
+        code: str | None = None,
     ) -> None:
         self.number = number
         self.message = message
         self.command = command
         self.alarm = alarm
+        self.code = code or f"{number:04d}"
+        """The number as the controller sent it: ``6020`` or ``602000000``."""
         what = f" `{statement_of(command)}`" if command else ""
         super().__init__(f"the controller refused{what}: {self.detail}")
 

@@ -38,8 +38,21 @@ class RobotSettings:
     """Program name in that slot [S7: program "1"]."""
     edit_slot: int | None = None
     """Slot for EMDAT; None = TASKMAX+1 from the OPEN banner, 9 if it has none [DOC S1]."""
-    stop_slot: int = 0
-    """``<robot>;0;STOP`` stops every slot [CODE S12, S18]."""
+    stop_slot: int = 1
+    """``1;1;STOP`` is the form real serial clients send [TRACE; CODE S6/S7]; 0 gives the
+    manual's all-slots ``1;0;STOP`` [CODE S12, S18], never seen on a serial line."""
+    slot_reset: bool = True
+    """``SLOTINIT`` under operation rights before load, run (unless resuming) and delete,
+    as RT ToolBox and the thesis do [TRACE K9b-READ/RUN/DEL; CODE S7]."""
+    release_rights_for_edit: bool = True
+    """[GUESS] ``CNTLOFF`` after the slot reset, before NEW/LOAD/EMDAT/SAVE, as RT ToolBox
+    does; whether editing works while holding the rights is unconfirmed."""
+    confirm_save: bool = True
+    """After SAVE, read the directory (``PDIR``) and insist the program is listed."""
+    confirm_counts: bool = True
+    """[GUESS from TRACE] PDIR's 8th/9th fields are the step and position counts (they
+    match every upload on record); the confirmation compares them with what was sent.
+    `melfa doctor --probe-upload` checks this on the real controller."""
     prtver_handshakes: bool = True
     """[GUESS §3.8] send PRTVERLISTL / PRTVEREMDAT after LOAD, as the thesis did on this
     controller family. Undocumented; set False to save two round trips once tested."""

@@ -33,11 +33,12 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from melfa.link import Link, LinkSettings
+from melfa.link import Link, LinkSettings, parse_robot
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
 from melfa.robot.opener import open_robot_link
+from melfa.robot.upload import PreparedUpload
 from melfa.service.activity import Activity, Facts, Motion, MotionKind, activity_of
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription
@@ -144,7 +145,7 @@ class RobotService:
         a pyserial URL); the link is reopened from the same spec after a drop. ``sim``
         keeps one virtual controller across reconnects."""
         settings = link_settings or LinkSettings()
-        if spec.strip() == "sim":
+        if parse_robot(spec).is_sim:
             from melfa.sim import VirtualController, open_sim_link
 
             controller = VirtualController()
@@ -386,7 +387,10 @@ class RobotService:
     # ================================================================== commands
 
     async def load_project(
-        self, actor: Actor, program: str | Sequence[str], points: str | Sequence[str] = ()
+        self,
+        actor: Actor,
+        program: str | Sequence[str] | PreparedUpload,
+        points: str | Sequence[str] = (),
     ) -> UploadReport:
         """Program and points into the controller's program in one LOAD…SAVE session;
         `UploadProgress` events while it goes. Polling pauses meanwhile."""
@@ -394,13 +398,17 @@ class RobotService:
             actor, "load_project", lambda r, p: r.load_project(program, points, p)
         )
 
-    async def upload_program(self, actor: Actor, program: str | Sequence[str]) -> UploadReport:
+    async def upload_program(
+        self, actor: Actor, program: str | Sequence[str] | PreparedUpload
+    ) -> UploadReport:
         """Replace the program (steps and positions)."""
         return await self._upload(
             actor, "upload_program", lambda r, p: r.upload_program(program, p)
         )
 
-    async def upload_points(self, actor: Actor, points: str | Sequence[str]) -> UploadReport:
+    async def upload_points(
+        self, actor: Actor, points: str | Sequence[str] | PreparedUpload
+    ) -> UploadReport:
         """Add or replace positions, keeping the steps."""
         return await self._upload(actor, "upload_points", lambda r, p: r.upload_points(points, p))
 

@@ -13,9 +13,10 @@ from typing import TypeVar
 from fastapi import APIRouter
 
 from melfa.lang.numbering import NumberingError, step_lines
-from melfa.lang.points import PointKind, parse_points, upload_lines
+from melfa.lang.points import PointKind, parse_points
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
+from melfa.robot.upload import PreparedUpload, UploadPreparationError, prepare_upload
 from melfa.service import Actor, ServoPolicy
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
@@ -96,19 +97,19 @@ async def sources(
     return program, points
 
 
-def _points_for_upload(points: str) -> list[str]:
-    parsed = parse_points(points)
-    errors = [d for d in parsed.diagnostics if d.is_error]
-    if errors:
-        first = errors[0]
+def _prepared(program: str | None, points: str | None) -> PreparedUpload:
+    """`melfa.robot.prepare_upload` (the one home of upload preparation), its refusal as a
+    422 naming the source, line and column."""
+    try:
+        return prepare_upload(program, points)
+    except UploadPreparationError as exc:
+        code = "points-have-errors" if exc.source == "points" else "program-not-sendable"
         raise ApiError(
             422,
-            "points-have-errors",
-            f"points line {first.line}: {first.message}",
-            where={"source": "points", "line": first.line, "column": first.column},
-            detail={"diagnostics": [d.to_json() for d in errors]},
-        )
-    return upload_lines(parsed.points)
+            code,
+            str(exc),
+            where={"source": exc.source, "line": exc.line, "column": exc.column},
+        ) from None
 
 
 async def checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
@@ -161,13 +162,11 @@ async def load_project(
     actor = drive.actor
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    lines = _points_for_upload(points)
     await checked_program(context, program, points, body.check)
     gate(context, drive, program, points)
+    prepared = _prepared(program, points)
     service = drive.service
-    report = await operate(
-        actor, "load_project", lambda: service.load_project(actor, program, lines)
-    )
+    report = await operate(actor, "load_project", lambda: service.load_project(actor, prepared))
     if drive.target.shared:
         context.preflight.lab_loaded = fingerprint(program, points)
     return _upload_out(report, program)
@@ -182,8 +181,9 @@ async def upload_program(
     assert program is not None and points is not None
     await checked_program(context, program, points, body.check)
     gate(context, drive, program, points)
+    prepared = _prepared(program, None)
     service = drive.service
-    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, program))
+    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, prepared))
     if drive.target.shared:
         context.preflight.lab_loaded = fingerprint(program, points)
     return _upload_out(report, program)
@@ -196,11 +196,11 @@ async def upload_points(
     actor = drive.actor
     _, points = await sources(context, session, body)
     assert points is not None
-    lines = _points_for_upload(points)
-    if not lines:
+    prepared = _prepared(None, points)
+    if not prepared.items:
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
-    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, lines))
+    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, prepared))
     if drive.target.shared:
         context.preflight.lab_loaded = None  # the gate asks for program and points together
     return _upload_out(report)
