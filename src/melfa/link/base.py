@@ -50,6 +50,10 @@ class Link(ABC):
     def _read(self, timeout: float) -> bytes:
         """Wait at most ``timeout`` s; return what arrived (possibly b"")."""
 
+    def _read_ready(self) -> bytes:
+        """What has already arrived, without waiting (transports may do better)."""
+        return self._read(0.0)
+
     def _wake(self) -> None:  # noqa: B027 - optional hook
         """Interrupt a blocked `_read` if the transport can."""
 
@@ -94,6 +98,14 @@ class Link(ABC):
                 data = self._read(min(remaining, POLL_S))
                 if data:
                     return data
+
+    def read_now(self) -> bytes:
+        """Bytes that have already arrived, without waiting (b"" when none): how the robot
+        client checks that a quiet line is really quiet before a request."""
+        with self._read_lock:
+            if self._closed:
+                raise LinkClosed(f"{self.description} is closed")
+            return self._read_ready()
 
     def read_reply(self, timeout: float | None = None) -> Reply:
         """The next reply, under one deadline (``timeout`` or the settings' timeout).

@@ -49,6 +49,13 @@ class SerialLink(Link):
             raise self._dead(exc) from None
         return data
 
+    def _read_ready(self) -> bytes:
+        try:
+            waiting = self.port.in_waiting
+            return bytes(self.port.read(waiting)) if waiting else b""
+        except (serial.SerialException, OSError, TypeError) as exc:
+            raise self._dead(exc) from None
+
     def _dead(self, exc: BaseException) -> LinkError:
         if self._closed:
             return LinkClosed(f"{self.url} is closed")

@@ -22,6 +22,9 @@ class _Wrapper(Link):
     def _read(self, timeout: float) -> bytes:
         return self.inner._read(timeout)
 
+    def _read_ready(self) -> bytes:
+        return self.inner._read_ready()
+
     def _wake(self) -> None:
         self.inner._wake()
 
@@ -61,6 +64,12 @@ class TraceLink(_Wrapper):
 
     def _read(self, timeout: float) -> bytes:
         data = super()._read(timeout)
+        if data:
+            self._log("<-", data)
+        return data
+
+    def _read_ready(self) -> bytes:
+        data = super()._read_ready()
         if data:
             self._log("<-", data)
         return data

@@ -37,8 +37,6 @@ from melfa.protocol import (
 from melfa.protocol.connection import Paired, Resynced, Unanswered
 
 _WAIT_S: Final = 0.02
-STRAY_POLL_S: Final = 0.002
-"""How long the channel looks for stray bytes before a request sent on a quiet line."""
 
 
 class RepliesOutOfStep(RemoteProtocolError):
@@ -166,11 +164,13 @@ class Channel:
         if not self._read_lock.acquire(blocking=False):
             return
         try:
-            data = self.link.read_some(time.monotonic() + STRAY_POLL_S)
-        except LinkError:  # LinkTimeout: a quiet line, as it should be; others: next write
+            data = self.link.read_now()
+        except LinkError:  # the next write reports it
             return
         finally:
             self._read_lock.release()
+        if not data:
+            return
         with self._state_lock:
             self._conn.receive_data(data)
             if self._tickets:

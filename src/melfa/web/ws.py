@@ -312,7 +312,9 @@ async def _goodbye(context: WebContext, connection: Connection) -> None:
     context.targets.touch(target)
     left = context.sockets.remove(actor) if target.shared else target.sockets
     with contextlib.suppress(Exception):
-        last = await service.disconnect(actor)
+        # Shielded: the socket's task is being cancelled as it closes, and the STOP and
+        # lease release inside must finish anyway (a dead-man that half-runs is none).
+        last = await asyncio.shield(service.disconnect(actor))
         if not last and connection.jogging:
             await service.jog_release(actor)
     _log.info(
