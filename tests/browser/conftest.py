@@ -4,6 +4,7 @@ launched by its path (scripts/test installs it with apt-get)."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -72,19 +73,16 @@ class Server:
         return password
 
 
-@pytest.fixture(scope="session")
-def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
-    data = tmp_path_factory.mktemp("melfa-data")
+@contextlib.contextmanager
+def serving(data: Path, *extra: str) -> Iterator[Server]:
+    """`melfa serve` on a free port with ``data`` and ``extra`` options, with three
+    students (alice, bob, carol); stopped (SIGINT) at the end."""
     port = _free_port()
     env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
     env["MELFA_ADMIN_PASSWORD"] = ADMIN_PASSWORD
     log = (data / "serve.log").open("w")
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)],
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        env=env,
-    )
+    command = [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)]
+    proc = subprocess.Popen([*command, *extra], stdout=log, stderr=subprocess.STDOUT, env=env)
     url = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + 30
@@ -110,6 +108,12 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
             proc.kill()
             proc.wait()
         log.close()
+
+
+@pytest.fixture(scope="session")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    with serving(tmp_path_factory.mktemp("melfa-data")) as running:
+        yield running
 
 
 @pytest.fixture(scope="module")

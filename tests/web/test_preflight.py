@@ -54,7 +54,7 @@ def test_the_gate_refuses_an_unsimulated_program_on_the_lab_robot(gated: Web) ->
     ann = gated.ann
     body = {"program": PROGRAM, "points": POINTS}
     error = assert_error(ann.post("/api/robot/project", json=body), 409, "simulation-required")
-    assert "simulated run" in error["message"] and error["detail"] == {"offer": "preflight"}
+    assert "simulated run" in error["message"] and error["detail"]["fix"] == "preflight"
     assert_error(ann.post("/api/robot/run"), 409, "simulation-required")
     # The private simulator is not gated: that is where the simulation happens.
     ok(ann.post("/api/robot/project", json=body, params={"target": "mine"}))

@@ -128,6 +128,10 @@ async def checked_program(context: WebContext, program: str, points: str, check:
         )
 
 
+GATE_FIX = {"offer": "preflight", "fix": "preflight", "fix_label": "Run pre-flight"}
+"""The gate's refusal offers the simulation (the IDE's one-click fix, docs/api.md)."""
+
+
 def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
     """The instructor's gate: on the lab robot, only texts that passed pre-flight."""
     state = context.preflight
@@ -140,7 +144,7 @@ def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
             "this lab runs a program on the robot only after the same program and points "
             "passed a simulated run without pre-flight errors: run Pre-flight (or debug it "
             "on My simulator) first",
-            detail={"offer": "preflight"},
+            detail=GATE_FIX,
         )
 
 
@@ -229,7 +233,7 @@ async def run(drive: DriveDep, context: ContextDep, body: RunIn | None = None) -
             "simulation-required",
             "this lab runs on the robot only a program loaded after passing pre-flight: "
             "run Pre-flight, then Load project",
-            detail={"offer": "preflight"},
+            detail=GATE_FIX,
         )
     policy = servo_policy(body.servo_on if body is not None else False)
     await operate(actor, "run", lambda: drive.service.run(actor, servo=policy))

@@ -12,6 +12,7 @@ import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
 import { DebugPanel } from "./debugger.js";
+import { PreflightPanel } from "./preflight.js";
 import { TargetSwitch } from "./targets.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
@@ -91,6 +92,7 @@ async function main() {
     showError("Could not open your workspace", err);
   }
   app.debug = new DebugPanel(app); // after the workspace: breakpoints are kept per workspace
+  app.preflight = new PreflightPanel(app);
   app.debug.onTarget();
   points.render();
   points.check();

@@ -1,0 +1,91 @@
+"""Pre-flight in the browser: an instructor's table flags a move below it (the line in the
+report, the path coloured in 3D), and the gate refuses an unsimulated program on the lab
+robot, offering the simulation."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
+import pytest
+from playwright.sync_api import Browser, expect
+
+from tests.browser.conftest import Server, Session, serving
+
+pytestmark = pytest.mark.timeout(180)
+
+PROGRAM = "SERVO ON\nMOV P1\nMOV P2\nEND\n"
+POINTS = (
+    "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    "DEF POS P2=(350.00,100.00,250.00,180.00,0.00,180.00)(7,0)\n"
+)
+TABLE = (
+    '{"floor_z": 300, "boxes": [{"name": "feeder", "min": [-100, 300, 0], "max": [100, 500, 200]}]}'
+)
+
+
+def edit_cell(s: Session, text: str) -> None:
+    page = s.page
+    s.eval("() => document.getElementById('toasts').replaceChildren()")  # the welcome toast
+    page.click("#cell-edit")
+    page.fill("#cell-json", text)
+    page.click("#cell-save")
+    expect(page.locator("#cell-dialog")).to_have_count(0)
+
+
+def test_preflight_flags_a_move_below_the_table(open_session: Any) -> None:
+    admin: Session = open_session("admin")
+    student: Session = open_session("alice")
+    expect(student.page.locator("#cell-edit")).to_be_hidden()  # instructors edit the cell
+    edit_cell(admin, TABLE)
+    try:
+        page = student.page
+        page.reload()
+        student.wait_ready()
+        expect(page.locator("#view3d")).to_have_attribute("data-cell-floor", "300")
+        expect(page.locator("#view3d")).to_have_attribute("data-cell-boxes", "1")
+        student.set_program(PROGRAM)
+        student.set_points(POINTS)
+        page.click("#act-preflight")
+        report = page.locator("#preflight")
+        expect(report).to_have_attribute("data-passed", "false")
+        finding = page.locator("#preflight-findings li.pf-error").first
+        expect(finding).to_contain_text("table")
+        expect(finding).to_have_attribute("data-line", "3")
+        finding.locator(".pf-line").click()
+        assert student.eval("() => window.melfa.editor.editor.getCursorPosition().row") == 2
+        flagged = int(page.get_attribute("#view3d", "data-ghost-flagged") or "0")
+        assert (
+            flagged > 0 and int(page.get_attribute("#view3d", "data-ghost-points") or "0") > flagged
+        )
+        student.screenshot("preflight")
+    finally:
+        edit_cell(admin, '{"floor_z": 0, "boxes": []}')
+
+
+@pytest.fixture(scope="module")
+def gated(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    with serving(tmp_path_factory.mktemp("melfa-gated"), "--require-simulation") as running:
+        yield running
+
+
+def test_the_gate_refuses_an_unsimulated_program_on_the_lab_robot(
+    browser: Browser, gated: Server
+) -> None:
+    s = Session(browser, gated, "bob")
+    try:
+        s.login_api()
+        page = s.page
+        s.set_program(PROGRAM)
+        s.set_points(POINTS)
+        page.click("#act-load")
+        refusal = page.locator(".toast", has_text="simulated run")
+        expect(refusal).to_be_visible()
+        assert s.eval("() => window.melfa.loaded") is None  # nothing reached the robot
+        refusal.get_by_role("button", name="Run pre-flight").click()
+        expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")
+        expect(page.locator(".toast", has_text="Pre-flight passed")).to_be_visible()
+        page.click("#act-load")
+        expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
+    finally:
+        s.close()
