@@ -25,7 +25,8 @@ from melfa.sim.arm import (
     TrajectoryRecorder,
     directions_from_masks,
 )
-from melfa.sim.motion import ACCEL_TIME_S, MoveKind
+from melfa.sim.motion import ACCEL_TIME_S
+from melfa.sim.plans import MoveKind
 
 HOME_POSE = fk(HOME)
 

@@ -22,15 +22,8 @@ from melfa.kin import (
 )
 from melfa.sim.motion import (
     ACCEL_TIME_S,
-    Frames,
-    IllegalMove,
     JogMode,
-    PathPlan,
-    Plan,
-    Profile,
-    SequencePlan,
     Speeds,
-    Timing,
     approach_pose,
     jog_step,
     plan_arc,
@@ -42,6 +35,9 @@ from melfa.sim.motion import (
     plan_linear,
     plan_linear_offset,
 )
+from melfa.sim.paths import IllegalMove
+from melfa.sim.plans import Frames, PathPlan, Plan, SequencePlan
+from melfa.sim.timing import Profile, Timing
 
 HOME_POSE = fk(HOME)  # (400, 0, 645, 180, 0, 180)
 

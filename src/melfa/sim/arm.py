@@ -45,7 +45,10 @@ from melfa.kin import (
 from melfa.protocol.error_table import BUSY, JOG_REFUSED, JOINT_LIMIT, SERVO_OFF
 from melfa.protocol.jog import JOG_WATCHDOG_S
 from melfa.sim import motion
-from melfa.sim.motion import Frames, IllegalMove, JogMode, MoveKind, Plan, Profile, Speeds
+from melfa.sim.motion import JogMode, Speeds
+from melfa.sim.paths import IllegalMove
+from melfa.sim.plans import Frames, MoveKind, Plan
+from melfa.sim.timing import Profile
 
 __all__ = [
     "ERR_BUSY",

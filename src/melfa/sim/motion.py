@@ -17,6 +17,9 @@ Moves (melfa-basic-iv.md §4.1–4.2):
 - `close` (``MOV P1, -50``): the target shifted along its own tool Z (`approach_pose`).
 - `jog_step`: one integration step of continuous JOG motion (the arm keeps the jog state).
 
+The plans are `melfa.sim.plans`, their timing `melfa.sim.timing`, the Cartesian paths
+`melfa.sim.paths`; this module decides which plan a move is, with which speed, and checks it.
+
 Errors are those of `melfa.kin` (`Unreachable`, `JointLimitExceeded`,
 `InterferenceLimitExceeded`) plus `IllegalMove` for impossible geometry.
 """
@@ -25,30 +28,24 @@ from __future__ import annotations
 
 import enum
 import math
-from abc import ABC, abstractmethod
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from melfa.kin import (
-    DEFAULT_INTERFERENCE,
     JOINT_LIMITS,
     JOINT_MAX_SPEED,
     MAX_RESULTANT_SPEED,
-    Configuration,
     Interference,
     InterferenceLimitExceeded,
     JointLimitExceeded,
     Joints,
-    KinematicsError,
     Pose,
     Unreachable,
     UnreachableReason,
     check_limits,
     configuration_of,
-    fk,
-    fk_matrix,
     ik,
     ik_batch,
     interference_violation,
@@ -56,24 +53,25 @@ from melfa.kin import (
     pose_to_matrix,
     unwrap_j6,
 )
-from melfa.kin.pose import FloatArray, invert_transform, matrix_to_pose, rotation_angle_deg
+from melfa.kin.pose import FloatArray, matrix_to_pose, rotation_angle_deg
+from melfa.sim.paths import (
+    Arc,
+    IllegalMove,
+    Line,
+    Orientation,
+    Path,
+    ccw_angle,
+    circle_through,
+)
+from melfa.sim.plans import Frames, JointPlan, MoveKind, PathPlan, Plan, SequencePlan
+from melfa.sim.timing import Profile, Timing
 
 __all__ = [
     "ACCEL_TIME_S",
     "ARCH_HEIGHT_MM",
     "SPD_DEFAULT",
-    "ArcPlan",
-    "Frames",
-    "IllegalMove",
     "JogMode",
-    "JointPlan",
-    "MoveKind",
-    "PathPlan",
-    "Plan",
-    "Profile",
-    "SequencePlan",
     "Speeds",
-    "Timing",
     "approach_pose",
     "jog_step",
     "plan_arc",
@@ -109,28 +107,6 @@ AT_START_DEG = 0.01
 """Closer than this to an arc's start point counts as "already there"."""
 MVS_REQUIRES_SAME_FL1 = True
 """[DOC S1 MVS] start and end structure flags of a linear move must match."""
-
-
-class IllegalMove(KinematicsError):
-    """The move's geometry is impossible (collinear arc points, flags changing in MVS, ...)."""
-
-
-class Profile(enum.Enum):
-    """Velocity profile shape in the acceleration and deceleration ramps."""
-
-    TRAPEZOID = "trapezoid"
-    SMOOTH = "smooth"
-    """Cosine ramps (no step in acceleration); same durations as the trapezoid."""
-
-
-class MoveKind(enum.Enum):
-    JOINT = "MOV"
-    LINEAR = "MVS"
-    ARC = "MVR"
-    CIRCLE = "MVC"
-    ARCH = "MVA"
-    SEQUENCE = "sequence"
-    STOP = "stop"
 
 
 @dataclass(frozen=True, slots=True)
@@ -171,435 +147,6 @@ class Speeds:
     @property
     def decel_time(self) -> float:
         return ACCEL_TIME_S * 100.0 / self.decel
-
-
-@dataclass(frozen=True, slots=True)
-class Frames:
-    """The active TOOL and BASE (None = identity) and which interference rows apply."""
-
-    tool: Pose | None = None
-    base: Pose | None = None
-    interference: Interference = DEFAULT_INTERFERENCE
-
-    def pose(self, joints: Sequence[float]) -> Pose:
-        """TCP pose (with flags) of a joint vector."""
-        return fk(joints, self.tool, self.base)
-
-    def tcp_matrix(self, joints: Sequence[float]) -> FloatArray:
-        return fk_matrix(joints, self.tool, self.base)
-
-    def to_flange(self, tcp: FloatArray) -> FloatArray:
-        """World TCP transforms (N, 4, 4) -> robot-base flange transforms."""
-        out = tcp
-        if self.base is not None:
-            out = invert_transform(pose_to_matrix(self.base)) @ out
-        if self.tool is not None:
-            out = out @ invert_transform(pose_to_matrix(self.tool))
-        return out
-
-
-# --- timing -----------------------------------------------------------------------------
-
-
-@dataclass(frozen=True, slots=True)
-class Timing:
-    """Path parameter s(t) in [0, 1]: ramp up over `t_acc`, cruise, ramp down over `t_dec`.
-
-    `cruise_time` is what the move would take at full rate with infinite acceleration;
-    with room to cruise, ``duration = cruise_time + (t_acc + t_dec) / 2``.
-    """
-
-    cruise_time: float
-    t_acc: float
-    t_cruise: float
-    t_dec: float
-    peak_rate: float
-    profile: Profile = Profile.TRAPEZOID
-
-    @classmethod
-    def build(
-        cls, cruise_time: float, accel_time: float, decel_time: float, profile: Profile
-    ) -> Timing:
-        if cruise_time <= 0.0:
-            return cls(0.0, 0.0, 0.0, 0.0, 0.0, profile)
-        vmax = 1.0 / cruise_time
-        if (accel_time + decel_time) / 2.0 <= cruise_time:
-            t_cruise = cruise_time - (accel_time + decel_time) / 2.0
-            return cls(cruise_time, accel_time, t_cruise, decel_time, vmax, profile)
-        a, d = vmax / accel_time, vmax / decel_time
-        vp = math.sqrt(2.0 / (1.0 / a + 1.0 / d))  # triangular: never reaches vmax
-        return cls(cruise_time, vp / a, 0.0, vp / d, vp, profile)
-
-    @property
-    def duration(self) -> float:
-        return self.t_acc + self.t_cruise + self.t_dec
-
-    def _ramp(self, tau: float, length: float) -> tuple[float, float]:
-        """(distance, rate) after `tau` of a ramp from 0 to peak over `length`."""
-        vp = self.peak_rate
-        if self.profile is Profile.SMOOTH:
-            x = math.pi * tau / length
-            return vp * (tau / 2.0 - length / (2.0 * math.pi) * math.sin(x)), vp * (
-                1.0 - math.cos(x)
-            ) / 2.0
-        return 0.5 * vp * tau * tau / length, vp * tau / length
-
-    def state(self, t: float) -> tuple[float, float]:
-        """(s, ds/dt) at time t, clamped to the plan."""
-        if self.duration <= 0.0 or t >= self.duration:
-            return 1.0, 0.0
-        if t <= 0.0:
-            return 0.0, 0.0
-        if t < self.t_acc:
-            return self._ramp(t, self.t_acc)
-        s_acc = 0.5 * self.peak_rate * self.t_acc
-        if t < self.t_acc + self.t_cruise:
-            return s_acc + self.peak_rate * (t - self.t_acc), self.peak_rate
-        rest = self.duration - t
-        d, v = self._ramp(rest, self.t_dec)
-        return 1.0 - d, v
-
-    def s(self, t: float) -> float:
-        return self.state(t)[0]
-
-    @property
-    def decel_rate(self) -> float:
-        """ds/dt² used for stops (the plan's own deceleration)."""
-        return self.peak_rate / self.t_dec if self.t_dec > 0 else math.inf
-
-
-@dataclass(frozen=True, slots=True)
-class _StopTiming:
-    """Constant deceleration from (s0, v0) to rest."""
-
-    s0: float
-    v0: float
-    decel: float
-
-    @property
-    def duration(self) -> float:
-        return self.v0 / self.decel if self.decel < math.inf and self.v0 > 0 else 0.0
-
-    def s(self, t: float) -> float:
-        t = min(max(t, 0.0), self.duration)
-        return min(1.0, self.s0 + self.v0 * t - 0.5 * self.decel * t * t)
-
-
-# --- plans ------------------------------------------------------------------------------
-
-
-class Plan(ABC):
-    """A planned motion sampled at t seconds from its start (clamped to [0, duration])."""
-
-    kind: MoveKind
-    start_joints: Joints
-    end_joints: Joints
-
-    @property
-    @abstractmethod
-    def duration(self) -> float: ...
-
-    @abstractmethod
-    def sample(self, t: float) -> Joints:
-        """Joints (deg) at t seconds after the plan started."""
-
-    @abstractmethod
-    def stopped(self, t: float) -> Plan:
-        """The decelerating stop begun at t: a new plan whose time 0 is t."""
-
-
-class _PathLike(Plan):
-    """Plans moving along one geometric parameter s in [0, 1]."""
-
-    timing: Timing
-
-    @property
-    def duration(self) -> float:
-        return self.timing.duration
-
-    @abstractmethod
-    def at_s(self, s: float) -> Joints: ...
-
-    def sample(self, t: float) -> Joints:
-        if t >= self.timing.duration:
-            return self.end_joints
-        return self.at_s(self.timing.s(t))
-
-    def stopped(self, t: float) -> Plan:
-        s0, v0 = self.timing.state(t)
-        return _StoppingPlan(self, _StopTiming(s0, v0, self.timing.decel_rate))
-
-
-class _StoppingPlan(Plan):
-    kind = MoveKind.STOP
-
-    def __init__(self, base: _PathLike, timing: _StopTiming) -> None:
-        self.base = base
-        self.timing = timing
-        self.start_joints = base.at_s(timing.s0)
-        self.end_joints = base.at_s(timing.s(timing.duration))
-
-    @property
-    def duration(self) -> float:
-        return self.timing.duration
-
-    def sample(self, t: float) -> Joints:
-        return self.end_joints if t >= self.duration else self.base.at_s(self.timing.s(t))
-
-    def stopped(self, t: float) -> Plan:
-        s = self.timing.s(t)
-        v = max(0.0, self.timing.v0 - self.timing.decel * t)
-        return _StoppingPlan(self.base, _StopTiming(s, v, self.timing.decel))
-
-
-class JointPlan(_PathLike):
-    """Joint interpolation: every joint moves proportionally, synchronised to the slowest."""
-
-    kind = MoveKind.JOINT
-
-    def __init__(self, start: Joints, end: Joints, timing: Timing) -> None:
-        self.start_joints = start
-        self.end_joints = end
-        self.timing = timing
-        self._q0 = np.asarray(start, dtype=float)
-        self._dq = np.asarray(end, dtype=float) - self._q0
-
-    def at_s(self, s: float) -> Joints:
-        return Joints.of(self._q0 + s * self._dq)
-
-
-class PathPlan(_PathLike):
-    """A Cartesian path (line or arc) with joints from IK at each sample."""
-
-    def __init__(
-        self,
-        kind: MoveKind,
-        path: _Path,
-        frames: Frames,
-        config: Configuration,
-        table_s: FloatArray,
-        table_q: FloatArray,
-        timing: Timing,
-    ) -> None:
-        self.kind = kind
-        self.path = path
-        self.frames = frames
-        self.config = config
-        self.table_s = table_s
-        self.table_q = table_q
-        self.timing = timing
-        self.start_joints = Joints.of(table_q[0])
-        self.end_joints = Joints.of(table_q[-1])
-
-    def at_s(self, s: float) -> Joints:
-        if s <= 0.0:
-            return self.start_joints
-        if s >= 1.0:
-            return self.end_joints
-        near = np.array([np.interp(s, self.table_s, self.table_q[:, j]) for j in range(6)])
-        flange = self.frames.to_flange(self.path.at(np.array([s])))
-        q = ik_batch(flange, self.config, near[0], near[3])[0]
-        if np.isnan(q[0]):  # cannot happen on a checked path; fall back to the table
-            return Joints.of(near)
-        q[5] = unwrap_j6(q[5:6], float(near[5]))[0]
-        return Joints.of(q)
-
-    def tcp_pose(self, s: float) -> Pose:
-        """The TCP pose on the path at parameter s (for tests and the 3D view)."""
-        return matrix_to_pose(self.path.at(np.array([s]))[0])
-
-
-ArcPlan = PathPlan
-
-
-class SequencePlan(Plan):
-    """Plans run one after the other (approach + arc, MVA's lift/traverse/lower)."""
-
-    kind = MoveKind.SEQUENCE
-
-    def __init__(self, parts: Sequence[Plan], kind: MoveKind = MoveKind.SEQUENCE) -> None:
-        if not parts:
-            raise ValueError("a sequence needs at least one plan")
-        self.parts = tuple(parts)
-        self.kind = kind
-        self.start_joints = self.parts[0].start_joints
-        self.end_joints = self.parts[-1].end_joints
-        self._offsets = np.cumsum([0.0] + [p.duration for p in self.parts])
-
-    @property
-    def duration(self) -> float:
-        return float(self._offsets[-1])
-
-    def _locate(self, t: float) -> tuple[int, float]:
-        i = int(np.searchsorted(self._offsets, t, side="right")) - 1
-        i = min(max(i, 0), len(self.parts) - 1)
-        return i, t - float(self._offsets[i])
-
-    def sample(self, t: float) -> Joints:
-        if t >= self.duration:
-            return self.end_joints
-        i, local = self._locate(t)
-        return self.parts[i].sample(local)
-
-    def stopped(self, t: float) -> Plan:
-        i, local = self._locate(min(t, self.duration))
-        return self.parts[i].stopped(local)
-
-
-# --- geometry -----------------------------------------------------------------------------
-
-
-def _log_rot(r: FloatArray) -> FloatArray:
-    """Rotation vector (axis × angle, radians) of a rotation matrix."""
-    cos = (float(np.trace(r)) - 1.0) / 2.0
-    v = np.array([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) / 2.0
-    sin = float(np.linalg.norm(v))
-    angle = math.atan2(sin, cos)
-    if sin > 1e-9:
-        return np.asarray(v / sin * angle, dtype=float)
-    if cos > 0:
-        return np.zeros(3)
-    # angle ≈ π: axis from the symmetric part
-    m = (r + np.eye(3)) / 2.0
-    k = int(np.argmax(np.diag(m)))
-    axis = m[:, k] / math.sqrt(max(m[k, k], 1e-300))
-    return np.asarray(axis / np.linalg.norm(axis) * math.pi, dtype=float)
-
-
-def _exp_rot(rv: FloatArray) -> FloatArray:
-    """Rotation matrices (N, 3, 3) from rotation vectors (N, 3) (Rodrigues)."""
-    theta = np.linalg.norm(rv, axis=1)
-    safe = np.where(theta > 1e-12, theta, 1.0)
-    k = rv / safe[:, None]
-    kx = np.zeros((rv.shape[0], 3, 3))
-    kx[:, 0, 1], kx[:, 0, 2] = -k[:, 2], k[:, 1]
-    kx[:, 1, 0], kx[:, 1, 2] = k[:, 2], -k[:, 0]
-    kx[:, 2, 0], kx[:, 2, 1] = -k[:, 1], k[:, 0]
-    s = np.sin(theta)[:, None, None]
-    c = (1.0 - np.cos(theta))[:, None, None]
-    return np.asarray(np.eye(3) + s * kx + c * (kx @ kx), dtype=float)
-
-
-@dataclass(frozen=True)
-class _Orientation:
-    """Piecewise slerp through key rotations placed at path fractions `knots`."""
-
-    knots: tuple[float, ...]
-    rots: tuple[FloatArray, ...]
-    steps: tuple[FloatArray, ...] = field(init=False)
-
-    def __post_init__(self) -> None:
-        steps = tuple(
-            _log_rot(self.rots[i].T @ self.rots[i + 1]) for i in range(len(self.rots) - 1)
-        )
-        object.__setattr__(self, "steps", steps)
-
-    @property
-    def total_angle_deg(self) -> float:
-        return math.degrees(sum(float(np.linalg.norm(s)) for s in self.steps))
-
-    def at(self, s: FloatArray) -> FloatArray:
-        out = np.empty((s.shape[0], 3, 3))
-        seg = np.clip(np.searchsorted(self.knots, s, side="right") - 1, 0, len(self.steps) - 1)
-        for i in np.unique(seg):
-            rows = seg == i
-            lo, hi = self.knots[i], self.knots[i + 1]
-            f = np.clip((s[rows] - lo) / (hi - lo), 0.0, 1.0) if hi > lo else np.ones(rows.sum())
-            out[rows] = self.rots[i] @ _exp_rot(f[:, None] * self.steps[i][None, :])
-        return out
-
-
-class _Path(ABC):
-    orientation: _Orientation
-
-    @property
-    @abstractmethod
-    def length(self) -> float:
-        """TCP path length, mm."""
-
-    @abstractmethod
-    def positions(self, s: FloatArray) -> FloatArray: ...
-
-    def at(self, s: FloatArray) -> FloatArray:
-        """World TCP transforms (N, 4, 4) at path parameters s (N,)."""
-        out = np.zeros((s.shape[0], 4, 4))
-        out[:, :3, :3] = self.orientation.at(s)
-        out[:, :3, 3] = self.positions(s)
-        out[:, 3, 3] = 1.0
-        return out
-
-
-class _Line(_Path):
-    def __init__(self, p0: FloatArray, p1: FloatArray, orientation: _Orientation) -> None:
-        self.p0, self.p1, self.orientation = p0, p1, orientation
-
-    @property
-    def length(self) -> float:
-        return float(np.linalg.norm(self.p1 - self.p0))
-
-    def positions(self, s: FloatArray) -> FloatArray:
-        return np.asarray(self.p0 + s[:, None] * (self.p1 - self.p0), dtype=float)
-
-
-class _Arc(_Path):
-    """Arc about `centre` in the plane (u, w), angle `sweep` (rad), radius r0 -> r1."""
-
-    def __init__(
-        self,
-        centre: FloatArray,
-        u: FloatArray,
-        w: FloatArray,
-        r0: float,
-        r1: float,
-        sweep: float,
-        orientation: _Orientation,
-    ) -> None:
-        self.centre, self.u, self.w = centre, u, w
-        self.r0, self.r1, self.sweep = r0, r1, sweep
-        self.orientation = orientation
-
-    @property
-    def length(self) -> float:
-        return (self.r0 + self.r1) / 2.0 * abs(self.sweep)
-
-    def positions(self, s: FloatArray) -> FloatArray:
-        ang = s * self.sweep
-        r = self.r0 + s * (self.r1 - self.r0)
-        return np.asarray(
-            self.centre
-            + r[:, None] * (np.cos(ang)[:, None] * self.u + np.sin(ang)[:, None] * self.w),
-            dtype=float,
-        )
-
-    def fraction_of(self, point: FloatArray) -> float:
-        """Path fraction at which the arc passes the direction of `point`."""
-        d = point - self.centre
-        ang = math.atan2(float(d @ self.w), float(d @ self.u)) % (2.0 * math.pi)
-        return ang / self.sweep if self.sweep else 0.0
-
-
-def _circle_through(
-    p0: FloatArray, p1: FloatArray, p2: FloatArray
-) -> tuple[FloatArray, FloatArray, float]:
-    """(centre, unit normal, radius) of the circle through three points; normal makes
-    p0 -> p1 -> p2 counter-clockwise."""
-    a, b = p1 - p0, p2 - p0
-    n = np.cross(a, b)
-    nn = float(n @ n)
-    if nn < 1e-9 * max(float(a @ a) * float(b @ b), 1e-12) or nn < 1e-12:
-        raise IllegalMove("arc points are collinear or coincide: no circle through them")
-    centre = p0 + (float(a @ a) * np.cross(b, n) + float(b @ b) * np.cross(n, a)) / (2.0 * nn)
-    return centre, n / math.sqrt(nn), float(np.linalg.norm(p0 - centre))
-
-
-def _ccw_angle(centre: FloatArray, normal: FloatArray, p0: FloatArray, p: FloatArray) -> float:
-    """Angle (0, 2π] from p0 to p about `normal`."""
-    u = p0 - centre
-    u = u / np.linalg.norm(u)
-    w = np.cross(normal, u)
-    d = p - centre
-    ang = math.atan2(float(d @ w), float(d @ u)) % (2.0 * math.pi)
-    return ang if ang > 1e-12 else 2.0 * math.pi
 
 
 # --- planning ---------------------------------------------------------------------------
@@ -656,7 +203,7 @@ def _joint_timing(start: Joints, end: Joints, speeds: Speeds) -> Timing:
 
 
 def _check_path(
-    kind: MoveKind, start: Joints, path: _Path, speeds: Speeds, frames: Frames
+    kind: MoveKind, start: Joints, path: Path, speeds: Speeds, frames: Frames
 ) -> PathPlan:
     """Sample the whole path, solve IK in one vectorised call, refuse at the first bad sample,
     and time it: TCP speed, orientation speed and every joint's speed limit."""
@@ -703,13 +250,13 @@ def _check_path(
     return PathPlan(kind, path, frames, config, s, q, timing)
 
 
-def _where(path: _Path, s: float) -> str:
+def _where(path: Path, s: float) -> str:
     p = path.positions(np.array([s]))[0]
     return f"({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm, {s * 100:.0f}% along the path"
 
 
 def _check_table_limits(
-    q: FloatArray, s: FloatArray, path: _Path, interference: Interference
+    q: FloatArray, s: FloatArray, path: Path, interference: Interference
 ) -> None:
     lo = np.array([lim[0] for lim in JOINT_LIMITS]) - 1e-6
     hi = np.array([lim[1] for lim in JOINT_LIMITS]) + 1e-6
@@ -754,7 +301,7 @@ def plan_linear(
         raise IllegalMove(
             f"linear move changes the structure flag FL1 from {here.fl1} to {goal.fl1}"
         )
-    path = _Line(_pos(here), _pos(goal), _Orientation((0.0, 1.0), (_rot(here), _rot(goal))))
+    path = Line(_pos(here), _pos(goal), Orientation((0.0, 1.0), (_rot(here), _rot(goal))))
     return _check_path(MoveKind.LINEAR, start, path, speeds, frames)
 
 
@@ -781,7 +328,7 @@ def _with_approach(
 
 
 class _ArcBuilder:
-    def __init__(self, kind: MoveKind, path: _Path, speeds: Speeds, frames: Frames) -> None:
+    def __init__(self, kind: MoveKind, path: Path, speeds: Speeds, frames: Frames) -> None:
         self.kind, self.path, self.speeds, self.frames = kind, path, speeds, frames
 
     def __call__(self, start: Joints) -> PathPlan:
@@ -795,13 +342,13 @@ def _arc_path(
     r1: float,
     sweep: float,
     keys: Sequence[tuple[float, Pose]],
-) -> _Arc:
+) -> Arc:
     u = p0 - centre
     r0 = float(np.linalg.norm(u))
     u = u / r0
     w = np.cross(normal, u)
-    orient = _Orientation(tuple(k for k, _ in keys), tuple(_rot(p) for _, p in keys))
-    return _Arc(centre, u, w, r0, r1, sweep, orient)
+    orient = Orientation(tuple(k for k, _ in keys), tuple(_rot(p) for _, p in keys))
+    return Arc(centre, u, w, r0, r1, sweep, orient)
 
 
 def plan_arc(
@@ -816,9 +363,9 @@ def plan_arc(
     interpolated start -> via -> end."""
     frames = frames or Frames()
     p0, p1, p2 = _pos(start), _pos(via), _pos(end)
-    centre, normal, radius = _circle_through(p0, p1, p2)
-    sweep = _ccw_angle(centre, normal, p0, p2)
-    f_via = _ccw_angle(centre, normal, p0, p1) / sweep
+    centre, normal, radius = circle_through(p0, p1, p2)
+    sweep = ccw_angle(centre, normal, p0, p2)
+    f_via = ccw_angle(centre, normal, p0, p1) / sweep
     path = _arc_path(centre, normal, p0, radius, sweep, ((0.0, start), (f_via, via), (1.0, end)))
     return _with_approach(
         start_joints, start, speeds, frames, _ArcBuilder(MoveKind.ARC, path, speeds, frames)
@@ -837,9 +384,9 @@ def plan_arc_ref(
     `start` to `end` *without* passing `ref`."""
     frames = frames or Frames()
     p0, p2, pr = _pos(start), _pos(end), _pos(ref)
-    centre, normal, radius = _circle_through(p0, pr, p2)
+    centre, normal, radius = circle_through(p0, pr, p2)
     normal = -normal  # the other way round: away from ref
-    sweep = _ccw_angle(centre, normal, p0, p2)
+    sweep = ccw_angle(centre, normal, p0, p2)
     path = _arc_path(centre, normal, p0, radius, sweep, ((0.0, start), (1.0, end)))
     return _with_approach(
         start_joints, start, speeds, frames, _ArcBuilder(MoveKind.ARC, path, speeds, frames)
@@ -865,7 +412,7 @@ def plan_arc_centre(
     if float(np.linalg.norm(n)) < 1e-9 * float(np.linalg.norm(a) * np.linalg.norm(b)):
         raise IllegalMove("MVR3: start, end and centre are collinear (arc angle 0 or 180°)")
     normal = n / np.linalg.norm(n)
-    sweep = _ccw_angle(pc, normal, p0, p2)
+    sweep = ccw_angle(pc, normal, p0, p2)
     path = _arc_path(pc, normal, p0, float(np.linalg.norm(b)), sweep, ((0.0, start), (1.0, end)))
     return _with_approach(
         start_joints, start, speeds, frames, _ArcBuilder(MoveKind.ARC, path, speeds, frames)
@@ -883,10 +430,10 @@ def plan_circle(
     """MVC start, via1, via2: the full circle start -> via1 -> via2 -> start."""
     frames = frames or Frames()
     p0, p1, p2 = _pos(start), _pos(via1), _pos(via2)
-    centre, normal, radius = _circle_through(p0, p1, p2)
+    centre, normal, radius = circle_through(p0, p1, p2)
     sweep = 2.0 * math.pi
-    f1 = _ccw_angle(centre, normal, p0, p1) / sweep
-    f2 = _ccw_angle(centre, normal, p0, p2) / sweep
+    f1 = ccw_angle(centre, normal, p0, p1) / sweep
+    f2 = ccw_angle(centre, normal, p0, p2) / sweep
     keys = ((0.0, start), (f1, via1), (f2, via2), (1.0, start))
     path = _arc_path(centre, normal, p0, radius, sweep, keys)
     return _with_approach(
