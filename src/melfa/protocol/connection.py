@@ -167,19 +167,25 @@ class ClientConnection:
             return self._ready.popleft()
         if self._broken is not None and self._fence is None:
             raise LocalProtocolError(f"replies are out of step ({self._broken}); resynchronise")
+        while self._fence is not None:  # drop everything before the fence's answer
+            try:
+                dropping = self._reader.next_reply()
+            except RemoteProtocolError:
+                self._dropped.append(Ok("<unreadable>"))
+                self._check_dropped()
+                continue
+            if dropping is None:
+                return None
+            event = self._resync_step(dropping)
+            if event is not None:
+                return event
         try:
             reply = self._reader.next_reply()
         except RemoteProtocolError as exc:
-            if self._fence is None:
-                self._break(f"unreadable reply ({exc})")
-                raise
-            self._dropped.append(Ok("<unreadable>"))  # while resynchronising: more to drop
-            self._check_dropped()
-            return None
+            self._break(f"unreadable reply ({exc})")
+            raise
         if reply is None:
             return None
-        if self._fence is not None:
-            return self._resync_step(reply)
         if not self._outstanding:
             self._break("a reply came with no request")
             raise RemoteProtocolError(f"unsolicited reply {_show(reply)}: replies are out of step")

@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Protocol
 
-from melfa.link import LinkError, LinkTimeout
+from melfa.link import LinkError
 from melfa.protocol import (
     REQUEST_LIMIT,
     VT,
@@ -193,7 +193,7 @@ def write_program(
     except BaseException as exc:
         with contextlib.suppress(Exception):
             session._send("NEW")  # close without saving: the old program stays
-        if save_sent and isinstance(exc, LinkTimeout):
+        if save_sent and isinstance(exc, LinkError):
             raise _lost_save(session, prepared, clear) from exc
         raise
     held = None
