@@ -94,7 +94,11 @@ class OnDemandTyper(typer.Typer):
         module = COMMAND_MODULES.get(words[0]) if words else None
         if module is not None and not self._complete:
             self.load((module,))
-            self._complete = True  # the one command asked for is all this run needs
+            names = {c.name or c.callback.__name__ for c in self._commands if c.callback}
+            names |= {g.name for g in self._groups}
+            # The one command asked for is all this run needs, if its module registered it
+            # (a command moved to another module falls back to loading them all).
+            self._complete = words[0] in names
         return super().__call__(*args, **kwargs)
 
 
