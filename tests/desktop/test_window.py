@@ -221,8 +221,15 @@ def test_load_and_run_reach_the_virtual_controller(
     # The server (asked by another session) sees the program run and the arm move...
     wait_until(lambda: observer.state().running is True, timeout=30)
     wait_until(lambda: observer.state().joints != start_joints, timeout=30)
-    # ...to its END (line 70), and the window shows it live, from the WebSocket.
-    wait_until(lambda: ui.window.status_values["line"].text() == "70", timeout=60)
+    # ...to its END (step 70), and the window shows it live, from the WebSocket, as the
+    # line of the student's file (the server's step -> line map), with the step beside it.
+    upload = ui.presenter.last_upload
+    assert upload is not None
+    end_line = upload.step_lines[70]
+    assert end_line == 7  # sample.MB4's last line
+    wait_until(
+        lambda: ui.window.status_values["line"].text() == f"{end_line} (step 70)", timeout=60
+    )
     wait_until(lambda: ui.presenter.state is not None and ui.presenter.state.running is False)
     wait_until(lambda: ui.presenter.state is not None and ui.presenter.state.moving is False)
     final = ui.presenter.state
@@ -254,6 +261,33 @@ def test_exec_moves_the_arm_and_the_pose_updates(ui: Ui, observer: ApiClient) ->
     wait_until(lambda: ui.window.pose_values[2].text() == f"{now.pose[2]:.2f}")
     observed = observer.state().pose
     assert observed is not None and abs(observed[2] - (z_before - 30)) < 0.5
+
+
+def test_servo_override_and_jog_controls(ui: Ui, observer: ApiClient) -> None:
+    ui.take_notices()
+    wait_until(lambda: observer.state().moving is False and observer.state().running is False)
+    ui.window.servo_off_button.click()
+    ui.idle()
+    wait_until(lambda: observer.state().servo is False)
+    ui.window.override_spin.setValue(25)
+    ui.window.override_button.click()
+    ui.idle()
+    wait_until(lambda: observer.state().override == 25)
+    before = observer.state().pose
+    assert before is not None
+    assert ui.window.jog_buttons[(0, 1)].text() == "X+"
+    ui.window.jog_buttons[(0, 1)].click()  # asking to move: the servo comes on, audited
+    ui.idle()
+    assert ui.take_notices() == []
+    wait_until(lambda: observer.state().servo is True)
+
+    def moved() -> bool:
+        pose = observer.state().pose
+        return pose is not None and pose[0] > before[0] + 0.5
+
+    wait_until(moved, timeout=30)
+    ui.window.jog_frame.setCurrentIndex(2)
+    assert ui.window.jog_buttons[(2, -1)].text() == "J3−"
 
 
 def test_a_refused_instruction_says_why(ui: Ui) -> None:
@@ -318,7 +352,7 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
     assert ui.take_notices() == []
     ui.window.exec_edit.clear()
     ui.window.tabs.setCurrentIndex(0)  # the program as loaded
-    ui.window.resize(1120, 760)
+    ui.window.resize(1366, 700)  # a lab laptop's screen: everything readable
     wait_until(lambda: ui.window.pose_values[0].text() != "—")
     for _ in range(5):
         QApplication.processEvents()

@@ -17,7 +17,7 @@ import urllib.error
 import urllib.parse
 import urllib.request
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from http.cookies import SimpleCookie
 from typing import Any
 
@@ -111,6 +111,8 @@ class UploadReport:
     requests: int
     bytes_sent: int
     seconds: float
+    step_lines: dict[int, int] = field(default_factory=dict)
+    """Step number the controller reports -> line of the program file (the server's map)."""
 
 
 class ApiError(Exception):
@@ -345,6 +347,7 @@ class ApiClient:
             requests=int(reply.get("requests") or 0),
             bytes_sent=int(reply.get("bytes_sent") or 0),
             seconds=float(reply.get("seconds") or 0.0),
+            step_lines={int(k): int(v) for k, v in (reply.get("step_lines") or {}).items()},
         )
 
     def run(self) -> None:
@@ -358,6 +361,21 @@ class ApiClient:
     def reset_alarm(self) -> None:
         """`POST /api/robot/reset-alarm` (RSTALRM): clear the controller's error."""
         self._call("POST", "/api/robot/reset-alarm", {})
+
+    def servo(self, on: bool) -> None:
+        """`POST /api/robot/servo`."""
+        self._call("POST", "/api/robot/servo", {"on": on})
+
+    def override(self, percent: int) -> int:
+        """`POST /api/robot/override` (1–100 %); returns the value the controller took."""
+        reply = self._call("POST", "/api/robot/override", {"percent": percent})
+        return int(reply["percent"]) if isinstance(reply, Mapping) else percent
+
+    def jog_step(self, frame: str, axis: int, direction: int) -> None:
+        """`POST /api/robot/jog-step`: one increment. Pressing a jog button is asking to
+        move, so a servo that is off is switched on first (audited by the server)."""
+        body = {"frame": frame, "axis": axis, "direction": direction, "servo_on": True}
+        self._call("POST", "/api/robot/jog-step", body, timeout=LONG_TIMEOUT_S)
 
     def exec_statement(self, statement: str) -> None:
         """`POST /api/robot/exec`: one MELFA BASIC statement."""

@@ -239,7 +239,9 @@ class Presenter:
             self._log(f"Live feed open as {message.user} ({message.role}); robot {message.robot}")
         elif isinstance(message, CommandFinished):
             if message.ok:
-                self._log(f"{message.command} done (by {message.actor or 'the service'})")
+                # "run" answers when the program has started, not when it has finished.
+                what = "started" if message.command == "run" else "done"
+                self._log(f"{message.command} {what} (by {message.actor or 'the service'})")
             else:
                 number = f" [{message.error_number}]" if message.error_number else ""
                 self._log(f"{message.command} failed{number}: {message.error}")
@@ -395,6 +397,38 @@ class Presenter:
             self.client.reset_alarm,
             lambda _: self._status("Alarm reset."),
             "Reset refused",
+        )
+
+    def servo(self, on: bool) -> bool:
+        """Switch the servo on or off."""
+        self._log(f"Servo {'on' if on else 'off'}")
+        return self._submit(
+            "Switching the servo",
+            lambda: self.client.servo(on),
+            lambda _: self._status(f"Servo {'on' if on else 'off'}."),
+            "Servo refused",
+        )
+
+    def set_override(self, percent: int) -> bool:
+        """Set the speed override (1–100 %)."""
+        self._log(f"Override {percent} %")
+        return self._submit(
+            "Setting the override",
+            lambda: self.client.override(percent),
+            lambda value: self._status(f"Override {value} %."),
+            "Override refused",
+        )
+
+    def jog(self, frame: str, axis: int, direction: int) -> bool:
+        """One jog step (the button names the axis and the sign)."""
+        names = ("J1", "J2", "J3", "J4", "J5", "J6") if frame == "joint" else "XYZABC"
+        label = f"{names[axis]}{'+' if direction > 0 else '-'}"
+        self._log(f"Jog {frame} {label}")
+        return self._submit(
+            "Jogging",
+            lambda: self.client.jog_step(frame, axis, direction),
+            lambda _: self._status(f"Jogged {label} ({frame})."),
+            "Jog refused",
         )
 
     def exec_statement(self, text: str) -> bool:

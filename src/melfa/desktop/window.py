@@ -24,7 +24,9 @@ from PySide6.QtWidgets import (
     QMainWindow,
     QPlainTextEdit,
     QPushButton,
+    QScrollArea,
     QSizePolicy,
+    QSpinBox,
     QTabWidget,
     QTreeWidget,
     QTreeWidgetItem,
@@ -156,12 +158,21 @@ class MainWindow(QMainWindow):
         left = QVBoxLayout()
         left.addWidget(self._program_box(), 3)
         left.addWidget(self._exec_box())
-        right = QVBoxLayout()
+        # The right column scrolls when the screen is short (a 1366×700 laptop).
+        right_panel = QWidget()
+        right = QVBoxLayout(right_panel)
+        right.setContentsMargins(0, 0, 4, 0)
         right.addWidget(self._robot_box())
+        right.addWidget(self._control_box())
         right.addWidget(self._position_box())
         right.addStretch(1)
+        scroll = QScrollArea()
+        scroll.setWidget(right_panel)
+        scroll.setWidgetResizable(True)
+        scroll.setFrameShape(QFrame.Shape.NoFrame)
+        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
         body.addLayout(left, 11)
-        body.addLayout(right, 9)
+        body.addWidget(scroll, 9)
         root.addLayout(body, 1)
         root.addWidget(self._log_box())
         self.setCentralWidget(central)
@@ -341,6 +352,48 @@ class MainWindow(QMainWindow):
                 form.addRow(f"{caption}:", label)
         return box
 
+    def _control_box(self) -> QGroupBox:
+        """Servo, speed override and step jog: what the thesis's client lacked."""
+        box = QGroupBox("Servo, speed and jog")
+        grid = QGridLayout(box)
+        grid.setHorizontalSpacing(6)
+        self.servo_on_button = QPushButton("Servo on")
+        self.servo_off_button = QPushButton("Servo off")
+        grid.addWidget(QLabel("Servo:"), 0, 0)
+        grid.addWidget(self.servo_on_button, 0, 1)
+        grid.addWidget(self.servo_off_button, 0, 2)
+        self.override_spin = QSpinBox()
+        self.override_spin.setRange(1, 100)
+        self.override_spin.setValue(30)
+        self.override_spin.setSuffix(" %")
+        self.override_button = QPushButton("Apply")
+        grid.addWidget(QLabel("Override:"), 1, 0)
+        grid.addWidget(self.override_spin, 1, 1)
+        grid.addWidget(self.override_button, 1, 2)
+        self.jog_frame = QComboBox()
+        for text, value in (("Base XYZ", "xyz"), ("Tool", "tool"), ("Joints", "joint")):
+            self.jog_frame.addItem(text, value)
+        grid.addWidget(QLabel("Jog frame:"), 2, 0)
+        grid.addWidget(self.jog_frame, 2, 1, 1, 2)
+        self.jog_buttons: dict[tuple[int, int], QPushButton] = {}
+        row = QHBoxLayout()
+        for axis in range(3):
+            for direction in (-1, 1):
+                button = QPushButton()
+                button.setMinimumWidth(44)
+                self.jog_buttons[(axis, direction)] = button
+                row.addWidget(button)
+        grid.addLayout(row, 3, 0, 1, 3)
+        self._label_jog()
+        return box
+
+    def _label_jog(self) -> None:
+        joint = self.jog_frame.currentData() == "joint"
+        for (axis, direction), button in self.jog_buttons.items():
+            name = f"J{axis + 1}" if joint else "XYZ"[axis]
+            button.setText(f"{name}{'+' if direction > 0 else '−'}")
+            button.setToolTip(f"One step {name} {'+' if direction > 0 else '-'}")
+
     def _position_box(self) -> QGroupBox:
         box = QGroupBox("Current position")
         grid = QGridLayout(box)
@@ -387,7 +440,7 @@ class MainWindow(QMainWindow):
         self.log.setReadOnly(True)
         self.log.setMaximumBlockCount(LOG_LINES)
         self.log.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont))
-        self.log.setFixedHeight(110)
+        self.log.setFixedHeight(80)
         self.log.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         layout.addWidget(self.log)
         return box
@@ -405,6 +458,14 @@ class MainWindow(QMainWindow):
         self.reset_alarm_button.clicked.connect(p.reset_alarm)
         self.exec_button.clicked.connect(self._send_exec)
         self.exec_edit.returnPressed.connect(self._send_exec)
+        self.servo_on_button.clicked.connect(lambda: p.servo(True))
+        self.servo_off_button.clicked.connect(lambda: p.servo(False))
+        self.override_button.clicked.connect(lambda: p.set_override(self.override_spin.value()))
+        self.jog_frame.currentIndexChanged.connect(self._label_jog)
+        for (axis, direction), button in self.jog_buttons.items():
+            button.clicked.connect(
+                lambda _=False, a=axis, d=direction: p.jog(self.jog_frame.currentData(), a, d)
+            )
         p.attach(self)
 
     def choose(self, kind: FileKind) -> None:
@@ -449,6 +510,10 @@ class MainWindow(QMainWindow):
             self.run_button,
             self.exec_button,
             self.reset_alarm_button,
+            self.servo_on_button,
+            self.servo_off_button,
+            self.override_button,
+            *self.jog_buttons.values(),
         ):
             button.setEnabled(idle)
         self.check_button.setEnabled(idle and has_program)
@@ -516,10 +581,19 @@ class MainWindow(QMainWindow):
             v["state"].style().unpolish(v["state"])
             v["state"].style().polish(v["state"])
         v["program"].setText(state.program or "—")
-        v["line"].setText("—" if state.line is None else str(state.line))
+        # The line of the student's file (the server maps the controller's step numbers).
+        upload = self.presenter.last_upload
+        source = upload.step_lines.get(state.line) if upload and state.line else None
+        if state.line is None or not state.line:
+            v["line"].setText("—")
+        elif source is not None:
+            v["line"].setText(f"{source} (step {state.line})")
+        else:
+            v["line"].setText(f"step {state.line}")
         v["servo"].setText(_yes_no(state.servo))
         v["override"].setText("—" if state.override is None else f"{state.override} %")
         v["alarm"].setText(f"{state.alarm.number}: {state.alarm.text}" if state.alarm else "None")
+        v["alarm"].setToolTip(v["alarm"].text())  # never clipped: the whole text on hover
         v["lease"].setText(state.lease_holder or "Nobody")
 
     def append_log(self, line: str) -> None:
