@@ -246,3 +246,22 @@ def test_override_and_state_services(server: Server) -> None:
         assert call("reset", {}) == {"success": True, "message": "alarm reset"}
     finally:
         ros.close()
+
+
+def test_two_connections_of_one_user_share_the_lease(server: Server) -> None:
+    token = server.token("ivy")
+    first, second = (
+        ros_at(f"{server.ws_url}?token={token}"),
+        ros_at(f"{server.bridge_url}/?token={token}"),
+    )
+    try:
+        servo = roslibpy.Service(first, "/melfa/servo", "std_srvs/SetBool")
+        assert servo.call(roslibpy.ServiceRequest({"data": True}), timeout=30)["success"]
+        stop = roslibpy.Service(second, "/melfa/stop", "std_srvs/Trigger")
+        override = roslibpy.Service(second, "/melfa/override", "std_srvs/Trigger")
+        reply = override.call(roslibpy.ServiceRequest({"override": 30}), timeout=30)
+        assert reply["success"] is True, reply  # the same user's other connection may act
+        assert stop.call(roslibpy.ServiceRequest({}), timeout=30)["success"] is True
+    finally:
+        first.close()
+        second.close()
