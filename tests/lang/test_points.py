@@ -283,10 +283,10 @@ def test_upload_lines_read_back_as_the_same_points(points: list[PointDef]) -> No
 @given(st.text(max_size=200))
 def test_any_text_gives_points_and_diagnostics_never_an_exception(text: str) -> None:
     f = parse_points(text)
-    lines = text.split("\n")
+    lines = text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
     for d in f.diagnostics:
         assert 1 <= d.line <= len(lines)
-        assert d.end_column >= d.column
+        assert 1 <= d.column <= d.end_column <= len(lines[d.line - 1]) + 1
 
 
 def test_a_misnamed_point_gets_a_rename_it_can_use() -> None:

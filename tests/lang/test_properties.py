@@ -8,6 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from melfa.lang import check, parse, tokenize, untokenize
+from melfa.lang.project import check_project
 
 VALID = (Path(__file__).parent / "cases" / "catalogue_valid.mb4").read_text(encoding="utf-8")
 VALID_LINES = VALID.splitlines()
@@ -21,6 +22,9 @@ PIECES = st.sampled_from(
         "END", "DEF", "POS", "INTE", "GOTO", "*L", "P1", "M1", "(", ")", ",", "=", "+", "-",
         "*", "^", "<>", ".X", "1", "2.5", "&H1F", '"s"', "'c", "\n", "\r\n", "\r", " ", "\t",
         "PLT", "WTH", "TYPE", "TO", "IS", "NOT", "AND", "é", "\x00", "10 ",
+        # names the symbol tables look up (arrays, DEF FN, system variables, interrupts, V)
+        "DIM", "MA(", "FNX(", "DEF FNX(", "M_IN(", "M_INN", "P_CURR", "ACT", "DEF ACT 1,",
+        "GOSUB", "RETURN", "RETURN 1", "SIN(", "ATN2(", "C1$", "ElseIf", "Const", "Fsc",
     ]
 )  # fmt: skip
 TEXTS = st.one_of(
@@ -93,3 +97,15 @@ def test_mutated_programs(text: str) -> None:
 def test_valid_inputs_are_clean() -> None:
     assert check(VALID, ["P1", "P2", "P3", "P4", "P5", "J0"]) == []
     assert check(THESIS, ["PA", "PB"]) == []
+
+
+@given(TEXTS, TEXTS)
+def test_project_check_never_raises_and_points_inside(program: str, points: str) -> None:
+    """check_project (the CLI's and the web's) on any program and any points file."""
+    report = check_project([program], [points])
+    for text, found in ((program, report.programs[0]), (points, report.points[0])):
+        lines = lines_of(text)
+        for d in found:
+            assert d.rule != "internal-error", d.message
+            assert 1 <= d.line <= len(lines)
+            assert 1 <= d.column <= d.end_column <= len(lines[d.line - 1]) + 1

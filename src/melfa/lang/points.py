@@ -144,6 +144,7 @@ class PointsFile:
 
 _NAME = re.compile(r"[A-Za-z0-9_]+\Z")
 _DEF = re.compile(r"(\s*)DEF(\s+)(\S+)(\s+)", re.IGNORECASE)
+_LINE_BREAK = re.compile(r"\r\n|\r|\n")  # the line ends programs have too (CR alone: old Macs)
 _REM = re.compile(r"\s*REM(\s|\Z)", re.IGNORECASE)
 
 _SUGGEST_POS = "Write it as DEF POS Pname=(x,y,z,a,b,c)(7,0)."
@@ -558,8 +559,7 @@ def parse_points(text: str) -> PointsFile:
     names: list[str] = []
     diagnostics: list[Diagnostic] = []
     first_line: dict[str, int] = {}
-    for lineno, raw in enumerate(text.split("\n"), start=1):
-        raw = raw.removesuffix("\r")
+    for lineno, raw in enumerate(_LINE_BREAK.split(text), start=1):
         if not _strip_comment(raw).strip():
             continue
         line_diags: list[Diagnostic] = []
