@@ -99,8 +99,9 @@ def ros(
     ] = False,
 ) -> None:
     """Run the robot as a ROS 1 node: /execute_instruction in (the thesis's control
-    messages); /joint_states, /tool_pose_stamped, /tool_pose, /joint_state out; services
-    /NAME/load_program, load_points, load_project, run, stop, delete, servo."""
+    messages); /joint_states, /tool_pose_stamped, /tool_pose, /joint_state, /execute_error
+    out; services /NAME/load_program, load_points, load_project, run, stop, delete, servo,
+    reset, override, state; /robot_description set to the RV-6S URDF."""
     if print_urdf:
         from melfa.ros.urdf import rv6s_urdf
 
