@@ -84,7 +84,7 @@ def test_add_without_a_terminal_generates_and_prints_once(data: Path) -> None:
 
 
 def test_list_as_a_table_has_no_hashes(data: Path) -> None:
-    users(data, "add", "ada", "--group", "G1", "--password-stdin", input="password1\n")
+    users(data, "add", "ada", "--group", "G1", "--password-stdin", input="kettle-moon-1\n")
     code, out, err = users(data, "list")
     assert code == 0
     assert "ada" in out and "G1" in out and "student" in out and "never" in out
@@ -93,8 +93,8 @@ def test_list_as_a_table_has_no_hashes(data: Path) -> None:
 
 
 def test_add_mistakes_are_clear_and_not_tracebacks(data: Path) -> None:
-    users(data, "add", "ada", "--password-stdin", input="password1\n")
-    code, _, err = users(data, "add", "ada", "--password-stdin", input="password2\n")
+    users(data, "add", "ada", "--password-stdin", input="kettle-moon-1\n")
+    code, _, err = users(data, "add", "ada", "--password-stdin", input="kettle-moon-2\n")
     assert code == 1
     assert "already exists" in err
     code, _, err = users(data, "add", "bad name", "--generate")
@@ -111,11 +111,11 @@ def test_add_mistakes_are_clear_and_not_tracebacks(data: Path) -> None:
 
 
 def test_passwd(data: Path) -> None:
-    users(data, "add", "ada", "--password-stdin", input="password1\n")
-    code, _, err = users(data, "passwd", "ada", "--password-stdin", input="password2\n")
+    users(data, "add", "ada", "--password-stdin", input="kettle-moon-1\n")
+    code, _, err = users(data, "passwd", "ada", "--password-stdin", input="kettle-moon-2\n")
     assert code == 0, err
-    assert authenticate(data, "ada", "password2")
-    assert not authenticate(data, "ada", "password1")
+    assert authenticate(data, "ada", "kettle-moon-2")
+    assert not authenticate(data, "ada", "kettle-moon-1")
     code, out, _ = users(data, "passwd", "ada", "--generate")
     assert code == 0
     assert authenticate(data, "ada", out.strip())
@@ -162,8 +162,8 @@ def test_data_dir_from_environment(tmp_path: Path, monkeypatch: pytest.MonkeyPat
 
 def test_survives_a_server_restart(data: Path) -> None:
     """A server holding the file open sees the CLI's changes, and so does a fresh open."""
-    users(data, "add", "ada", "--password-stdin", input="password1\n")
+    users(data, "add", "ada", "--password-stdin", input="kettle-moon-1\n")
     with Store.open_dir(data) as server:
-        users(data, "passwd", "ada", "--password-stdin", input="password2\n")
-        assert server.accounts.authenticate("ada", "password2") is not None
-    assert authenticate(data, "ada", "password2")
+        users(data, "passwd", "ada", "--password-stdin", input="kettle-moon-2\n")
+        assert server.accounts.authenticate("ada", "kettle-moon-2") is not None
+    assert authenticate(data, "ada", "kettle-moon-2")

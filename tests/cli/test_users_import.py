@@ -124,10 +124,10 @@ def test_existing_out_file_is_never_overwritten(tmp_path: Path, data: Path) -> N
 
 def test_existing_users_are_skipped_or_updated(tmp_path: Path, data: Path) -> None:
     first = tmp_path / "first.csv"
-    first.write_text("username,name,group,password\nana,Ana,G1,password-1\n")
+    first.write_text("username,name,group,password\nana,Ana,G1,lantern-oak-1\n")
     assert run(data, str(first))[0] == 0
     second = tmp_path / "second.csv"
-    second.write_text("username,name,group,password\nana,Ana María,G2,\nbea,Bea,G2,password-2\n")
+    second.write_text("username,name,group,password\nana,Ana María,G2,\nbea,Bea,G2,lantern-oak-2\n")
     code, _, err = run(data, str(second))
     assert code == 0, err
     assert "created 1, updated 0, skipped 1 (already exist: ana)" in err
@@ -140,7 +140,7 @@ def test_existing_users_are_skipped_or_updated(tmp_path: Path, data: Path) -> No
         ana = store.accounts.get_user("ana")
         assert (ana.display_name, ana.group) == ("Ana María", "G2")
         # No password in the file: the old one still works.
-        assert store.accounts.authenticate("ana", "password-1") is not None
+        assert store.accounts.authenticate("ana", "lantern-oak-1") is not None
 
 
 def test_missing_file_is_a_usage_error(tmp_path: Path, data: Path) -> None:
@@ -151,7 +151,7 @@ def test_missing_file_is_a_usage_error(tmp_path: Path, data: Path) -> None:
 
 def test_a_refusal_halfway_rolls_back_every_row(tmp_path: Path, data: Path) -> None:
     with Store.open_dir(data) as store:
-        store.accounts.create_user("root", "password1", role=Role.ADMIN)
+        store.accounts.create_user("root", "kettle-moon-1", role=Role.ADMIN)
     students = tmp_path / "s.csv"
     students.write_text("username,name,group,role\nana,Ana,G1,\nroot,Root,,student\n")
     out = tmp_path / "passwords.csv"

@@ -111,12 +111,12 @@ def test_set_password_changes_it(store: Store) -> None:
 @pytest.mark.parametrize(
     ("username", "password", "role", "field"),
     [
-        ("a", "password1", "student", "username"),
-        ("has space", "password1", "student", "username"),
-        ("-dash", "password1", "student", "username"),
-        ("x" * 33, "password1", "student", "username"),
+        ("a", "kettle-moon-1", "student", "username"),
+        ("has space", "kettle-moon-1", "student", "username"),
+        ("-dash", "kettle-moon-1", "student", "username"),
+        ("x" * 33, "kettle-moon-1", "student", "username"),
         ("ada", "short", "student", "password"),
-        ("ada", "password1", "wizard", "role"),
+        ("ada", "kettle-moon-1", "wizard", "role"),
     ],
 )
 def test_rules_refuse_bad_fields(
@@ -129,9 +129,9 @@ def test_rules_refuse_bad_fields(
 
 
 def test_usernames_are_case_insensitive_and_unique(store: Store) -> None:
-    store.accounts.create_user("Ada", "password1")
+    store.accounts.create_user("Ada", "kettle-moon-1")
     with pytest.raises(AlreadyExists):
-        store.accounts.create_user("ADA", "password2")
+        store.accounts.create_user("ADA", "kettle-moon-2")
     assert [u.username for u in store.accounts.list_users()] == ["ada"]
 
 
@@ -142,31 +142,31 @@ def test_sql_injection_in_username_is_just_a_bad_name(store: Store) -> None:
     assert store.accounts.authenticate("x' UNION SELECT 1,2,3,4,5,6,7,8,9 --", "a") is None
     assert store.accounts.find_user(attack) is None
     with pytest.raises(InvalidValue):
-        store.accounts.create_user("ada'; DROP TABLE users; --", "password1")
+        store.accounts.create_user("ada'; DROP TABLE users; --", "kettle-moon-1")
     with pytest.raises(NotFound):
         store.accounts.remove_user("' OR 1=1 --")
     assert [u.username for u in store.accounts.list_users()] == ["ada"]
     # A group name is stored verbatim, not executed.
     with pytest.raises(InvalidValue):
-        store.accounts.create_user("bob", "password1", group="G1'); DROP TABLE groups; --")
+        store.accounts.create_user("bob", "kettle-moon-1", group="G1'); DROP TABLE groups; --")
 
 
 def test_groups_are_created_on_demand_and_listed(store: Store) -> None:
-    store.accounts.create_user("ada", "password1", group="G1")
-    store.accounts.create_user("bob", "password1", group="g1")  # same group, any case
-    store.accounts.create_user("cy", "password1", group="G2")
+    store.accounts.create_user("ada", "kettle-moon-1", group="G1")
+    store.accounts.create_user("bob", "kettle-moon-1", group="g1")  # same group, any case
+    store.accounts.create_user("cy", "kettle-moon-1", group="G2")
     assert [g.name for g in store.accounts.list_groups()] == ["G1", "G2"]
     assert [u.username for u in store.accounts.list_users(group="G1")] == ["ada", "bob"]
 
 
 def test_list_users_by_role(store: Store) -> None:
-    store.accounts.create_user("ada", "password1", role=Role.INSTRUCTOR)
-    store.accounts.create_user("bob", "password1")
+    store.accounts.create_user("ada", "kettle-moon-1", role=Role.INSTRUCTOR)
+    store.accounts.create_user("bob", "kettle-moon-1")
     assert [u.username for u in store.accounts.list_users(role=Role.STUDENT)] == ["bob"]
 
 
 def test_remove_user(store: Store) -> None:
-    store.accounts.create_user("ada", "password1")
+    store.accounts.create_user("ada", "kettle-moon-1")
     store.accounts.remove_user("ada")
     assert store.accounts.find_user("ada") is None
     with pytest.raises(NotFound):
@@ -174,20 +174,20 @@ def test_remove_user(store: Store) -> None:
 
 
 def test_last_admin_cannot_be_removed_demoted_or_disabled(store: Store) -> None:
-    store.accounts.create_user("root", "password1", role=Role.ADMIN)
+    store.accounts.create_user("root", "kettle-moon-1", role=Role.ADMIN)
     with pytest.raises(UserInputError, match="last enabled admin"):
         store.accounts.remove_user("root")
     with pytest.raises(UserInputError, match="last enabled admin"):
         store.accounts.update_user("root", role=Role.STUDENT)
     with pytest.raises(UserInputError, match="last enabled admin"):
         store.accounts.set_disabled("root", True)
-    store.accounts.create_user("root2", "password1", role=Role.ADMIN)
+    store.accounts.create_user("root2", "kettle-moon-1", role=Role.ADMIN)
     store.accounts.remove_user("root")
     assert store.accounts.get_user("root2").role is Role.ADMIN
 
 
 def test_update_user_fields(store: Store) -> None:
-    store.accounts.create_user("ada", "password1", group="G1")
+    store.accounts.create_user("ada", "kettle-moon-1", group="G1")
     user = store.accounts.update_user("ada", display_name="Ada  Lovelace", group="G2")
     assert (user.display_name, user.group) == ("Ada Lovelace", "G2")
     assert store.accounts.update_user("ada", clear_group=True).group is None
@@ -219,8 +219,8 @@ def test_ensure_admin_refuses_a_weak_environment_password(
 
 def test_accounts_survive_reopening(db_path: Path, clock: FakeClock) -> None:
     with Store(db_path, clock=clock, hasher=CHEAP) as store:
-        store.accounts.create_user("ada", "password1", group="G1")
+        store.accounts.create_user("ada", "kettle-moon-1", group="G1")
     with Store(db_path, clock=clock, hasher=CHEAP) as store:
-        user = store.accounts.authenticate("ada", "password1")
+        user = store.accounts.authenticate("ada", "kettle-moon-1")
         assert user is not None
         assert user.group == "G1"

@@ -11,7 +11,7 @@ from tests.store.conftest import CHEAP, FakeClock
 
 
 def test_threads_saving_to_one_workspace_never_lose_a_save(store: Store) -> None:
-    ada = store.accounts.create_user("ada", "password1")
+    ada = store.accounts.create_user("ada", "kettle-moon-1")
     ws = store.workspaces.personal(ada)
     outcomes: list[str] = []
     lock = threading.Lock()
@@ -48,11 +48,11 @@ def test_async_store_from_an_event_loop(db_path: Path, clock: FakeClock) -> None
             astore = AsyncStore(store)
             await asyncio.gather(
                 *(
-                    astore.call(store.accounts.create_user, f"user{i}", "password1")
+                    astore.call(store.accounts.create_user, f"user{i}", "kettle-moon-1")
                     for i in range(8)
                 )
             )
-            user = await astore.call(store.accounts.authenticate, "user3", "password1")
+            user = await astore.call(store.accounts.authenticate, "user3", "kettle-moon-1")
             assert user is not None
             users = await astore.call(store.accounts.list_users)
             return [u.username for u in users]
@@ -82,7 +82,7 @@ def test_a_second_process_style_handle_sees_committed_writes(
         Store(db_path, clock=clock, hasher=CHEAP) as server,
         Store(db_path, clock=clock, hasher=CHEAP) as cli,
     ):
-        cli.accounts.create_user("ada", "password1")
-        assert server.accounts.authenticate("ada", "password1") is not None
-        server.accounts.set_password("ada", "password2")
-        assert cli.accounts.authenticate("ada", "password2") is not None
+        cli.accounts.create_user("ada", "kettle-moon-1")
+        assert server.accounts.authenticate("ada", "kettle-moon-1") is not None
+        server.accounts.set_password("ada", "kettle-moon-2")
+        assert cli.accounts.authenticate("ada", "kettle-moon-2") is not None

@@ -21,7 +21,7 @@ def test_fresh_database_gets_every_migration_in_order(db_path: Path) -> None:
 
 def test_reopening_applies_nothing_twice_and_keeps_data(db_path: Path, clock: FakeClock) -> None:
     with Store(db_path, clock=clock, hasher=CHEAP) as store:
-        store.accounts.create_user("ada", "password1")
+        store.accounts.create_user("ada", "kettle-moon-1")
     with Store(db_path, clock=clock, hasher=CHEAP) as store:
         assert store.accounts.get_user("ada").username == "ada"
     conn = sqlite3.connect(db_path)

@@ -88,7 +88,7 @@ def test_windows_1252_file_is_read() -> None:
 
 
 def test_workspace_import_replaces_one_half(store: Store) -> None:
-    ada = store.accounts.create_user("ada", "password1")
+    ada = store.accounts.create_user("ada", "kettle-moon-1")
     ws = store.workspaces.personal(ada)
     first = store.workspaces.import_file(ws.id, "pick.MB4", NUMBERED.encode(), base=0, author=ada)
     assert first.revision.reason is SaveReason.IMPORT

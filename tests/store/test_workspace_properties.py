@@ -32,7 +32,7 @@ def test_saves_and_restores_never_lose_or_rewrite(steps: list[tuple[str, object,
             Path(tmp) / "m.sqlite3", clock=clock, hasher=CHEAP, retention=RetentionPolicy(100)
         ) as store,
     ):
-        ada = store.accounts.create_user("ada", "password1")
+        ada = store.accounts.create_user("ada", "kettle-moon-1")
         ws = store.workspaces.personal(ada)
         expected = ("", "")
         history: dict[int, tuple[str, str]] = {}

@@ -26,7 +26,7 @@ POINTS = "DEF POS P1=(400.00,0.00,300.00,180.00,0.00,180.00)(7,0)\n"
 
 @pytest.fixture
 def ada(store: Store) -> User:
-    return store.accounts.create_user("ada", "password1", group="G1")
+    return store.accounts.create_user("ada", "kettle-moon-1", group="G1")
 
 
 def test_new_workspace_is_empty_at_revision_zero(store: Store, ada: User) -> None:
@@ -60,7 +60,7 @@ def test_identical_content_adds_no_revision(store: Store, ada: User) -> None:
     again = store.workspaces.save(ws.id, PROGRAM, POINTS, base=1, author=ada)
     assert not again.created
     assert again.revision.number == 1
-    empty = store.workspaces.personal(store.accounts.create_user("bob", "password1"))
+    empty = store.workspaces.personal(store.accounts.create_user("bob", "kettle-moon-1"))
     assert not store.workspaces.save(empty.id, "", "", base=0, author=None).created
     assert len(store.workspaces.revisions(ws.id)) == 1
 
@@ -101,9 +101,9 @@ def test_restore_creates_a_new_revision(store: Store, ada: User) -> None:
 
 
 def test_group_workspace_is_shared_by_members(store: Store, ada: User) -> None:
-    bob = store.accounts.create_user("bob", "password1", group="G1")
-    eve = store.accounts.create_user("eve", "password1", group="G2")
-    teacher = store.accounts.create_user("tom", "password1", role=Role.INSTRUCTOR)
+    bob = store.accounts.create_user("bob", "kettle-moon-1", group="G1")
+    eve = store.accounts.create_user("eve", "kettle-moon-1", group="G2")
+    teacher = store.accounts.create_user("tom", "kettle-moon-1", role=Role.INSTRUCTOR)
     shared = store.workspaces.group("G1")
     assert store.workspaces.group("g1") == shared
     store.workspaces.save(shared.id, "by ada\n", "", base=0, author=ada)
@@ -150,7 +150,7 @@ def test_autosaves_are_thinned_explicit_saves_kept(
 ) -> None:
     retention = RetentionPolicy(keep_recent=5)
     with Store(db_path, clock=clock, hasher=CHEAP, retention=retention) as store:
-        ada = store.accounts.create_user("ada", "password1")
+        ada = store.accounts.create_user("ada", "kettle-moon-1")
         ws = store.workspaces.personal(ada)
         base = 0
         # Two hours of typing, an autosave every 10 minutes, an explicit save at the start.
@@ -183,7 +183,7 @@ def test_autosaves_are_thinned_explicit_saves_kept(
 
 def test_work_survives_a_restart(db_path: Path, clock: FakeClock) -> None:
     with Store(db_path, clock=clock, hasher=CHEAP) as store:
-        ada = store.accounts.create_user("ada", "password1")
+        ada = store.accounts.create_user("ada", "kettle-moon-1")
         ws = store.workspaces.personal(ada)
         store.workspaces.save(ws.id, PROGRAM, POINTS, base=0, author=ada)
     with Store(db_path, clock=clock, hasher=CHEAP) as store:

@@ -67,7 +67,7 @@ def test_login_rate_limited(web: Web) -> None:
         "/api/session", json={"username": "bob", "password": PASSWORDS["bob"]}
     )
     error = assert_error(limited, 429, "too-many-logins")
-    assert "too many failed logins" in error["message"]
+    assert "too many failed sign-ins" in error["message"] and "wait" in error["message"]
     assert int(limited.headers["retry-after"]) > 0
     # other users are not locked out
     assert (

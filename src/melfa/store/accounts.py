@@ -110,7 +110,7 @@ class NewUser:
         display_name: str = "",
     ) -> NewUser:
         """Check every field; raise `InvalidValue` naming the first bad one."""
-        check_password_rules(password)
+        check_password_rules(password, username)
         return cls(
             normalize_username(username),
             password,
@@ -268,7 +268,7 @@ class Accounts:
 
     def set_password(self, username: str, password: str, *, revoke_sessions: bool = True) -> None:
         """Replace the password; by default also sign the user out everywhere."""
-        check_password_rules(password)
+        check_password_rules(password, username)
         key = username.strip().lower()
         password_hash = self.passwords.hash(password)
 
@@ -296,7 +296,8 @@ class Accounts:
         group: str | None = None,
         clear_group: bool = False,
     ) -> User:
-        """Change the given fields; the last enabled admin cannot stop being one."""
+        """Change the given fields; the last enabled admin cannot stop being one. A new
+        role signs the user out everywhere."""
         key = username.strip().lower()
         name = None if display_name is None else _normalize_display_name(display_name)
         new_role = None if role is None else _role(role)
@@ -310,6 +311,9 @@ class Accounts:
             if new_role is not None and new_role is not Role.ADMIN:
                 _keep_an_admin(conn, row, f"cannot make {key!r} a {new_role.value}")
             update_fields(conn, row["id"], name, new_role, new_group, clear_group, now)
+            if new_role is not None and new_role.value != row["role"]:
+                # New powers (or fewer) start with a new sign-in: end every session.
+                conn.execute("DELETE FROM sessions WHERE user_id = ?", (row["id"],))
             changed = _fetch(conn, key)
             assert changed is not None
             return _user(changed)

@@ -34,7 +34,7 @@ __all__ = [
 
 REQUIRED_COLUMNS = ("username", "name", "group")
 OPTIONAL_COLUMNS = ("role", "password")
-_PLACEHOLDER = "x" * 16  # stands in for a password still to be generated while validating
+_PLACEHOLDER = generate_password()  # stands in for one still to be generated, while checking
 
 
 @dataclass(frozen=True, slots=True)

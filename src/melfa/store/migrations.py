@@ -164,5 +164,26 @@ _ACCESS_TOKENS = Migration(
     ),
 )
 
-MIGRATIONS: tuple[Migration, ...] = (_ACCOUNTS, _WORKSPACES, _AUDIT, _SESSIONS, _ACCESS_TOKENS)
+_LOGIN_ADDRESSES = Migration(
+    "0006_login_addresses",
+    (
+        """
+        CREATE TABLE login_addresses (
+            username TEXT NOT NULL COLLATE NOCASE,
+            client_addr TEXT NOT NULL,
+            last_success TEXT NOT NULL,
+            PRIMARY KEY (username, client_addr)
+        )
+        """,
+    ),
+)
+
+MIGRATIONS: tuple[Migration, ...] = (
+    _ACCOUNTS,
+    _WORKSPACES,
+    _AUDIT,
+    _SESSIONS,
+    _ACCESS_TOKENS,
+    _LOGIN_ADDRESSES,
+)
 """Every migration, in the order they apply. Append only."""

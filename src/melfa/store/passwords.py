@@ -6,7 +6,10 @@ does not hold up other writes.
 
 from __future__ import annotations
 
+import functools
+import re
 import secrets
+from pathlib import Path
 
 from argon2 import PasswordHasher
 from argon2.exceptions import InvalidHashError, VerificationError, VerifyMismatchError
@@ -20,6 +23,7 @@ __all__ = [
     "Passwords",
     "check_password_rules",
     "generate_password",
+    "weakness",
 ]
 
 MIN_PASSWORD_LENGTH = 8
@@ -30,14 +34,54 @@ GENERATED_ALPHABET = "abcdefghjkmnpqrstuvwxyzACDEFGHJKLMNPQRTUVWXY34679"
 """No look-alikes (0/O, 1/l/I, 5/S, 2/Z, 8/B): generated passwords are handed out on paper."""
 
 
-def check_password_rules(password: str) -> None:
-    """Raise `InvalidValue` unless `password` is acceptable."""
+COMMON_PASSWORDS = Path(__file__).with_name("common-passwords.txt")
+"""The bundled list of common passwords (a small sample of public top lists)."""
+_TAIL = re.compile(r"[\d\W_]+\Z")
+
+
+@functools.cache
+def _common() -> frozenset[str]:
+    lines = COMMON_PASSWORDS.read_text(encoding="utf-8").splitlines()
+    return frozenset(w.strip().lower() for w in lines if w.strip() and not w.startswith("#"))
+
+
+def weakness(password: str, username: str = "") -> str | None:
+    """Why ``password`` is too easy to guess, or None.
+
+    >>> weakness("password"), weakness("Password2026!")
+    ('is one of the most common passwords', 'is one of the most common passwords')
+    >>> weakness("aaaaaaaa")
+    'repeats one character'
+    >>> weakness("ada12345", "ada"), weakness("mK4x-ha9T-wqcE")
+    ('is your username with a few characters added', None)
+    """
+    lowered = password.lower()
+    stem = _TAIL.sub("", lowered)
+    common = _common()
+    if lowered in common or (len(stem) >= 4 and (stem in common or stem + "1" in common)):
+        return "is one of the most common passwords"
+    if len(set(lowered)) <= 2:
+        return "repeats one character"
+    name = username.strip().lower()
+    if name and (lowered == name or stem == name or stem == name[::-1]):
+        return "is your username with a few characters added"
+    return None
+
+
+def check_password_rules(password: str, username: str = "") -> None:
+    """Raise `InvalidValue` unless `password` is acceptable (long enough, not common, not
+    the username)."""
     if len(password) < MIN_PASSWORD_LENGTH:
         raise InvalidValue("password", f"must be at least {MIN_PASSWORD_LENGTH} characters")
     if len(password) > MAX_PASSWORD_LENGTH:
         raise InvalidValue("password", f"must be at most {MAX_PASSWORD_LENGTH} characters")
     if any(ord(ch) < 32 or ord(ch) == 127 for ch in password):
         raise InvalidValue("password", "must not contain control characters")
+    why = weakness(password, username)
+    if why is not None:
+        raise InvalidValue(
+            "password", f"{why}: choose a longer phrase of unrelated words (or generate one)"
+        )
 
 
 def generate_password(groups: int = 3, size: int = 4) -> str:

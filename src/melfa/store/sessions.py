@@ -1,4 +1,4 @@
-"""Server-side login sessions, CSRF tokens, and login rate limiting.
+"""Server-side login sessions and CSRF tokens (login throttling: `melfa.store.logins`).
 
 The cookie carries a random token; the database keeps only its SHA-256, so a copy of the
 database (a backup, a stolen laptop) holds no usable session. Each session has its own
@@ -13,14 +13,13 @@ from __future__ import annotations
 import hashlib
 import hmac
 import secrets
-import sqlite3
-from collections.abc import Callable
 from dataclasses import dataclass
-from datetime import datetime, timedelta
+from datetime import timedelta
 
 from melfa.store.accounts import Accounts
 from melfa.store.db import Database
-from melfa.store.models import NewSession, RateLimit, Session, User
+from melfa.store.logins import LoginAttempts, LoginPolicy
+from melfa.store.models import NewSession, Session, User
 from melfa.store.timeutil import from_text, to_text
 
 __all__ = [
@@ -42,15 +41,6 @@ class SessionPolicy:
     idle_timeout: timedelta = timedelta(hours=2)
     touch_interval: timedelta = timedelta(minutes=1)
     """`last_seen` is written at most this often, so reads do not each cost a write."""
-
-
-@dataclass(frozen=True, slots=True)
-class LoginPolicy:
-    window: timedelta = timedelta(minutes=15)
-    """Failures older than this no longer count (a sliding window)."""
-    max_failures_per_user: int = 5
-    max_failures_per_addr: int = 30
-    """Higher than per user: a lab's computers may share one address behind NAT."""
 
 
 def hash_token(token: str) -> str:
@@ -98,8 +88,9 @@ class Sessions:
         session = Session(hash_token(token), user, csrf, now, expires, now, addr)
         return NewSession(token, session)
 
-    def lookup(self, token: str | None) -> Session | None:
-        """The live session for a cookie token, or None (unknown, expired, idle, disabled)."""
+    def lookup(self, token: str | None, *, touch: bool = True) -> Session | None:
+        """The live session for a cookie token, or None (unknown, expired, idle, disabled).
+        ``touch=False`` never writes (a STOP's lookup must not wait for the writer)."""
         if not token or len(token) > 256:
             return None
         key = hash_token(token)
@@ -117,7 +108,7 @@ class Sessions:
         user = self.accounts.get_user_by_id(row["user_id"])
         if user is None or user.disabled:
             return None
-        if now - last_seen >= self.policy.touch_interval:
+        if touch and now - last_seen >= self.policy.touch_interval:
             last_seen = now
             self.db.write(
                 lambda conn: conn.execute(
@@ -153,6 +144,15 @@ class Sessions:
         )
         return cur.rowcount
 
+    def revoke_others(self, user_id: int, keep_id: str) -> int:
+        """End every session of one user but ``keep_id`` (after changing one's password)."""
+        cur = self.db.write(
+            lambda conn: conn.execute(
+                "DELETE FROM sessions WHERE user_id = ? AND token_hash != ?", (user_id, keep_id)
+            )
+        )
+        return cur.rowcount
+
     def purge_expired(self) -> int:
         """Delete sessions past their lifetime or idle timeout; how many."""
         now = self.db.clock()
@@ -164,84 +164,3 @@ class Sessions:
             )
         )
         return cur.rowcount
-
-
-_FAILURES_BY_USER = (
-    "SELECT at FROM login_attempts WHERE username = ? AND success = 0"
-    " AND at > ? AND at <= ? ORDER BY at DESC LIMIT ?"
-)
-_FAILURES_BY_ADDR = (
-    "SELECT at FROM login_attempts WHERE client_addr = ? AND success = 0"
-    " AND at > ? AND at <= ? ORDER BY at DESC LIMIT ?"
-)
-
-
-def _fetch_all(
-    query: str, params: tuple[object, ...]
-) -> Callable[[sqlite3.Connection], list[sqlite3.Row]]:
-    def run(conn: sqlite3.Connection) -> list[sqlite3.Row]:
-        return conn.execute(query, params).fetchall()
-
-    return run
-
-
-class LoginAttempts:
-    """A sliding window of failed logins per username and per client address."""
-
-    def __init__(self, db: Database, policy: LoginPolicy | None = None) -> None:
-        self.db = db
-        self.policy = policy if policy is not None else LoginPolicy()
-
-    def record(
-        self, username: str, client_addr: str, success: bool, now: datetime | None = None
-    ) -> None:
-        """Note one attempt. A success forgives that username's earlier failures."""
-        moment = now if now is not None else self.db.clock()
-        user = username.strip().lower()[:_MAX_KEY]
-        addr = client_addr[:_MAX_KEY]
-        horizon = to_text(moment - self.policy.window)
-
-        def note(conn: sqlite3.Connection) -> None:
-            conn.execute("DELETE FROM login_attempts WHERE at < ?", (horizon,))
-            if success:
-                conn.execute(
-                    "DELETE FROM login_attempts WHERE username = ? AND success = 0", (user,)
-                )
-            conn.execute(
-                "INSERT INTO login_attempts (username, client_addr, at, success)"
-                " VALUES (?, ?, ?, ?)",
-                (user, addr, to_text(moment), int(success)),
-            )
-
-        self.db.write(note)
-
-    def login_allowed(
-        self, username: str, client_addr: str, now: datetime | None = None
-    ) -> RateLimit:
-        """Whether another attempt may be made now, and if not, when it may."""
-        moment = now if now is not None else self.db.clock()
-        since = to_text(moment - self.policy.window)
-        until = to_text(moment)
-        user = username.strip().lower()[:_MAX_KEY]
-        addr = client_addr[:_MAX_KEY]
-        checks = (
-            (
-                _FAILURES_BY_USER,
-                user,
-                self.policy.max_failures_per_user,
-                "too many failed logins for this username",
-            ),
-            (
-                _FAILURES_BY_ADDR,
-                addr,
-                self.policy.max_failures_per_addr,
-                "too many failed logins from this address",
-            ),
-        )
-        for query, value, limit, reason in checks:
-            params = (value, since, until, limit)
-            rows = self.db.read(_fetch_all(query, params))
-            if len(rows) >= limit:
-                oldest = from_text(rows[-1]["at"])
-                return RateLimit(False, oldest + self.policy.window - moment, reason)
-        return RateLimit(True)

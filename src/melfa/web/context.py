@@ -4,7 +4,6 @@ and private simulators), the settings and the registry of open WebSockets
 
 from __future__ import annotations
 
-import asyncio
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ParamSpec, TypeVar
@@ -12,6 +11,8 @@ from typing import ParamSpec, TypeVar
 from melfa.service import Actor, RobotService
 from melfa.store import Store
 from melfa.web.config import WebSettings
+from melfa.web.guard import SocketGuard
+from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight
 from melfa.web.targets import Targets
 
@@ -54,10 +55,21 @@ class WebContext:
     preflight: Preflight
     """The lab's cell model and the instructor's gate."""
     sockets: Sockets = field(default_factory=Sockets)
+    pools: Pools = field(default_factory=Pools)
+    guard: SocketGuard = field(default_factory=SocketGuard)
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
-        """Run a store call off the event loop (reads, Argon2 and queued writes)."""
-        return await asyncio.to_thread(fn, *args, **kwargs)
+        """Run a store call off the event loop, in the store's own pool (never behind a
+        password hash or a check)."""
+        return await self.pools.db.run(fn, *args, **kwargs)
+
+    async def hash(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        """Run something that hashes a password (Argon2) in the bounded hash pool."""
+        return await self.pools.hash.run(fn, *args, **kwargs)
+
+    async def cpu(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        """Run checking, numbering or stripping in the bounded CPU pool."""
+        return await self.pools.cpu.run(fn, *args, **kwargs)
 
 
 __all__ = ["Sockets", "WebContext"]

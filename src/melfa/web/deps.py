@@ -4,6 +4,7 @@ and role gates."""
 
 from __future__ import annotations
 
+from collections.abc import Awaitable, Callable
 from typing import Annotated
 
 from fastapi import Depends, Request, WebSocket
@@ -45,19 +46,22 @@ def bearer_token(request: Request) -> str | None:
     return value.strip() or None if kind.lower() == "bearer" else None
 
 
-async def get_session(request: Request, context: ContextDep) -> Session:
-    """The signed-in session; 401 without one, 403 when a state-changing request lacks the
-    session's CSRF token in `X-CSRF-Token` (double submit)."""
+async def _signed_in(
+    request: Request, context: WebContext, find: Callable[[str], Awaitable[Session | None]]
+) -> Session:
+    """The signed-in session found with ``find``; 401 without one, 403 when a
+    state-changing request lacks the session's CSRF token in `X-CSRF-Token`."""
     bearer = bearer_token(request)
     if bearer is not None:
         # A personal access token: sent by a program, never by a browser on its own, so
         # no CSRF token is needed (only tokens, not session cookies, are taken here).
-        session = await find_session(context, bearer) if is_access_token(bearer) else None
+        session = await find(bearer) if is_access_token(bearer) else None
         if session is None:
             raise ApiError(401, "bad-token", "the Bearer token is unknown or revoked")
         request.state.user = session.user.username
         return session
-    session = await find_session(context, request.cookies.get(SESSION_COOKIE))
+    token = request.cookies.get(SESSION_COOKIE)
+    session = await find(token) if token else None
     if session is None:
         raise ApiError(401, "not-signed-in", "sign in first (POST /api/session)")
     request.state.user = session.user.username
@@ -73,7 +77,25 @@ async def get_session(request: Request, context: ContextDep) -> Session:
     return session
 
 
+async def get_session(request: Request, context: ContextDep) -> Session:
+    """The signed-in session (see `_signed_in`), looked up in the store's pool."""
+    return await _signed_in(request, context, lambda token: find_session(context, token))
+
+
+async def get_stop_session(request: Request, context: ContextDep) -> Session:
+    """The session of a STOP: looked up read-only in a pool nothing else uses, so no login
+    flood, check or store write can delay it."""
+
+    async def find(token: str) -> Session | None:
+        if is_access_token(token):
+            return await context.pools.stop.run(context.store.tokens.lookup, token)
+        return await context.pools.stop.run(context.store.sessions.lookup, token, touch=False)
+
+    return await _signed_in(request, context, find)
+
+
 SessionDep = Annotated[Session, Depends(get_session)]
+StopSessionDep = Annotated[Session, Depends(get_stop_session)]
 
 
 def service_role(role: Role) -> ServiceRole:
@@ -114,6 +136,7 @@ __all__ = [
     "ContextDep",
     "SessionDep",
     "StaffDep",
+    "StopSessionDep",
     "actor_of",
     "bearer_token",
     "find_session",

@@ -49,6 +49,7 @@ from melfa.store import (
     UserInputError,
     WrongExtension,
 )
+from melfa.web.pools import Busy
 
 _log = logging.getLogger("melfa.web")
 
@@ -288,6 +289,10 @@ def install(app: FastAPI) -> None:
         assert mapped is not None
         return mapped.response()
 
+    async def busy(request: Request, exc: Exception) -> JSONResponse:
+        assert isinstance(exc, Busy)
+        return ApiError(503, "busy", str(exc), headers={"Retry-After": "1"}).response()
+
     async def unexpected(request: Request, exc: Exception) -> JSONResponse:
         _log.exception("unhandled error on %s %s", request.method, request.url.path)
         return ApiError(500, "internal-error", "the server failed; the error was logged").response()
@@ -296,6 +301,7 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(StarletteHTTPException, http_error)
     app.add_exception_handler(RequestValidationError, validation_error)
     app.add_exception_handler(StoreError, store_error)
+    app.add_exception_handler(Busy, busy)
     for kind in (ServiceError, RobotError, LinkError, ProtocolError):
         app.add_exception_handler(kind, robot_error)
     app.add_exception_handler(Exception, unexpected)

@@ -38,6 +38,11 @@ class LoginIn(Input):
     password: Annotated[str, Field(max_length=1024), AfterValidator(_encodable)]
 
 
+class OwnPasswordIn(Input):
+    current: Annotated[str, Field(max_length=1024), AfterValidator(_encodable)]
+    new: Annotated[str, Field(max_length=256), AfterValidator(_encodable)]
+
+
 class UserOut(BaseModel):
     username: str
     display_name: str

@@ -32,13 +32,13 @@ async def check_program(body: CheckIn, session: SessionDep, context: ContextDep)
     if points is None and body.workspace_id is not None:
         ws = await open_workspace(context, session.user, body.workspace_id)
         points = (await context.db(context.store.workspaces.state, ws.id)).points
-    program_diags, point_diags = await context.db(check_texts, body.program, points or "")
+    program_diags, point_diags = await context.cpu(check_texts, body.program, points or "")
     return CheckOut(program=diagnostics_out(program_diags), points=diagnostics_out(point_diags))
 
 
 @router.post("/number", response_model=NumberOut, summary="Number the steps (10, 20, …)")
 async def number(body: NumberIn, session: SessionDep, context: ContextDep) -> NumberOut:
-    result = await context.db(renumber, body.program, body.start, body.step)
+    result = await context.cpu(renumber, body.program, body.start, body.step)
     return NumberOut(
         ok=result.ok,
         text=result.text,
@@ -48,7 +48,7 @@ async def number(body: NumberIn, session: SessionDep, context: ContextDep) -> Nu
 
 @router.post("/strip", response_model=NumberOut, summary="Remove step numbers")
 async def strip_numbers(body: StripIn, session: SessionDep, context: ContextDep) -> NumberOut:
-    result = await context.db(strip, body.program)
+    result = await context.cpu(strip, body.program)
     return NumberOut(
         ok=result.ok,
         text=result.text,

@@ -8,9 +8,9 @@ from __future__ import annotations
 import contextlib
 import time
 from collections.abc import Awaitable, Callable
-from typing import TypeVar
+from typing import Annotated, TypeVar
 
-from fastapi import APIRouter
+from fastapi import APIRouter, Query
 
 from melfa.lang.numbering import NumberingError, step_lines
 from melfa.lang.points import PointKind, parse_points
@@ -20,7 +20,7 @@ from melfa.robot.upload import PreparedUpload, UploadPreparationError, prepare_u
 from melfa.service import Actor, ServoPolicy
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
-from melfa.web.deps import ContextDep, SessionDep
+from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of
 from melfa.web.errors import ERROR_RESPONSES, ApiError, from_robot
 from melfa.web.logs import robot_log
 from melfa.web.models import (
@@ -42,7 +42,12 @@ from melfa.web.models import (
 from melfa.web.preflight import fingerprint
 from melfa.web.routes.check import check_texts
 from melfa.web.routes.workspaces import default_workspace, open_workspace
+<<<<<<< HEAD
 from melfa.web.target_deps import Drive, DriveDep
+=======
+from melfa.web.target_deps import TARGET_HELP, DriveDep, find_target
+from melfa.web.targets import LAB
+>>>>>>> 6108652 (Hardening, part 1: login throttling counted before the password (per address, per account, per usual address; back-off, no lock-out); hashing, checks, store and STOP in pools of their own; own password change; weak and common passwords refused; role change ends sessions; socket guard)
 
 router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
 
@@ -115,7 +120,7 @@ def _prepared(program: str | None, points: str | None) -> PreparedUpload:
 async def checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
     if not check:
         return
-    program_diags, _ = await context.db(check_texts, program, points)
+    program_diags, _ = await context.cpu(check_texts, program, points)
     errors = [d for d in program_diags if d.is_error]
     if errors:
         first = errors[0]
@@ -241,10 +246,17 @@ async def run(drive: DriveDep, context: ContextDep, body: RunIn | None = None) -
 
 
 @router.post("/stop", response_model=Ok, summary="Stop everything (anyone)")
-async def stop(drive: DriveDep) -> Ok:
-    """Overtakes every queued command; allowed to every signed-in user."""
-    actor = drive.actor
-    await operate(actor, "stop", lambda: drive.service.stop(actor))
+async def stop(
+    session: StopSessionDep,
+    context: ContextDep,
+    target: Annotated[str, Query(description=TARGET_HELP)] = LAB,
+) -> Ok:
+    """Overtakes every queued command; allowed to every signed-in user. Its own path: the
+    session is read in a pool of its own and the STOP goes out from the service's stop
+    thread, so logins, checks and other requests never delay it."""
+    chosen = await find_target(context.targets, session.user.username, target)
+    actor = chosen.actor(actor_of(session))
+    await operate(actor, "stop", lambda: chosen.service.stop(actor))
     return Ok()
 
 

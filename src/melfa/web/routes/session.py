@@ -1,8 +1,10 @@
 """Sign in and out: `POST /api/session` (JSON) and the `/login` form share one path.
 
 Cookies: the session token is HttpOnly, SameSite=Strict, and Secure when the page came
-over https; the CSRF token is a readable cookie and is also in the reply body. Failed
-logins are rate limited per username and per address (the store's `login_allowed`).
+over https; the CSRF token is a readable cookie and is also in the reply body. Each attempt
+is admitted and counted before its password is checked (`melfa.store.logins`: per address,
+per account, per account from its usual address, with back-off); the hash runs in its own
+bounded pool. Signing out, or changing one's password, closes the sockets it ends.
 """
 
 from __future__ import annotations
@@ -15,12 +17,14 @@ from fastapi import APIRouter, Form, Request, Response
 from fastapi.responses import HTMLResponse, RedirectResponse
 
 from melfa.store import NewSession
+from melfa.store.logins import LoginTicket
 from melfa.web.config import CSRF_COOKIE, SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import user_out
 from melfa.web.deps import ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
-from melfa.web.models import LoginIn, Ok, SessionOut
+from melfa.web.models import LoginIn, Ok, OwnPasswordIn, SessionOut
+from melfa.web.pools import Busy
 
 router = APIRouter(prefix="/api/session", tags=["session"], responses=ERROR_RESPONSES)
 pages = APIRouter(include_in_schema=False)
@@ -35,18 +39,23 @@ def client_addr(request: Request) -> str:
 async def sign_in(context: WebContext, username: str, password: str, addr: str) -> NewSession:
     """A new session, or `ApiError` 429 (too many failures) / 401 (wrong name or password)."""
     store = context.store
-    limit = await context.db(store.login_allowed, username, addr)
-    if not limit:
-        seconds = limit.retry_after.total_seconds() if limit.retry_after else 60.0
+    ticket = await context.db(store.logins.begin, username, addr)
+    if not isinstance(ticket, LoginTicket):
+        seconds = ticket.retry_after.total_seconds() if ticket.retry_after else 60.0
         retry = max(1, math.ceil(seconds))
         raise ApiError(
             429,
             "too-many-logins",
-            f"{limit.reason}; try again in {retry} s",
+            f"{ticket.reason}; wait {retry} s and try again",
             headers={"Retry-After": str(retry)},
+            detail={"retry_after_s": retry},
         )
-    user = await context.db(store.accounts.authenticate, username, password)
-    await context.db(store.logins.record, username, addr, user is not None)
+    try:
+        user = await context.hash(store.accounts.authenticate, username, password)
+    except Busy:
+        await context.db(store.logins.cancel, ticket)  # never checked: not a failure
+        raise
+    await context.db(store.logins.finish, ticket, user is not None)
     if user is None:
         raise ApiError(401, "wrong-login", "wrong username or password")
     return await context.db(store.sessions.create, user, addr)
@@ -103,7 +112,25 @@ async def logout(
     request: Request, response: Response, session: SessionDep, context: ContextDep
 ) -> Ok:
     await context.db(context.store.sessions.revoke_id, session.id)
+    context.guard.revoke_session(session.id, "signed out")
     clear_cookies(response)
+    return Ok()
+
+
+@router.put("/password", response_model=Ok, summary="Change your own password")
+async def change_password(body: OwnPasswordIn, session: SessionDep, context: ContextDep) -> Ok:
+    """Needs the current password (a borrowed, unlocked laptop is not enough). Your other
+    sessions end and their sockets close; this one stays signed in. Weak and common
+    passwords are refused (422 with the reason)."""
+    store = context.store
+    user = await context.hash(store.accounts.authenticate, session.user.username, body.current)
+    if user is None:
+        raise ApiError(403, "wrong-password", "your current password is not right")
+    await context.hash(
+        store.accounts.set_password, user.username, body.new, revoke_sessions=False
+    )
+    await context.db(store.sessions.revoke_others, user.id, session.id)
+    context.guard.revoke_user(user.username, "the password was changed", keep_session=session.id)
     return Ok()
 
 

@@ -28,7 +28,7 @@ async def add_user(body: UserCreateIn, session: AdminDep, context: ContextDep) -
     generated = generate_password() if body.password is None else None
     password = body.password if body.password is not None else generated
     assert password is not None
-    user = await context.db(
+    user = await context.hash(
         context.store.accounts.create_user,
         body.username,
         password,
@@ -44,6 +44,7 @@ async def remove_user(username: Username, session: AdminDep, context: ContextDep
     if username.strip().lower() == session.user.username:
         raise ApiError(409, "refused", "you cannot remove your own account while signed in")
     await context.db(context.store.accounts.remove_user, username)
+    context.guard.revoke_user(username.strip().lower(), "the account was removed")
     return Ok()
 
 
@@ -55,7 +56,8 @@ async def set_password(
     generated = generate_password() if body.password is None else None
     password = body.password if body.password is not None else generated
     assert password is not None
-    await context.db(context.store.accounts.set_password, username, password)
+    await context.hash(context.store.accounts.set_password, username, password)
+    context.guard.revoke_user(username.strip().lower(), "the password was changed")
     return PasswordOut(password=generated)
 
 

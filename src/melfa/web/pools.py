@@ -1,0 +1,93 @@
+"""Thread pools with one job each, so nothing slow stands in front of something urgent.
+
+A login flood runs Argon2 in ``hash``; a student's big `/api/check` runs in ``cpu``; store
+reads and writes (session lookups) in ``db``; the session lookup of a STOP in ``stop``,
+which nothing else uses. Each pool admits at most ``workers + queue`` calls at a time and
+refuses the rest at once with `Busy` (503 and a Retry-After), so a flood never builds an
+unbounded queue or memory. Nothing here touches asyncio's default executor.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import functools
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import ParamSpec, TypeVar
+
+P = ParamSpec("P")
+T = TypeVar("T")
+
+
+class Busy(Exception):
+    """A pool is full: the caller should try again shortly."""
+
+    def __init__(self, pool: str) -> None:
+        super().__init__(f"the server is busy ({pool}); try again in a moment")
+        self.pool = pool
+
+
+class BoundedPool:
+    """A thread pool that admits a bounded number of calls (counted on the event loop)."""
+
+    def __init__(self, name: str, workers: int, queue: int) -> None:
+        if workers < 1 or queue < 0:
+            raise ValueError(f"pool {name}: workers ≥ 1 and queue ≥ 0")
+        self.name = name
+        self.limit = workers + queue
+        self.pending = 0
+        self.refused = 0
+        self.done = 0
+        self._executor = concurrent.futures.ThreadPoolExecutor(workers, f"melfa-{name}")
+
+    async def run(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        if self.pending >= self.limit:
+            self.refused += 1
+            raise Busy(self.name)
+        self.pending += 1
+        try:
+            loop = asyncio.get_running_loop()
+            return await loop.run_in_executor(
+                self._executor, functools.partial(fn, *args, **kwargs)
+            )
+        finally:
+            self.pending -= 1
+            self.done += 1
+
+    def shutdown(self) -> None:
+        self._executor.shutdown(wait=False, cancel_futures=True)
+
+
+@dataclass(frozen=True)
+class PoolSizes:
+    """Threads and waiting room of each pool (`WebSettings.pools`)."""
+
+    db_workers: int = 4
+    db_queue: int = 256
+    hash_workers: int = 2
+    """Argon2 in parallel (each uses 64 MiB and one core for ~50 ms)."""
+    hash_queue: int = 16
+    """Logins waiting for a hash beyond this are refused (503), not queued."""
+    cpu_workers: int = 2
+    cpu_queue: int = 8
+    """`/api/check`, numbering, stripping waiting beyond this are refused (503)."""
+
+
+class Pools:
+    """The web server's pools."""
+
+    def __init__(self, sizes: PoolSizes | None = None) -> None:
+        s = sizes or PoolSizes()
+        self.db = BoundedPool("db", s.db_workers, s.db_queue)
+        self.hash = BoundedPool("hash", s.hash_workers, s.hash_queue)
+        self.cpu = BoundedPool("cpu", s.cpu_workers, s.cpu_queue)
+        self.stop = BoundedPool("stop", 1, 64)
+        """Only the session lookup of a STOP."""
+
+    def shutdown(self) -> None:
+        for pool in (self.db, self.hash, self.cpu, self.stop):
+            pool.shutdown()
+
+
+__all__ = ["BoundedPool", "Busy", "PoolSizes", "Pools"]
