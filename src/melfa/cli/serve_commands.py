@@ -33,6 +33,9 @@ _out = Console(highlight=False, soft_wrap=True, emoji=False)
 _err = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
 
 
+LOOPBACK_NAMES = ("localhost", "127.0.0.1", "::1")
+
+
 def _is_loopback(host: str) -> bool:
     if host == "localhost":
         return True
@@ -107,12 +110,29 @@ def serve(
             min=1.0,
         ),
     ] = 1800.0,
+    allowed_hosts: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--allowed-host",
+            help="A host name the server answers to (lab.example); repeatable. Default: "
+            "localhost, 127.0.0.1 and ::1 on a loopback address, any otherwise.",
+        ),
+    ] = None,
+    trusted_proxies: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--trusted-proxy",
+            help="Address of a reverse proxy whose X-Forwarded-For/-Proto are believed "
+            "(none by default, not even localhost); repeatable. See docs/security.md.",
+        ),
+    ] = None,
 ) -> None:
     """Serve the web IDE and its API (docs at /docs)."""
     import uvicorn
 
     from melfa.web import WebSettings, create_app
     from melfa.web.logs import configure
+    from melfa.web.server import uvicorn_config
 
     try:
         parsed = parse_robot(robot)
@@ -149,18 +169,25 @@ def serve(
     robot_text = "virtual controller (in process)" if parsed.is_sim else spec
     shown = f"[{host}]" if ":" in host else host
     _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
+    hosts = tuple(allowed_hosts or ())
+    if not hosts and _is_loopback(host):
+        hosts = LOOPBACK_NAMES  # a page on another name (DNS rebinding) is refused
     settings = WebSettings(
         data_dir=data_dir,
         robot=spec,
         allowed_origins=tuple(allowed_origins or ()),
         require_simulation=require_simulation,
         private_idle_s=private_idle,
+        allowed_hosts=hosts,
+        trusted_proxies=tuple(trusted_proxies or ()),
     )
     web_app = create_app(settings, store=store)
-    config = uvicorn.Config(
+    config = uvicorn_config(
         web_app,
         host=host,
         port=port,
+        limits=settings.limits,
+        trusted_proxies=settings.trusted_proxies,
         log_level="warning",
         access_log=False,
         timeout_graceful_shutdown=3,
@@ -185,7 +212,14 @@ def serve(
             raise typer.Exit(EXIT_USAGE) from None
         servers.append(
             uvicorn.Server(
-                uvicorn.Config(bridge, host=host, port=rosbridge_port, log_level="warning")
+                uvicorn_config(
+                    bridge,
+                    host=host,
+                    port=rosbridge_port,
+                    limits=settings.limits,
+                    trusted_proxies=settings.trusted_proxies,
+                    log_level="warning",
+                )
             )
         )
         _out.print(f"rosbridge on ws://{shown}:{rosbridge_port}/  (mode {rosbridge_mode})")

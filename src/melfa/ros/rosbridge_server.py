@@ -33,7 +33,7 @@ import json
 import logging
 from collections import deque
 from collections.abc import Awaitable, Callable, Iterable
-from typing import Any, Generic, TypeVar
+from typing import Any, Generic, Protocol, TypeVar
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
@@ -88,14 +88,30 @@ def origin_allowed(websocket: WebSocket, allowed: Iterable[str]) -> bool:
     (not a browser), the server's own host, or one of ``allowed``. Same rule as the web
     app's sign-in check."""
     origin = websocket.headers.get("origin")
-    if origin is None or origin == "null":
+    if origin is None:
         return True
+    if origin == "null":
+        return False  # a sandboxed frame or a file: page may not ride on the cookie
     host = websocket.headers.get("host", "")
     return origin.split("://", 1)[-1] == host or origin in set(allowed)
 
 
 def _status(text: str) -> str:
     return json.dumps({"op": "status", "level": "error", "msg": text})
+
+
+class Gate(Protocol):
+    """Per-connection limits from the server: ``check(text)`` says why a message is refused
+    (None: fine); ``closing`` when the socket must go (rate far exceeded)."""
+
+    closing: bool
+
+    def check(self, text: str) -> str | None: ...
+
+    def close(self) -> None: ...
+
+
+Gatekeeper = Callable[[WebSocket, str, Callable[[str], Awaitable[None]]], Awaitable[Gate | None]]
 
 
 class _Endpoint(Generic[S]):
@@ -113,6 +129,7 @@ class _Endpoint(Generic[S]):
         mode: Dialect,
         auth_timeout_s: float,
         recheck_s: float,
+        gate: Gatekeeper | None = None,
     ) -> None:
         self.service = service
         self.find_session = find_session
@@ -123,6 +140,7 @@ class _Endpoint(Generic[S]):
         self.mode = mode
         self.auth_timeout_s = auth_timeout_s
         self.recheck_s = recheck_s
+        self.gate = gate
         self._numbers = itertools.count(1)
 
     def _service(self, websocket: WebSocket) -> RobotService:
@@ -207,6 +225,18 @@ class _Endpoint(Generic[S]):
                     await self._refuse(websocket, "the token was revoked or the session ended")
                     return
 
+        revoked = asyncio.Event()
+
+        async def end(reason: str) -> None:
+            revoked.set()
+            await self._refuse(websocket, reason)
+
+        gate = None
+        if self.gate is not None:
+            gate = await self.gate(websocket, token, end)
+            if gate is None:
+                await self._refuse(websocket, "too many connections")
+                return
         session = RosbridgeSession(service, actor, outbox.put, dialect=mode, **self.options)
         session.start()
         service.connect(actor)  # the user's connections share one lease
@@ -220,6 +250,15 @@ class _Endpoint(Generic[S]):
                 if frame.get("type") == "websocket.disconnect":
                     break
                 text = frame.get("text")
+                if revoked.is_set():
+                    break  # the session ended: nothing more is done for this socket
+                problem = gate.check(text) if gate is not None and text is not None else None
+                if problem is not None:
+                    session.status("error", problem)
+                    if gate is not None and gate.closing:
+                        await self._refuse(websocket, problem)
+                        break
+                    continue
                 if text is None:
                     session.status(
                         "error",
@@ -245,6 +284,8 @@ class _Endpoint(Generic[S]):
                 with contextlib.suppress(asyncio.CancelledError, Exception):
                     await task
             await session.close()
+            if gate is not None:
+                gate.close()
             with contextlib.suppress(Exception):
                 await service.disconnect(actor)
 
@@ -263,6 +304,7 @@ def rosbridge_router(
     mode: Dialect = MELFA,
     auth_timeout_s: float = 10.0,
     recheck_s: float = 2.0,
+    gate: Gatekeeper | None = None,
 ) -> APIRouter:
     """A router with the rosbridge WebSocket at each of ``paths``.
 
@@ -274,6 +316,9 @@ def rosbridge_router(
     - ``allowed_origins``: browser origins besides the server's own that may use the cookie.
     - ``max_rate_hz``: most state messages per second per client (None: every snapshot).
     - ``mode``: the connections' default dialect (``?mode=`` chooses per connection).
+    - ``gate(websocket, token, end)``: the web server's limits and revocation (a `Gate`,
+      or None to refuse: too many connections); it calls ``end(reason)`` to close the
+      socket at once when the session is revoked.
     """
     endpoint: _Endpoint[S] = _Endpoint(
         service,
@@ -285,6 +330,7 @@ def rosbridge_router(
         mode=mode,
         auth_timeout_s=auth_timeout_s,
         recheck_s=recheck_s,
+        gate=gate,
     )
     router = APIRouter()
 
@@ -297,4 +343,4 @@ def rosbridge_router(
     return router
 
 
-__all__ = ["OUTGOING_MAXLEN", "Outbox", "origin_allowed", "rosbridge_router"]
+__all__ = ["OUTGOING_MAXLEN", "Gate", "Gatekeeper", "Outbox", "origin_allowed", "rosbridge_router"]

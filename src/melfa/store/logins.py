@@ -165,12 +165,9 @@ class LoginAttempts:
         moment = now if now is not None else self.db.clock()
 
         def note(conn: sqlite3.Connection) -> None:
+            conn.execute("UPDATE login_attempts SET success = 1 WHERE id = ?", (ticket.attempt_id,))
             conn.execute(
-                "UPDATE login_attempts SET success = 1 WHERE id = ?", (ticket.attempt_id,)
-            )
-            conn.execute(
-                "DELETE FROM login_attempts WHERE username = ? AND client_addr = ?"
-                " AND success = 0",
+                "DELETE FROM login_attempts WHERE username = ? AND client_addr = ? AND success = 0",
                 (ticket.username, ticket.client_addr),
             )
             conn.execute(

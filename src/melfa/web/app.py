@@ -17,9 +17,13 @@ from melfa.service import RobotService
 from melfa.store import Store
 from melfa.web import errors
 from melfa.web.audit_sink import ServiceAuditSink
-from melfa.web.config import WebSettings
+from melfa.web.config import SESSION_COOKIE, WebSettings
 from melfa.web.context import WebContext
+from melfa.web.deps import find_session
+from melfa.web.guard import SocketGuard
+from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
+from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight as PreflightState
 from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
@@ -94,21 +98,28 @@ def create_app(
                 idle_s=config.private_idle_s,
                 audit=ServiceAuditSink(the_store.audit),
             )
-            app.state.web = WebContext(
+            limits = config.limits
+            context = WebContext(
                 config,
                 the_store,
                 the_service,
                 registry,
                 PreflightState(config.data_dir, require_simulation=config.require_simulation),
+                pools=Pools(config.pools),
+                guard=SocketGuard(limits.max_sockets_per_user, limits.max_sockets),
             )
+            app.state.web = context
             reaper = asyncio.create_task(_reap(registry), name="melfa-private-reaper")
+            sweeper = asyncio.create_task(_sweep(context), name="melfa-socket-sweeper")
             try:
                 yield
             finally:
-                reaper.cancel()
-                with contextlib.suppress(asyncio.CancelledError):
-                    await reaper
+                for task in (reaper, sweeper):
+                    task.cancel()
+                    with contextlib.suppress(asyncio.CancelledError):
+                        await task
                 await registry.close()
+                context.pools.shutdown()
         finally:
             if service is None and the_service is not None:
                 await the_service.close()
@@ -151,7 +162,24 @@ def create_app(
     app.include_router(ws_router)
     app.include_router(rosbridge_routes())
     app.mount("/static", CachedStaticFiles(directory=STATIC), name="static")
+    app.add_middleware(
+        Shield,
+        limits=config.limits,
+        allowed_hosts=config.allowed_hosts,
+        allowed_origins=config.allowed_origins,
+        csp=csp_for(STATIC / "index.html"),
+        session_cookie=SESSION_COOKIE,
+    )
     return app
+
+
+async def _sweep(context: WebContext) -> None:
+    """Re-read the session of every open socket now and then: revocations made by another
+    process (`melfa users`) and idle expiry close them too."""
+    while True:
+        await asyncio.sleep(context.settings.limits.socket_recheck_s)
+        with contextlib.suppress(Exception):
+            await context.guard.sweep(lambda token: find_session(context, token))
 
 
 __all__ = ["create_app", "operation_id"]

@@ -6,6 +6,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from melfa.service import ServiceConfig
+from melfa.web.limits import Limits
+from melfa.web.pools import PoolSizes
 
 SESSION_COOKIE = "melfa_session"
 """HttpOnly cookie holding the session token."""
@@ -25,7 +27,15 @@ class WebSettings:
     robot: str = "sim"
     """A ``--robot`` spec; ``sim`` is the in-process virtual controller (real time)."""
     allowed_origins: tuple[str, ...] = ()
-    """Extra browser origins allowed to open the WebSocket (the page's own always is)."""
+    """Extra browser origins allowed to open the WebSocket, sign in and send forms (the
+    page's own always is; ``null`` never)."""
+    allowed_hosts: tuple[str, ...] = ()
+    """Host names the server answers to (others: 421), against DNS rebinding; empty: any.
+    `melfa serve` on a loopback address allows only localhost, 127.0.0.1 and ::1."""
+    trusted_proxies: tuple[str, ...] = ()
+    """Addresses of reverse proxies whose X-Forwarded-For/-Proto are believed (none)."""
+    limits: Limits = field(default_factory=Limits)
+    pools: PoolSizes = field(default_factory=PoolSizes)
     snapshot_hz: float = 20.0
     """Most state snapshots per second sent to one WebSocket (newest wins)."""
     secure_cookies: bool | None = None

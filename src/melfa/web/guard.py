@@ -19,6 +19,7 @@ from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
 
 from melfa.store import Session
+from melfa.web.limits import Limits, RateMeter, json_too_deep
 
 _log = logging.getLogger("melfa.web.guard")
 
@@ -117,4 +118,34 @@ class SocketGuard:
         return len(handles)
 
 
-__all__ = ["SocketGuard", "SocketHandle", "TooManySockets"]
+class MessageGate:
+    """The checks every message of one socket passes before anything is done with it: its
+    session still lives, the rate is kept, the JSON is not too deep. (`melfa.ros`'s
+    rosbridge `Gate`; /api/ws uses it too.)"""
+
+    def __init__(self, guard: SocketGuard, handle: SocketHandle, limits: Limits) -> None:
+        self.guard = guard
+        self.handle = handle
+        self.limits = limits
+        self.meter = RateMeter(limits.ws_messages_per_s, limits.ws_burst)
+        self.closing = False
+
+    def check(self, text: str) -> str | None:
+        if not self.handle.alive(dt.datetime.now(dt.UTC)):
+            self.closing = True
+            return f"this connection's session has ended ({self.handle.revoked})"
+        if not self.meter.allow():
+            self.closing = True
+            return (
+                f"more than {self.limits.ws_messages_per_s:g} messages a second "
+                f"(burst {self.limits.ws_burst}): connection closed"
+            )
+        if json_too_deep(text, self.limits.json_depth):
+            return f"the message nests deeper than {self.limits.json_depth} levels"
+        return None
+
+    def close(self) -> None:
+        self.guard.close(self.handle)
+
+
+__all__ = ["MessageGate", "SocketGuard", "SocketHandle", "TooManySockets"]

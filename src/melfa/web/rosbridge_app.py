@@ -7,7 +7,7 @@ WebSocket (at ``/`` and ``/rosbridge``) and no cookies of its own to ride on."""
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Awaitable, Callable, Iterable
 
 from fastapi import APIRouter, FastAPI, WebSocket
 
@@ -16,6 +16,7 @@ from melfa.service.thesis import dialect_named
 from melfa.store import Session
 from melfa.web.context import WebContext
 from melfa.web.deps import actor_of, find_session
+from melfa.web.guard import MessageGate, TooManySockets
 
 
 def rosbridge_routes(
@@ -32,6 +33,19 @@ def rosbridge_routes(
     async def session_of(websocket: WebSocket, token: str) -> Session | None:
         return await find_session(context(websocket), token)
 
+    async def gate(
+        websocket: WebSocket, token: str, end: Callable[[str], Awaitable[None]]
+    ) -> MessageGate | None:
+        web = context(websocket)
+        session = await find_session(web, token)
+        if session is None:
+            return None
+        try:
+            handle = web.guard.open(session, token, end, kind="rosbridge")
+        except TooManySockets:
+            return None
+        return MessageGate(web.guard, handle, web.settings.limits)
+
     mode = "melfa"
     if context_of is not None:
         mode = getattr(context_of.state, "rosbridge_mode", "melfa")
@@ -42,6 +56,7 @@ def rosbridge_routes(
         paths=tuple(paths),
         allowed_origins=lambda ws: context(ws).settings.allowed_origins,
         mode=dialect_named(mode),
+        gate=gate,
     )
 
 

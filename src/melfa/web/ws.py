@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import datetime as dt
 import json
 import logging
 import re
@@ -48,6 +49,8 @@ from melfa.web.context import WebContext
 from melfa.web.convert import actor_dict, state_dict, target_dict
 from melfa.web.deps import actor_of, find_session
 from melfa.web.errors import ApiError, from_robot
+from melfa.web.guard import MessageGate, TooManySockets
+from melfa.web.limits import origin_allowed as same_site
 from melfa.web.targets import LAB, Target, UnknownTarget
 
 router = APIRouter()
@@ -57,6 +60,10 @@ PROTOCOL_VERSION = 1
 POLICY_VIOLATION = 1008
 GOING_AWAY = 1001
 MAX_MESSAGE_CHARS = 4096
+QUEUE_LENGTH = 32
+"""Messages of one socket waiting to be processed; beyond, 429 ``too-many-messages``."""
+MOVING = frozenset({"jog_start", "hand_toggle"})
+"""Messages after which the arm moves: their session is re-read first."""
 
 
 def message_of(event: Event) -> dict[str, Any] | None:
@@ -91,13 +98,13 @@ _PYTHON_PREFIX = re.compile(r"^[A-Z][A-Za-z]*(Error|Closed|Down|Cancelled|Refuse
 
 
 def origin_allowed(websocket: WebSocket, allowed: tuple[str, ...]) -> bool:
-    """Browsers always send Origin: it must be this site (or configured). Non-browser
-    clients without Origin still need the session cookie."""
-    origin = websocket.headers.get("origin")
-    if origin is None:
-        return True
-    host = websocket.headers.get("host", "")
-    return origin.split("://", 1)[-1] == host or origin in allowed
+    """Browsers always send Origin: it must be this site (or configured), never ``null``.
+    Non-browser clients without Origin still need the session cookie."""
+    return same_site(websocket.headers.get("origin"), websocket.headers.get("host", ""), allowed)
+
+
+class SessionEnded(Exception):
+    """The socket's session was revoked or expired: the socket closes."""
 
 
 class Connection:
@@ -114,6 +121,34 @@ class Connection:
         self.interval = 1.0 / context.settings.snapshot_hz
         self.jogging = False
         self.sent_states = 0
+        self.token = ""
+        self.gate: MessageGate | None = None
+        self.tasks: list[asyncio.Task[None]] = []
+        self.ended: str | None = None
+        self.checked = time.monotonic()
+        self._stops: set[asyncio.Task[None]] = set()
+
+    async def end(self, reason: str) -> None:
+        """Close at once (the session was revoked): nothing more is read or done."""
+        self.ended = self.ended or reason
+        for task in self.tasks:
+            task.cancel()
+
+    async def authorise(self, kind: object) -> None:
+        """Before acting on a message: the session still lives (in memory every time; a
+        fresh read before anything that moves the arm, and every `socket_recheck_s`)."""
+        gate = self.gate
+        if gate is None:
+            return
+        handle = gate.handle
+        if not handle.alive(dt.datetime.now(dt.UTC)):
+            raise SessionEnded(handle.revoked or "the session ended")
+        recheck = self.context.settings.limits.socket_recheck_s
+        if kind in MOVING or time.monotonic() - self.checked >= recheck:
+            session = await find_session(self.context, self.token)
+            self.checked = time.monotonic()
+            if not self.context.guard.confirm(handle, session):
+                raise SessionEnded(handle.revoked or "the session ended")
 
     async def send(self, message: dict[str, Any]) -> None:
         await self.websocket.send_text(json.dumps(message, default=str))
@@ -151,30 +186,78 @@ class Connection:
                 await self.send(message)
 
     async def receive(self) -> None:
-        while True:
-            text = await self.websocket.receive_text()
-            request_id: Any = None
+        """Read messages: a ``stop`` is acted on at once in a task of its own (never behind
+        another message); the rest are processed in order by `process`."""
+        queue: asyncio.Queue[tuple[str, dict[str, Any]]] = asyncio.Queue(QUEUE_LENGTH)
+        worker = asyncio.create_task(self.process(queue), name="ws-process")
+        try:
+            while True:
+                text = await self.websocket.receive_text()
+                parsed = await self.parse(text)
+                if parsed is None:
+                    continue
+                if parsed.get("type") == "stop":
+                    task = asyncio.create_task(self.run(text, parsed), name="ws-stop")
+                    self._stops.add(task)
+                    task.add_done_callback(self._stops.discard)
+                    continue
+                if queue.full():
+                    await self.error(
+                        ApiError(429, "too-many-messages", "too many messages waiting; slow down"),
+                        parsed.get("id"),
+                    )
+                    continue
+                queue.put_nowait((text, parsed))
+        finally:
+            worker.cancel()
+            with contextlib.suppress(BaseException):
+                await worker
+
+    async def parse(self, text: str) -> dict[str, Any] | None:
+        """The message as a dict, or None after answering with an error (or closing)."""
+        try:
+            if len(text) > MAX_MESSAGE_CHARS:
+                raise ApiError(413, "too-large", "WebSocket messages are at most 4096 chars")
+            problem = self.gate.check(text) if self.gate is not None else None
+            if problem is not None:
+                if self.gate is not None and self.gate.closing:
+                    await self.end(problem)
+                raise ApiError(400, "refused-message", problem)
             try:
-                if len(text) > MAX_MESSAGE_CHARS:
-                    raise ApiError(413, "too-large", "WebSocket messages are at most 4096 chars")
-                try:
-                    message = json.loads(text)
-                except ValueError:
-                    raise ApiError(400, "bad-message", "messages are JSON objects") from None
-                if not isinstance(message, dict):
-                    raise ApiError(400, "bad-message", "messages are JSON objects")
-                request_id = message.get("id")
-                await self.handle(message, request_id)
-            except ApiError as exc:
-                await self.error(exc, request_id)
-            except Exception as exc:
-                mapped = from_robot(exc)
-                if mapped is None and isinstance(exc, ValueError | TypeError):
-                    mapped = ApiError(422, "invalid-value", str(exc))
-                if mapped is None:
-                    _log.exception("WebSocket message failed: %r", text[:200])
-                    mapped = ApiError(500, "internal-error", "the server failed; it was logged")
-                await self.error(mapped, request_id)
+                message = json.loads(text)
+            except ValueError:
+                raise ApiError(400, "bad-message", "messages are JSON objects") from None
+            if not isinstance(message, dict):
+                raise ApiError(400, "bad-message", "messages are JSON objects")
+            return message
+        except ApiError as exc:
+            await self.error(exc, None)
+            return None
+
+    async def process(self, queue: asyncio.Queue[tuple[str, dict[str, Any]]]) -> None:
+        while True:
+            text, message = await queue.get()
+            await self.run(text, message)
+
+    async def run(self, text: str, message: dict[str, Any]) -> None:
+        request_id = message.get("id")
+        try:
+            if message.get("type") != "stop":  # stop is everyone's, always
+                await self.authorise(message.get("type"))
+            await self.handle(message, request_id)
+        except SessionEnded as exc:
+            await self.error(ApiError(401, "session-ended", str(exc)), request_id)
+            await self.end(str(exc))
+        except ApiError as exc:
+            await self.error(exc, request_id)
+        except Exception as exc:
+            mapped = from_robot(exc)
+            if mapped is None and isinstance(exc, ValueError | TypeError):
+                mapped = ApiError(422, "invalid-value", str(exc))
+            if mapped is None:
+                _log.exception("WebSocket message failed: %r", text[:200])
+                mapped = ApiError(500, "internal-error", "the server failed; it was logged")
+            await self.error(mapped, request_id)
 
     async def handle(self, message: dict[str, Any], request_id: Any) -> None:
         kind = message.get("type")
@@ -251,8 +334,16 @@ async def live(websocket: WebSocket) -> None:
     except ServiceClosed:
         await websocket.close(code=GOING_AWAY, reason="server shutting down")
         return
-    await websocket.accept()
     connection = Connection(websocket, context, actor_of(session), target)
+    connection.token = websocket.cookies.get(SESSION_COOKIE, "")
+    try:
+        handle = context.guard.open(session, connection.token, connection.end)
+    except TooManySockets as exc:
+        sub.close()
+        await websocket.close(code=POLICY_VIOLATION, reason=str(exc)[:120])
+        return
+    connection.gate = MessageGate(context.guard, handle, context.settings.limits)
+    await websocket.accept()
     actor = connection.actor
     if target.shared:
         context.sockets.add(actor)
@@ -283,12 +374,17 @@ async def live(websocket: WebSocket) -> None:
     )
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
     receive = asyncio.create_task(connection.receive(), name=f"ws-recv-{actor.user}")
+    connection.tasks = [pump, receive]
+    if connection.ended is not None or not handle.alive(dt.datetime.now(dt.UTC)):
+        await connection.end(handle.revoked or "the session ended")
     try:
         done, _ = await asyncio.wait({pump, receive}, return_when=asyncio.FIRST_COMPLETED)
         for task in done:
-            exc = task.exception()
-            if exc is not None and not isinstance(exc, WebSocketDisconnect | RuntimeError):
-                _log.warning("websocket of %s ended: %r", actor.user, exc)
+            if task.cancelled():
+                continue
+            failure = task.exception()
+            if failure is not None and not isinstance(failure, WebSocketDisconnect | RuntimeError):
+                _log.warning("websocket of %s ended: %r", actor.user, failure)
     finally:
         for task in (pump, receive):
             task.cancel()
@@ -296,9 +392,13 @@ async def live(websocket: WebSocket) -> None:
             with contextlib.suppress(BaseException):
                 await task
         sub.close()
+        connection.gate.close()
         await _goodbye(context, connection)
         with contextlib.suppress(Exception):
-            await websocket.close(code=GOING_AWAY)
+            if connection.ended is not None:
+                await websocket.close(code=POLICY_VIOLATION, reason=connection.ended[:120])
+            else:
+                await websocket.close(code=GOING_AWAY)
 
 
 async def _goodbye(context: WebContext, connection: Connection) -> None:

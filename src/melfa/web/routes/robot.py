@@ -42,12 +42,8 @@ from melfa.web.models import (
 from melfa.web.preflight import fingerprint
 from melfa.web.routes.check import check_texts
 from melfa.web.routes.workspaces import default_workspace, open_workspace
-<<<<<<< HEAD
-from melfa.web.target_deps import Drive, DriveDep
-=======
-from melfa.web.target_deps import TARGET_HELP, DriveDep, find_target
+from melfa.web.target_deps import TARGET_HELP, Drive, DriveDep, find_target
 from melfa.web.targets import LAB
->>>>>>> 6108652 (Hardening, part 1: login throttling counted before the password (per address, per account, per usual address; back-off, no lock-out); hashing, checks, store and STOP in pools of their own; own password change; weak and common passwords refused; role change ends sessions; socket guard)
 
 router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
 

@@ -126,9 +126,7 @@ async def change_password(body: OwnPasswordIn, session: SessionDep, context: Con
     user = await context.hash(store.accounts.authenticate, session.user.username, body.current)
     if user is None:
         raise ApiError(403, "wrong-password", "your current password is not right")
-    await context.hash(
-        store.accounts.set_password, user.username, body.new, revoke_sessions=False
-    )
+    await context.hash(store.accounts.set_password, user.username, body.new, revoke_sessions=False)
     await context.db(store.sessions.revoke_others, user.id, session.id)
     context.guard.revoke_user(user.username, "the password was changed", keep_session=session.id)
     return Ok()
