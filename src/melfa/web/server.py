@@ -66,7 +66,7 @@ def uvicorn_config(
         host=host,
         port=port,
         http=header_timeout_protocol(lim.header_timeout_s),
-        ws="websockets",
+        ws="websockets-sansio",
         h11_max_incomplete_event_size=lim.header_bytes,
         timeout_keep_alive=max(1, round(lim.keep_alive_s)),
         limit_concurrency=lim.max_connections,

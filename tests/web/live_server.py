@@ -1,0 +1,99 @@
+"""A real uvicorn on a loopback port, in a thread of the test process (so tests can read the
+server's counters), started the way `melfa serve` starts it (`melfa.web.server`)."""
+
+from __future__ import annotations
+
+import socket
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+import httpx
+import uvicorn
+from argon2 import PasswordHasher
+
+from melfa.store import Store
+from melfa.web import WebSettings, create_app
+from melfa.web.context import WebContext
+from melfa.web.server import uvicorn_config
+from tests.web.conftest import PASSWORDS
+
+CHEAP = PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
+
+
+class LatchHasher(PasswordHasher):
+    """Real Argon2 whose verifications wait for ``latch``: a login flood that cannot end
+    until the test says so (no timing in the test)."""
+
+    def __init__(self, latch: threading.Event) -> None:
+        super().__init__(time_cost=1, memory_cost=64, parallelism=1)
+        self.latch = latch
+        self.started = 0
+        self.lock = threading.Lock()
+
+    def verify(self, hash: str | bytes, password: str | bytes) -> bool:
+        with self.lock:
+            self.started += 1
+        self.latch.wait(60)
+        return super().verify(hash, password)
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@dataclass
+class Live:
+    url: str
+    port: int
+    app: Any
+    store: Store
+
+    @property
+    def context(self) -> WebContext:
+        context: WebContext = self.app.state.web
+        return context
+
+    def client(self, local_address: str = "127.0.0.1", **kw: Any) -> httpx.Client:
+        transport = httpx.HTTPTransport(local_address=local_address)
+        return httpx.Client(base_url=self.url, transport=transport, timeout=60, **kw)
+
+    def login(self, username: str) -> tuple[str, str]:
+        """(session token, CSRF token) of a fresh sign-in."""
+        with self.client() as c:
+            reply = c.post(
+                "/api/session", json={"username": username, "password": PASSWORDS[username]}
+            )
+        assert reply.status_code == 200, reply.text
+        return reply.cookies["melfa_session"], reply.json()["csrf_token"]
+
+
+@contextmanager
+def live_server(store: Store, settings: WebSettings) -> Iterator[Live]:
+    port = free_port()
+    app = create_app(settings, store=store)
+    config = uvicorn_config(
+        app,
+        host="127.0.0.1",
+        port=port,
+        limits=settings.limits,
+        log_level="warning",
+        lifespan="on",
+    )
+    server = uvicorn.Server(config)
+    thread = threading.Thread(target=server.run, name="live-uvicorn", daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 30
+    while not server.started:  # a guard against a hang, not a measurement
+        assert thread.is_alive() and time.monotonic() < deadline, "uvicorn did not start"
+        time.sleep(0.02)
+    try:
+        yield Live(f"http://127.0.0.1:{port}", port, app, store)
+    finally:
+        server.should_exit = True
+        thread.join(30)
