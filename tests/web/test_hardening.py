@@ -269,6 +269,7 @@ def test_a_locked_out_attacker_does_not_lock_out_the_owner(live: Live) -> None:
 def test_a_hundred_concurrent_guesses_evaluate_at_most_the_allowed_number(live: Live) -> None:
     now = live.store.db.clock()
     live.store.db.clock = lambda: now  # the store's clock stands still: no back-off expires
+
     def guess(i: int) -> int:
         with live.client("127.0.0.77") as c:
             return c.post(
