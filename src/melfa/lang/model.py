@@ -1,12 +1,13 @@
-"""The one model of MELFA BASIC IV's knowledge: functions, system variables, limits, dialects.
+"""The one model of MELFA BASIC IV's knowledge: statements, functions, system variables,
+limits, dialects.
 
 Everything that both the checker (`melfa.lang.check`) and the simulator's interpreter
-(`melfa.sim.interp`) need to know about the language lives here, once: which built-in
-functions exist, how many arguments of which kind each takes and what it gives back; which
-status (system) variables exist, their type, whether they take an index and whether a
-program may assign them; the controller's limits. The interpreter keeps only run-time
-behaviour (how SIN computes, where M_IN reads). Section numbers (§) refer to
-``../shared/docs/melfa-basic-iv.md``.
+(`melfa.sim.interp`) need to know about the language lives here, once: the statement
+words; which built-in functions exist, how many arguments of which kind each takes and what
+it gives back; which status (system) variables exist, their type, whether they take an
+index and whether a program may assign them; the controller's limits. The interpreter
+keeps only run-time behaviour (how SIN computes, where M_IN reads). Section numbers (§)
+refer to ``../shared/docs/melfa-basic-iv.md``.
 
 Dialects: the CR2B-574 runs MELFA BASIC IV. `V_CONSTRUCTS` lists what MELFA BASIC V
 (newer controllers, most programs found online) adds, so the checker can say "this is V"
@@ -36,6 +37,39 @@ class Kind(enum.Enum):
     JNT = "joint"
 
     __hash__ = object.__hash__  # identity hashing: members are singletons (hot loops)
+
+
+# --------------------------------------------------------------------------- statements §4
+
+
+def _words(text: str) -> frozenset[str]:
+    return frozenset(text.split())
+
+
+#: The words that start a statement (§4); the parser dispatches on them, the typo checker
+#: suggests only these.
+STATEMENTS: frozenset[str] = _words(
+    """
+    MOV MVS MVR MVR2 MVR3 MVC MVA
+    OVRD JOVRD SPD ACCEL CNT FINE PREC OADL LOADSET TORQ JRC
+    HOPEN HCLOSE SERVO TOOL BASE
+    GOTO GOSUB ON RETURN IF ELSE ENDIF FOR NEXT WHILE WEND
+    SELECT CASE BREAK DEFAULT END HLT DLY WAIT ERROR SKIP CALLP FPRM
+    DEF DIM ACT OPEN PRINT INPUT CLOSE COM
+    XLOAD XRUN XSTP XRST XCLR PRIORITY GETM RELM
+    CMP CMPG CLR RESET CHRSRCH REM
+    """
+)
+
+#: Reserved words that only appear inside statements. `BIT`…`DWORD` are the DEF IO types
+#: (`DEF IO MSENSOR = BIT, 900`) [S1 DEF IO]; DWORD is V's.
+SECONDARY_WORDS: frozenset[str] = _words(
+    """
+    THEN TO STEP IS TYPE WTH WTHIF AND OR NOT XOR MOD
+    INTE FLOAT DOUBLE CHAR POS JNT IO PLT ARCH AS OFF ERR OUTPUT APPEND
+    BIT BYTE WORD INTEGER DWORD
+    """
+)
 
 
 # ------------------------------------------------------------------------------ limits §8

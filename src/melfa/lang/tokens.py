@@ -53,33 +53,12 @@ class Token(NamedTuple):
     prefix: str
 
 
-def _words(text: str) -> frozenset[str]:
-    return frozenset(text.split())
-
-
-#: Words that can start a statement; the typo checker suggests only these.
-STATEMENT_KEYWORDS: frozenset[str] = _words(
-    """
-    MOV MVS MVR MVR2 MVR3 MVC MVA
-    OVRD JOVRD SPD ACCEL CNT FINE PREC OADL LOADSET TORQ JRC
-    HOPEN HCLOSE SERVO TOOL BASE
-    GOTO GOSUB ON RETURN IF ELSE ENDIF FOR NEXT WHILE WEND
-    SELECT CASE BREAK DEFAULT END HLT DLY WAIT ERROR SKIP CALLP FPRM
-    DEF DIM ACT OPEN PRINT INPUT CLOSE COM
-    XLOAD XRUN XSTP XRST XCLR PRIORITY GETM RELM
-    CMP CMPG CLR RESET CHRSRCH REM
-    """
-)
+#: Words that can start a statement; the typo checker suggests only these. The statement
+#: words, like the functions below, are the language model's (`melfa.lang.model`).
+STATEMENT_KEYWORDS: frozenset[str] = _model.STATEMENTS
 
 #: Words that only appear inside statements.
-SECONDARY_KEYWORDS: frozenset[str] = _words(
-    """
-    THEN TO STEP IS TYPE WTH WTHIF AND OR NOT XOR MOD
-    INTE FLOAT DOUBLE CHAR POS JNT IO PLT ARCH AS OFF ERR OUTPUT APPEND
-    BIT BYTE WORD INTEGER DWORD
-    """
-)
-"""`BIT`…`DWORD` are the DEF IO types (`DEF IO MSENSOR = BIT, 900`) [S1 DEF IO]; DWORD is V's."""
+SECONDARY_KEYWORDS: frozenset[str] = _model.SECONDARY_WORDS
 
 #: Built-in functions (COSIMIR list plus SETJNT/SETPOS); lexed as keywords. Their arities and
 #: argument kinds are in `melfa.lang.model.FUNCTIONS`, the one home of that knowledge.
@@ -89,7 +68,9 @@ FUNCTIONS: frozenset[str] = frozenset(_model.FUNCTIONS)
 KEYWORDS: frozenset[str] = STATEMENT_KEYWORDS | SECONDARY_KEYWORDS | FUNCTIONS
 
 #: Components after a dot, in upper case.
-ELEMENTS: frozenset[str] = _words("X Y Z A B C L1 L2 FL1 FL2 J1 J2 J3 J4 J5 J6 J7 J8")
+ELEMENTS: frozenset[str] = frozenset(
+    "X Y Z A B C L1 L2 FL1 FL2 J1 J2 J3 J4 J5 J6 J7 J8".split()  # noqa: SIM905
+)
 
 #: Comparison operators (all spellings of the reference, §2.4).
 COMPARISONS: frozenset[str] = frozenset({"=", "<>", "><", "<", "<=", "=<", ">", ">=", "=>"})
