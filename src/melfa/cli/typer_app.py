@@ -36,6 +36,7 @@ COMMAND_MODULES: dict[str, str] = {
         ],
         "robot_commands",
     ),
+    "doctor": "doctor_commands",
     "sim": "sim_commands",
     "debug": "debug_commands",
     "users": "users_commands",
