@@ -10,6 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from melfa.cli import app
+from melfa.link import load_trace
 from melfa.protocol import Kind, lookup
 from melfa.robot.profile import profile_settings
 from melfa.sim import NO_PACING, KeySwitch, PtyServer, SimConfig
@@ -77,3 +78,20 @@ def test_empty_or_malformed_robot_values_are_usage_errors(value: str, profile: P
         result = runner.invoke(app, [*command, "--robot", value])
         assert result.exit_code == 2, (command, value, result.output)
         assert "--robot" in result.output and "Traceback" not in result.output
+
+
+def test_trace_file_records_every_byte_both_ways_and_replays(tmp_path: Path, profile: Path) -> None:
+    trace = tmp_path / "session.trace"
+    controller = RecordingController()
+    with PtyServer(controller, pacing=NO_PACING) as server:
+        result = runner.invoke(app, ["status", "--robot", server.new_port(), "--trace", str(trace)])
+    assert result.exit_code == 0, result.output
+    events = load_trace(trace.read_text(encoding="utf-8").splitlines())
+    sent = b"".join(e.data for e in events if e.direction == "->")
+    received = b"".join(e.data for e in events if e.direction == "<-")
+    assert sent.split(b"\r")[:-1] == [c.encode() for c in controller.commands()]
+    assert [e.seconds for e in events] == sorted(e.seconds for e in events)
+    # Replayed against a fresh virtual controller, the requests give the same replies.
+    fresh = RecordingController()
+    replayed = b"".join(fresh.handle(line + b"\r", 0.0) for line in sent.split(b"\r")[:-1])
+    assert replayed == received

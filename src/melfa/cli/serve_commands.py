@@ -56,6 +56,14 @@ def serve(
             f"(default ${ROBOT_ENV}, else the in-process virtual controller).",
         ),
     ] = None,
+    trace: Annotated[
+        Path | None,
+        typer.Option(
+            "--trace",
+            metavar="FILE",
+            help="Record every byte to and from the robot, with timestamps, to FILE.",
+        ),
+    ] = None,
     host: Annotated[
         str, typer.Option("--host", help="Address to listen on (localhost unless told).")
     ] = "127.0.0.1",
@@ -175,6 +183,7 @@ def serve(
     settings = WebSettings(
         data_dir=data_dir,
         robot=spec,
+        robot_trace=trace,
         allowed_origins=tuple(allowed_origins or ()),
         require_simulation=require_simulation,
         private_idle_s=private_idle,

@@ -17,13 +17,14 @@ from melfa.link.opener import (
     default_robot,
     is_sim_spec,
     open_link,
+    trace_file_sink,
     wrap_link,
 )
 from melfa.link.serial_link import SerialLink
 from melfa.link.settings import BAUDRATES, DEFAULT_TIMEOUT_S, PARITIES, STOPBITS, LinkSettings
 from melfa.link.spec import RobotSpec, RobotSpecError, SpecKind, parse_robot
 from melfa.link.tcp import TcpLink, parse_tcp_url
-from melfa.link.wrappers import PacedLink, TraceLink, render
+from melfa.link.wrappers import PacedLink, TraceEvent, TraceLink, load_trace, render
 
 __all__ = [
     "BAUDRATES",
@@ -48,12 +49,15 @@ __all__ = [
     "SerialLink",
     "SpecKind",
     "TcpLink",
+    "TraceEvent",
     "TraceLink",
     "default_robot",
     "is_sim_spec",
+    "load_trace",
     "open_link",
     "parse_robot",
     "parse_tcp_url",
     "render",
+    "trace_file_sink",
     "wrap_link",
 ]

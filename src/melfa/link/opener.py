@@ -36,6 +36,7 @@ __all__ = [
     "default_robot",
     "is_sim_spec",
     "open_link",
+    "trace_file_sink",
     "wrap_link",
 ]
 
@@ -100,6 +101,17 @@ def wrap_link(
     if trace if trace is not None else trace_requested():
         link = TraceLink(link, trace_sink)
     return link
+
+
+def trace_file_sink(path: Path) -> Callable[[str], None]:
+    """A `TraceLink` sink appending each line to ``path`` (flushed, so a crash keeps it)."""
+    handle = path.open("a", encoding="utf-8")
+
+    def write(line: str) -> None:
+        handle.write(line + "\n")
+        handle.flush()
+
+    return write
 
 
 def default_robot() -> str:

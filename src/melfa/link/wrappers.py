@@ -6,7 +6,8 @@ import sys
 import threading
 import time
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 
 from melfa.link.base import Link
 
@@ -46,8 +47,35 @@ def render(data: bytes) -> str:
     return "".join(out)
 
 
+@dataclass(frozen=True)
+class TraceEvent:
+    """One line of a trace: seconds since the link opened, ``->`` sent / ``<-`` received,
+    and the exact bytes."""
+
+    seconds: float
+    direction: str
+    data: bytes
+
+
+def load_trace(lines: Iterable[str]) -> list[TraceEvent]:
+    """Read back what `TraceLink` wrote (``--trace FILE``): the hex part is authoritative,
+    so the bytes replay exactly. Lines that are not trace lines are skipped."""
+    events = []
+    for line in lines:
+        parts = line.split(None, 2)
+        if len(parts) < 3 or parts[1] not in ("->", "<-") or not line.rstrip().endswith("]"):
+            continue
+        hex_part = line.rstrip()[line.rindex("[") + 1 : -1]
+        try:
+            events.append(TraceEvent(float(parts[0]), parts[1], bytes.fromhex(hex_part)))
+        except ValueError:
+            continue
+    return events
+
+
 class TraceLink(_Wrapper):
-    """Logs both directions as text and hex: ``  0.125 -> 1;1;JPOSF<CR>  31 3b 31 …``."""
+    """Logs both directions as text and hex: ``  0.125 -> 1;1;JPOSF<CR>  [31 3b 31 …]``
+    (`load_trace` reads it back)."""
 
     def __init__(self, inner: Link, sink: Callable[[str], None] | None = None) -> None:
         super().__init__(inner)
@@ -128,4 +156,4 @@ def _sleep_until(when: float) -> None:
         time.sleep(left)
 
 
-__all__ = ["PacedLink", "TraceLink", "render"]
+__all__ = ["PacedLink", "TraceEvent", "TraceLink", "load_trace", "render"]

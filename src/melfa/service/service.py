@@ -38,6 +38,7 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
 from melfa.robot.opener import open_robot_link
+from melfa.robot.profile import profile_settings
 from melfa.robot.upload import PreparedUpload
 from melfa.service.activity import Activity, Facts, Motion, MotionKind, activity_of
 from melfa.service.audit import AuditSink, MemoryAuditSink
@@ -139,18 +140,26 @@ class RobotService:
         link_settings: LinkSettings | None = None,
         *,
         trace: bool | None = None,
+        trace_sink: Callable[[str], None] | None = None,
         **options: Any,
     ) -> RobotService:
         """A service for a ``--robot`` spec (``sim``, a serial device, ``tcp://host:port``,
         a pyserial URL); the link is reopened from the same spec after a drop. ``sim``
-        keeps one virtual controller across reconnects."""
+        keeps one virtual controller across reconnects. A real robot gets the settings
+        `melfa doctor` found for it (the robot profile); ``trace_sink`` records its bytes."""
         settings = link_settings or LinkSettings()
         if parse_robot(spec).is_sim:
             from melfa.sim import VirtualController, open_sim_link
 
             controller = VirtualController()
             return cls(lambda: open_sim_link(settings, controller=controller), **options)
-        return cls(lambda: open_robot_link(spec, settings, trace=trace), **options)
+        options.setdefault("robot_settings", profile_settings(spec))
+        if trace_sink is not None:
+            trace = True
+        return cls(
+            lambda: open_robot_link(spec, settings, trace=trace, trace_sink=trace_sink),
+            **options,
+        )
 
     # ================================================================== lifecycle
 

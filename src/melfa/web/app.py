@@ -13,6 +13,7 @@ from fastapi.routing import APIRoute
 from starlette.middleware.gzip import GZipMiddleware
 
 from melfa import __version__
+from melfa.link import trace_file_sink
 from melfa.service import RobotService
 from melfa.store import Store
 from melfa.web import errors
@@ -89,6 +90,7 @@ def create_app(
             if the_service is None:
                 the_service = RobotService.from_spec(
                     config.robot,
+                    trace_sink=trace_file_sink(config.robot_trace) if config.robot_trace else None,
                     config=config.service_config,
                     audit=ServiceAuditSink(the_store.audit),
                 )

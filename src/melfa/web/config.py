@@ -26,6 +26,8 @@ class WebSettings:
     """Holds melfa.sqlite3 (accounts, sessions, workspaces, audit)."""
     robot: str = "sim"
     """A ``--robot`` spec; ``sim`` is the in-process virtual controller (real time)."""
+    robot_trace: Path | None = None
+    """``--trace FILE``: every byte to and from the robot, with timestamps (replayable)."""
     allowed_origins: tuple[str, ...] = ()
     """Extra browser origins allowed to open the WebSocket, sign in and send forms (the
     page's own always is; ``null`` never)."""
