@@ -1,6 +1,8 @@
 """The typed syntax tree of a MELFA BASIC IV program.
 
-Node families (all frozen dataclasses; every node has a `span`, 1-based, end exclusive):
+Node families (all frozen dataclasses; every node has a `span`, 1-based, end exclusive).
+Not ``slots=True``: slotted dataclasses are built twice, which cost about 15 % of `melfa
+check`'s start-up (bench/bench_check.py) and bought nothing measurable in checking speed.
 
 * **Program / Line** — a program is a tuple of `Line`s, one per text line (blank and comment
   lines included, so line ``i`` of the tree is line ``i + 1`` of the text). A line has an
@@ -51,7 +53,7 @@ class Span(NamedTuple):
         return Span(self.line, self.column, other.end_line, other.end_column)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class ParseIssue:
     """A syntax problem found by the parser; `check()` turns it into a Diagnostic."""
 
@@ -74,7 +76,7 @@ class NumberKind(enum.Enum):
     BIN = "bin"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Number:
     """A numeric literal; `value` is an int for INTEGER/HEX/BIN, a float for REAL."""
 
@@ -84,7 +86,7 @@ class Number:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class String:
     """A string literal; `value` is without the quotes."""
 
@@ -92,7 +94,7 @@ class String:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Name:
     """A variable (user or system). `name` is upper case (names are case-insensitive).
 
@@ -109,7 +111,7 @@ class Name:
         return self.text or self.name
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Index:
     """``NAME(i[, j[, k]])``: an array element, or an indexed system variable (``M_IN(3)``)."""
 
@@ -141,7 +143,7 @@ class ElementKind(enum.Enum):
     J8 = "J8"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Element:
     """``P1.X``, ``J_CURR.J4``, ``P(3).FL1``."""
 
@@ -150,7 +152,7 @@ class Element:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class PositionLiteral:
     """``(x,y,z,a,b,c[,l1,l2])[(fl1,fl2)]`` or a joint constant ``(j1,…,j6[,j7,j8])``.
 
@@ -164,7 +166,7 @@ class PositionLiteral:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Call:
     """A built-in function call (``SIN(M1)``, ``LEFT$(C1$,2)``) or a user ``FNxxx(...)``.
 
@@ -177,7 +179,7 @@ class Call:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Pallet:
     """``(PLT n, k)``: grid point `index` of pallet `pallet`, a position."""
 
@@ -224,14 +226,14 @@ _COMPARISON_OPS = frozenset(
 )
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Unary:
     op: UnaryOp
     operand: Expr
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Binary:
     """`op_text` keeps the spelling written (``><`` is NE, ``=<`` is LE, ``=>`` is GE)."""
 
@@ -242,7 +244,7 @@ class Binary:
     op_text: str = ""
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class InvalidExpr:
     """Where an expression could not be read; `issue` says why."""
 
@@ -267,7 +269,7 @@ Expr: TypeAlias = (
 # ------------------------------------------------------------------------------ targets
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class LineRef:
     """A jump to a step number: ``GOTO 100``."""
 
@@ -275,7 +277,7 @@ class LineRef:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class LabelRef:
     """A jump to a label: ``GOTO *LOOP``; `name` is upper case without the ``*``.
 
@@ -302,7 +304,7 @@ class JumpKind(enum.Enum):
 # ---------------------------------------------------------------------------- movement
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class MoveType:
     """``TYPE c1, c2`` after a move."""
 
@@ -311,7 +313,7 @@ class MoveType:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Appended:
     """``WTH action`` or ``WTHIF condition, action`` after a move.
 
@@ -329,7 +331,7 @@ class MoveKind(enum.Enum):
     MVS = "MVS"  # linear interpolation
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Move:
     """``MOV target[, close] [TYPE …] [WTH …]`` or ``MVS …``; ``MVS , d`` has no target."""
 
@@ -348,7 +350,7 @@ class ArcKind(enum.Enum):
     MVC = "MVC"  # start, via1, via2 (full circle)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class ArcMove:
     """``MVR p1, p2, p3`` and the other arc/circle moves."""
 
@@ -359,7 +361,7 @@ class ArcMove:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class ArchMove:
     """``MVA target[, arch no]``."""
 
@@ -409,7 +411,7 @@ class CommandKind(enum.Enum):
     DEF_ARCH = "DEF ARCH"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Command:
     """A keyword and its arguments (omitted arguments, as in ``ACCEL ,50``, are None)."""
 
@@ -424,7 +426,7 @@ class SwitchKind(enum.Enum):
     OADL = "OADL"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Switch:
     """``SERVO ON``, ``PREC OFF``, ``OADL ON``…; `args` are extra operands (mechanism no.)."""
 
@@ -441,7 +443,7 @@ class CmpMode(enum.Enum):
     OFF = "OFF"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Cmp:
     """``CMP JNT|POS|TOOL, mask`` or ``CMP OFF``."""
 
@@ -453,19 +455,19 @@ class Cmp:
 # ---------------------------------------------------------------------------------- flow
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Goto:
     target: JumpTarget
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Gosub:
     target: JumpTarget
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class OnJump:
     """``ON expr GOTO|GOSUB t1, t2, …`` (1-based; out of range falls through)."""
 
@@ -475,7 +477,7 @@ class OnJump:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Return:
     """``RETURN`` (`mode` None) or the interrupt forms ``RETURN 0`` / ``RETURN 1``."""
 
@@ -483,7 +485,7 @@ class Return:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class If:
     """``IF cond THEN branch [ELSE branch]``; `then` None means a block IF (ends at ENDIF).
 
@@ -500,19 +502,19 @@ class If:
         return self.then is None
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Else:
     """A line holding only ``ELSE`` (block IF)."""
 
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class EndIf:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class For:
     """``FOR counter = start TO end [STEP step]``."""
 
@@ -523,7 +525,7 @@ class For:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Next:
     """``NEXT`` or ``NEXT A, B`` (closes the loops of A then B)."""
 
@@ -531,18 +533,18 @@ class Next:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class While:
     condition: Expr
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Wend:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Select:
     subject: Expr
     span: Span
@@ -554,7 +556,7 @@ class CaseKind(enum.Enum):
     RANGE = "range"  # CASE 1 TO 5
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Case:
     """``CASE v`` / ``CASE IS op v`` (`op` a comparison) / ``CASE lo TO hi`` (`high` set)."""
 
@@ -565,22 +567,22 @@ class Case:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Break:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Default:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class EndSelect:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Wait:
     """``WAIT condition`` (IV: ``WAIT M_IN(1)=1``)."""
 
@@ -588,7 +590,7 @@ class Wait:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Fprm:
     """``FPRM a, b, …``: the dummy parameters of a program called with CALLP."""
 
@@ -608,7 +610,7 @@ class VarType(enum.Enum):
     JNT = "JNT"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DefVar:
     """``DEF INTE a, b``; ``DEF POS P1 = (…)(7,0)`` gives one name a `value`."""
 
@@ -626,7 +628,7 @@ class IOType(enum.Enum):
     DWORD = "DWORD"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DefIO:
     """``DEF IO name = BIT|BYTE|WORD|INTEGER, bit [, mask]``."""
 
@@ -637,7 +639,7 @@ class DefIO:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DefFn:
     """``DEF FNname[(a, b)] = expr``; `name` includes the FN prefix, upper case."""
 
@@ -647,7 +649,7 @@ class DefFn:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DefPlt:
     """``DEF PLT no, start, endA, endB, [diag], countA, countB, dir`` (diagonal may be None)."""
 
@@ -662,7 +664,7 @@ class DefPlt:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DefAct:
     """``DEF ACT prio, condition GOTO|GOSUB target [, S|L]``."""
 
@@ -674,14 +676,14 @@ class DefAct:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DimArray:
     name: Name
     sizes: tuple[Expr, ...]
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Dim:
     """``DIM A(10), PT(3, 4)``."""
 
@@ -689,7 +691,7 @@ class Dim:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class ActSet:
     """``ACT n = 1|0`` (``ACT 0 = …`` is the master switch)."""
 
@@ -703,7 +705,7 @@ class ActSet:
 AssignTarget: TypeAlias = Name | Index | Element
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Assign:
     """``target = value`` with an optional pulse ``M_OUT(17)=1 DLY 0.5``."""
 
@@ -719,7 +721,7 @@ class FileMode(enum.Enum):
     APPEND = "APPEND"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Open:
     """``OPEN "COM1:" [FOR INPUT|OUTPUT|APPEND] AS [#]n``."""
 
@@ -729,7 +731,7 @@ class Open:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Print:
     """``PRINT #n, items`` (items separated by ``,`` or ``;``)."""
 
@@ -738,7 +740,7 @@ class Print:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Input:
     """``INPUT #n, targets``."""
 
@@ -747,7 +749,7 @@ class Input:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Close:
     """``CLOSE`` or ``CLOSE #1, #2``."""
 
@@ -755,7 +757,7 @@ class Close:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class OnCom:
     """``ON COM[(n)] GOSUB target``."""
 
@@ -770,7 +772,7 @@ class ComState(enum.Enum):
     STOP = "STOP"
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class ComControl:
     """``COM[(n)] ON|OFF|STOP``."""
 
@@ -779,7 +781,7 @@ class ComControl:
     span: Span
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class InvalidStatement:
     """A statement that could not be parsed. `text` is its source; `issue` says why."""
 
@@ -833,7 +835,7 @@ Statement: TypeAlias = (
 # ------------------------------------------------------------------------------- program
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Line:
     """One text line. `statement` is None for blank, comment-only and label-only lines.
 
@@ -852,7 +854,7 @@ class Line:
     label_text: str | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class Program:
     """A whole program; `lines[i]` is text line ``i + 1``."""
 
