@@ -49,6 +49,9 @@ class ServiceConfig:
     jog_poll_margin_s: float = 0.03
     """While jogging, a poll is only sent if it and the next JOG fit in the watchdog minus
     this margin (round trips are measured), so polling never starves the jog."""
+    jog_poll_every_s: float = 0.25
+    """While jogging on a line where no poll fits between two JOG renewals, poll anyway
+    this often (one short pause of the jog) so the state keeps flowing."""
     jog_heartbeat_timeout_s: float = 0.3
     """A jog whose heartbeats stop for this long is ended by the service (the arm has
     already stopped by itself after the controller watchdog)."""

@@ -200,6 +200,8 @@ class Worker:
         with self._cond:
             while True:
                 if self._heap:
+                    if self._jog_starved():
+                        return None  # one poll between JOG renewals (see _poll_wait)
                     return heapq.heappop(self._heap)[2]
                 if self._closing.is_set():
                     return None
@@ -307,9 +309,21 @@ class Worker:
             budget = self.config.jog_watchdog_s - self.config.jog_poll_margin_s
             command = self._peek_poll()
             need = (now - last_sent) + self.rtt(command) + self.rtt("JOG")
-            if need > budget:
+            # On a line too slow for any poll to fit (9600 baud: JPOSF alone is ~0.13 s),
+            # poll anyway every `jog_poll_every_s`: the jog pauses for one poll, but the
+            # views keep seeing the arm move instead of freezing until the key is let go.
+            starved = now - self._last_poll_end >= self.config.jog_poll_every_s
+            if need > budget and not starved:
                 return 0.01
         return due - now
+
+    def _jog_starved(self) -> bool:
+        """A jog's renewals keep the queue busy and no poll fitted for
+        `ServiceConfig.jog_poll_every_s`: someone watches, so poll now."""
+        if not self.config.polling or self.robot is None or self._listeners() == 0:
+            return False
+        active, _ = self._jog_view()
+        return active and self._clock() - self._last_poll_end >= self.config.jog_poll_every_s
 
     def _peek_poll(self) -> str:
         if not self._cycle:
