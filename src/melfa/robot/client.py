@@ -79,6 +79,10 @@ class Robot:
         self.banner: OpenBanner | None = None
         self.alarm = False
         """True while the last reply was ``Qok``/``Qer`` (an alarm is active)."""
+        self.pdir_hints: dict[str, int] = {}
+        self.handshaken = False
+        """The PRTVER handshakes were sent in this session (`melfa.robot.edit`)."""
+        """Directory position (``PDIRnn``) where each program was last listed."""
         self.jog_method: JogMethod | None = None
         """The jog method found to work (cached after the first jog)."""
         self._rights = False
@@ -151,6 +155,7 @@ class Robot:
                 self._send("CLOSE")
         self._rights = False
         self.banner = None
+        self.handshaken = False
         self.link.close()
 
     def request(self, command: str, *, slot: int | None = None, timeout: float | None = None) -> Ok:

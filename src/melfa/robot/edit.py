@@ -91,6 +91,8 @@ class Session(Protocol):
 
     settings: RobotSettings
     channel: Channel
+    pdir_hints: dict[str, int]
+    handshaken: bool
 
     @property
     def edit_slot(self) -> int: ...
@@ -132,7 +134,17 @@ def reset_slot(session: Session) -> None:
 
 def find_program(session: Session, name: str) -> ProgramEntry | None:
     """The PDIR entry of program ``name``: ``PDIR<`` (first entry and count), then
-    ``PDIR02``… as RT ToolBox reads the directory [TRACE K9b-READ]."""
+    ``PDIR02``… as RT ToolBox reads the directory [TRACE K9b-READ]. Where it was found last
+    time is tried first (one request after a re-upload); a miss falls back to the scan."""
+    hint = session.pdir_hints.get(name.upper())
+    if hint is not None and hint > 1:
+        entry = ProgramEntry.parse(session._call(f"PDIR{hint:02d}").answer)
+        if entry.name.upper() == name.upper():
+            return entry
+    return _scan(session, name)
+
+
+def _scan(session: Session, name: str) -> ProgramEntry | None:
     first = ProgramEntry.parse(session._call("PDIR<").answer)
     if first.empty:
         return None
@@ -144,6 +156,7 @@ def find_program(session: Session, name: str) -> ProgramEntry | None:
         if entry.empty:
             return None
         if entry.name.upper() == name.upper():
+            session.pdir_hints[name.upper()] = index
             return entry
     return None
 
@@ -181,8 +194,9 @@ def write_program(
         session._call(f"LOAD={program}")
     save_sent = False
     try:
-        if settings.prtver_handshakes:
+        if settings.prtver_handshakes and not session.handshaken:
             _handshakes(session)
+            session.handshaken = True
         if clear:
             session._call("ECLR")
         _send_chunks(session, chunks, items, generation, progress, total)
@@ -214,8 +228,9 @@ def write_program(
 
 
 def _handshakes(session: Session) -> None:
-    """[GUESS] ``PRTVERLISTL``/``PRTVEREMDAT`` as the thesis sent them; a refusal is fine
-    (they are undocumented and the upload does not depend on them)."""
+    """[GUESS] ``PRTVERLISTL``/``PRTVEREMDAT`` as the thesis sent them, once per session
+    (a protocol-version handshake); a refusal is fine (they are undocumented and the
+    upload does not depend on them)."""
     for command in ("PRTVERLISTL", "PRTVEREMDAT"):
         reply = session._raw(command)
         if not isinstance(reply, Ok):

@@ -55,7 +55,8 @@ class RobotSettings:
     `melfa doctor --probe-upload` checks this on the real controller."""
     prtver_handshakes: bool = True
     """[GUESS §3.8] send PRTVERLISTL / PRTVEREMDAT after LOAD, as the thesis did on this
-    controller family. Undocumented; set False to save two round trips once tested."""
+    controller family, once per session (a version handshake); a refusal is tolerated.
+    Undocumented; `melfa doctor` probes them."""
     clear_with_eclr: bool = True
     """Clear the old program with ECLR after LOAD [DOC S1 §5.2; TRACE S21 RT ToolBox].
     ECLR clears steps *and* positions: `upload_program` replaces the whole program."""
