@@ -22,7 +22,9 @@ def test_every_user_sees_the_lab_robot_and_their_own_simulator(web: Web) -> None
         (LAB, "lab", "Lab RV-6S", True),
         (MINE, "private", "My simulator", False),
     ]
-    assert body["targets"][1]["robot"] == "sim" and body["targets"][1]["exists"] is True
+    assert body["targets"][1]["robot"] == "sim" and body["targets"][1]["exists"] is False
+    ok(web.ann.get("/api/robot/state", params=MINE_Q))  # using it makes it
+    assert ok(web.ann.get("/api/targets"))["targets"][1]["exists"] is True
     assert_error(web.ann.get("/api/robot/state", params={"target": "bob"}), 404, "unknown-target")
 
 

@@ -25,6 +25,7 @@ _log = logging.getLogger("melfa.web.targets")
 
 LAB = "lab"
 MINE = "mine"
+PRIVATE_LABEL = "My simulator"
 
 
 class TargetKind(enum.Enum):
@@ -104,7 +105,7 @@ class Targets:
                     target = Target(
                         MINE,
                         TargetKind.PRIVATE,
-                        "My simulator",
+                        PRIVATE_LABEL,
                         simulator.service,
                         simulator=simulator,
                         last_used=self._clock(),
@@ -146,4 +147,4 @@ async def _close(target: Target) -> None:
             await target.simulator.close()
 
 
-__all__ = ["LAB", "MINE", "Target", "TargetKind", "Targets", "UnknownTarget"]
+__all__ = ["LAB", "MINE", "PRIVATE_LABEL", "Target", "TargetKind", "Targets", "UnknownTarget"]

@@ -7,8 +7,8 @@ from fastapi import APIRouter
 from melfa.web.convert import target_out
 from melfa.web.deps import ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES
-from melfa.web.models import TargetsOut
-from melfa.web.targets import MINE
+from melfa.web.models import TargetOut, TargetsOut
+from melfa.web.targets import MINE, PRIVATE_LABEL, TargetKind
 
 router = APIRouter(prefix="/api/targets", tags=["targets"], responses=ERROR_RESPONSES)
 
@@ -20,9 +20,19 @@ async def list_targets(session: SessionDep, context: ContextDep) -> TargetsOut:
     targets = context.targets
     lab = target_out(targets.lab, robot=context.settings.robot)
     mine = targets.private(session.user.username)
-    if mine is None:
-        mine = await targets.get(session.user.username, MINE)
-    return TargetsOut(targets=[lab, target_out(mine, robot="sim")], idle_s=targets.idle_s)
+    if mine is None:  # listing does not make one: using it does
+        out = TargetOut(
+            id=MINE,
+            kind=TargetKind.PRIVATE.value,
+            label=PRIVATE_LABEL,
+            shared=False,
+            robot="sim",
+            exists=False,
+            link=None,
+        )
+    else:
+        out = target_out(mine, robot="sim")
+    return TargetsOut(targets=[lab, out], idle_s=targets.idle_s)
 
 
 __all__ = ["router"]
