@@ -91,7 +91,7 @@ def test_the_urdf_flange_is_melfa_kin_flange(joints: tuple[float, ...]) -> None:
     ours = urdf_transform(positions)
     kin = fk_matrix(joints)
     assert np.allclose(ours[:3, 3] * 1000, kin[:3, 3], atol=1e-4)  # mm
-    assert np.allclose(ours[:3, :3], kin[:3, :3], atol=1e-8)
+    assert np.allclose(ours[:3, :3], kin[:3, :3], atol=1e-7)  # URDF keeps 9 decimals
 
 
 def test_home_puts_the_flange_where_the_controller_says() -> None:

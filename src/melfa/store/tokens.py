@@ -14,7 +14,7 @@ from __future__ import annotations
 import secrets
 import sqlite3
 from dataclasses import dataclass
-from datetime import datetime
+from datetime import datetime, timedelta
 
 from melfa.store.accounts import Accounts
 from melfa.store.db import Database
@@ -25,6 +25,9 @@ from melfa.store.timeutil import from_text, to_text
 
 PREFIX = "melfa_pat_"
 """Every token starts with this."""
+LOOKUP_VALID_FOR = timedelta(days=1)
+"""A looked-up token's `Session.expires`: tokens live until revoked, and whoever holds a
+session re-reads it (the socket guard every few seconds), which moves this on."""
 MAX_LABEL = 60
 
 
@@ -98,7 +101,10 @@ class AccessTokens:
                 )
             )
         created = from_text(row["created"])
-        return Session(f"pat-{row['id']}", user, secrets.token_urlsafe(32), created, now, now, None)
+        expires = now + LOOKUP_VALID_FOR  # renewed at every lookup: no expiry of its own
+        return Session(
+            f"pat-{row['id']}", user, secrets.token_urlsafe(32), created, expires, now, None
+        )
 
     def list(self, user: User) -> list[AccessToken]:
         rows = self.db.read(
