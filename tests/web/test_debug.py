@@ -114,3 +114,14 @@ def test_the_simulators_socket_streams_debug_updates(web: Web) -> None:
         assert message["variables"] is not None and len(message["joints"]) == 6
     # bob's simulator knows nothing of it.
     assert_error(web.bob.get("/api/debug"), 404, "no-debug-session")
+
+
+def test_stop_pauses_the_program_under_the_debugger(web: Web) -> None:
+    ann = web.ann
+    program = "SERVO ON\n*LOOP\nMOV P1\nMOV P2\nGOTO *LOOP\n"
+    points = POINTS + "DEF POS P2=(300.00,200.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    ok(ann.post("/api/debug", json={"program": program, "points": points}))
+    ok(ann.post("/api/debug/command/run"))
+    wait_for(lambda: status(ann)["state"] == "running")
+    ok(ann.post("/api/robot/stop", params={"target": "mine"}))
+    assert status(ann)["state"] == "paused" and status(ann)["stop"]["reason"] == "pause"

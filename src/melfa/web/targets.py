@@ -55,6 +55,14 @@ class Target:
     def actor(self, actor: Actor) -> Actor:
         return actor if self.simulator is None else self.simulator.actor(actor)
 
+    async def stop(self, actor: Actor) -> None:
+        """STOP: the robot, and on a private simulator the program under the debugger."""
+        debug = self.debug
+        if debug is not None and not debug.closed:
+            with contextlib.suppress(Exception):
+                await debug.call(lambda d: d.pause())
+        await self.service.stop(actor)
+
 
 class UnknownTarget(LookupError):
     """A target id that is neither ``lab`` nor ``mine``."""

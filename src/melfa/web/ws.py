@@ -299,7 +299,7 @@ class Connection:
                 {"type": "ack", "id": request_id, "op": kind, "hand": hand, "open": is_open}
             )
         elif kind == "stop":
-            await service.stop(actor)
+            await self.target.stop(actor)
             await self.send({"type": "ack", "id": request_id, "op": kind})
         else:
             raise ApiError(400, "unknown-message", f"unknown message type {kind!r}")

@@ -252,7 +252,7 @@ async def stop(
     thread, so logins, checks and other requests never delay it."""
     chosen = await find_target(context.targets, session.user.username, target)
     actor = chosen.actor(actor_of(session))
-    await operate(actor, "stop", lambda: chosen.service.stop(actor))
+    await operate(actor, "stop", lambda: chosen.stop(actor))
     return Ok()
 
 
