@@ -57,3 +57,13 @@ def test_a_token_in_the_websocket_url_signs_in_from_any_origin(web: Web) -> None
         ):
             pass
         assert refused.value.code == 1008
+
+
+def test_revoking_a_token_closes_its_open_socket_at_once(web: Web) -> None:
+    made = web.ann.post("/api/tokens", json={"label": "script"}).json()
+    with web.client.websocket_connect(f"/api/ws?token={made['token']}") as ws:
+        assert ws.receive_json()["type"] == "hello"
+        assert web.ann.delete(f"/api/tokens/{made['info']['id']}").status_code == 200
+        with pytest.raises(WebSocketDisconnect):
+            for _ in range(500):
+                ws.receive_json()

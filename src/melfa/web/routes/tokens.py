@@ -39,6 +39,7 @@ async def revoke_token(
     number: Annotated[int, Path(ge=1)], session: SessionDep, context: ContextDep
 ) -> Ok:
     await context.db(context.store.tokens.revoke, session.user, number)
+    context.guard.revoke_session(f"pat-{number}", "the access token was revoked")
     return Ok()
 
 
