@@ -191,3 +191,36 @@ def test_work_survives_a_restart(db_path: Path, clock: FakeClock) -> None:
         ws = store.workspaces.personal(ada)
         state = store.workspaces.state(ws.id)
         assert (state.revision, state.program, state.points) == (1, PROGRAM, POINTS)
+
+
+def test_restore_keeps_every_text_it_replaced_through_any_thinning(
+    db_path: Path, clock: FakeClock
+) -> None:
+    retention = RetentionPolicy(keep_recent=3)
+    with Store(db_path, clock=clock, hasher=CHEAP, retention=retention) as store:
+        ada = store.accounts.create_user("ada", "kettle-moon-1")
+        ws = store.workspaces.personal(ada)
+        base = 0
+        seen: set[str] = set()  # every text ada saw restored or replaced
+        for round_ in range(4):
+            for i in range(10):  # autosaves, minutes apart
+                clock.advance(minutes=7)
+                text = f"round {round_} edit {i}\n"
+                base = store.workspaces.save(ws.id, text, "", base=base, author=ada).revision.number
+            old = store.workspaces.revisions(ws.id)[-1].number  # the oldest left
+            replaced = store.workspaces.state(ws.id).program
+            restored = store.workspaces.restore(ws.id, old, author=ada, base=base).revision
+            seen |= {replaced, restored.program}
+            base = restored.number
+        for _ in range(3):  # days of autosaves after the last restore: thinning runs
+            for i in range(30):
+                clock.advance(minutes=20)
+                base = store.workspaces.save(
+                    ws.id, f"later {clock.now}\n", "", base=base, author=ada
+                ).revision.number
+            clock.advance(days=2)
+        kept = {
+            store.workspaces.revision(ws.id, r.number).program
+            for r in store.workspaces.revisions(ws.id)
+        }
+        assert seen <= kept, sorted(seen - kept)

@@ -178,6 +178,12 @@ _LOGIN_ADDRESSES = Migration(
     ),
 )
 
+_KEPT_REVISIONS = Migration(
+    "0007_kept_revisions",
+    ("ALTER TABLE revisions ADD COLUMN kept INTEGER NOT NULL DEFAULT 0 CHECK (kept IN (0, 1))",),
+)
+"""``kept``: an autosave whose text a restore replaced; thinning never removes it."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -185,5 +191,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _SESSIONS,
     _ACCESS_TOKENS,
     _LOGIN_ADDRESSES,
+    _KEPT_REVISIONS,
 )
 """Every migration, in the order they apply. Append only."""

@@ -9,7 +9,8 @@ not lost if the web page is refreshed". Rules (docs/store.md):
   (a second browser tab), the save is refused with `SaveConflict` carrying the current
   revision, instead of one tab silently overwriting the other.
 * Saving the content that is already there adds nothing (and never conflicts).
-* Explicit saves, imports and restores are kept forever; autosaves are thinned
+* Explicit saves, imports, restores and the text a restore replaced are kept forever;
+  autosaves are thinned
   (`RetentionPolicy`): the newest ones all kept, older ones one per hour, then one per day.
 """
 
@@ -295,7 +296,7 @@ class Workspaces:
     def _prune(self, conn: sqlite3.Connection, workspace_id: int, head: int, now: datetime) -> None:
         rows = conn.execute(
             "SELECT id, number, created FROM revisions WHERE workspace_id = ?"
-            " AND reason = 'autosave' ORDER BY number DESC",
+            " AND reason = 'autosave' AND kept = 0 ORDER BY number DESC",
             (workspace_id,),
         ).fetchall()
         seen: set[str] = set()
@@ -417,7 +418,8 @@ class Workspaces:
         author: User | None,
         base: int | None = None,
     ) -> SaveResult:
-        """Make revision `number`'s content current again, as a new revision.
+        """Make revision `number`'s content current again, as a new revision. The
+        revision it replaces is kept from thinning from now on.
 
         With `base`, refused like a save when the workspace moved on meanwhile.
         """
@@ -431,6 +433,13 @@ class Workspaces:
             if row is None:
                 raise NotFound(f"workspace {workspace_id} has no revision {number}")
             old = _revision(row)
+            # The text being replaced stays, whatever thinning comes later: a restore must
+            # never be the reason a student's work disappears.
+            conn.execute(
+                "UPDATE revisions SET kept = 1 WHERE workspace_id = ?"
+                " AND number = (SELECT head FROM workspaces WHERE id = ?)",
+                (workspace_id, workspace_id),
+            )
             return self._save(
                 conn,
                 workspace_id,
