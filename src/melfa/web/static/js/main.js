@@ -14,6 +14,7 @@ import { $, el, setActivity, showError, toast } from "./ui.js";
 import { DebugPanel } from "./debugger.js";
 import { PreflightPanel } from "./preflight.js";
 import { TargetSwitch } from "./targets.js";
+import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
 import { Workspace } from "./workspace.js";
@@ -292,6 +293,7 @@ function wireHeader() {
     if (e.key === "Escape") { toggle(false); button.focus(); }
   });
   new TokensDialog();
+  new PasswordDialog();
   $("logout").addEventListener("click", async () => {
     await app.workspace.save("autosave").catch(() => {});
     try {
