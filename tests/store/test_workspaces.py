@@ -213,7 +213,7 @@ def test_restore_keeps_every_text_it_replaced_through_any_thinning(
             seen |= {replaced, restored.program}
             base = restored.number
         for _ in range(3):  # days of autosaves after the last restore: thinning runs
-            for i in range(30):
+            for _minute in range(30):
                 clock.advance(minutes=20)
                 base = store.workspaces.save(
                     ws.id, f"later {clock.now}\n", "", base=base, author=ada

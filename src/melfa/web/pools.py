@@ -1,6 +1,7 @@
 """Thread pools with one job each, so nothing slow stands in front of something urgent.
 
-A login flood runs Argon2 in ``hash``; a student's big `/api/check` runs in ``cpu``; store
+A login flood runs Argon2 in ``hash``; a student's big `/api/check` runs in ``cpu`` (worker
+processes); store
 reads and writes (session lookups) in ``db``; the session lookup of a STOP in ``stop``,
 which nothing else uses. Each pool admits at most ``workers + queue`` calls at a time and
 refuses the rest at once with `Busy` (503 and a Retry-After), so a flood never builds an
@@ -12,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import functools
+import multiprocessing
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ParamSpec, TypeVar
@@ -31,7 +33,7 @@ class Busy(Exception):
 class BoundedPool:
     """A thread pool that admits a bounded number of calls (counted on the event loop)."""
 
-    def __init__(self, name: str, workers: int, queue: int) -> None:
+    def __init__(self, name: str, workers: int, queue: int, *, processes: bool = False) -> None:
         if workers < 1 or queue < 0:
             raise ValueError(f"pool {name}: workers ≥ 1 and queue ≥ 0")
         self.name = name
@@ -39,7 +41,14 @@ class BoundedPool:
         self.pending = 0
         self.refused = 0
         self.done = 0
-        self._executor = concurrent.futures.ThreadPoolExecutor(workers, f"melfa-{name}")
+        self._executor: concurrent.futures.Executor
+        if processes:
+            # Pure-Python work (checking) in threads would hold the GIL against the event
+            # loop; in processes it cannot slow the loop, and its memory is not ours.
+            context = multiprocessing.get_context("spawn")
+            self._executor = concurrent.futures.ProcessPoolExecutor(workers, mp_context=context)
+        else:
+            self._executor = concurrent.futures.ThreadPoolExecutor(workers, f"melfa-{name}")
 
     async def run(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
         if self.pending >= self.limit:
@@ -72,6 +81,8 @@ class PoolSizes:
     cpu_workers: int = 2
     cpu_queue: int = 8
     """`/api/check`, numbering, stripping waiting beyond this are refused (503)."""
+    cpu_processes: bool = True
+    """Run them in worker processes (threads would hold the GIL against the event loop)."""
 
 
 class Pools:
@@ -81,7 +92,7 @@ class Pools:
         s = sizes or PoolSizes()
         self.db = BoundedPool("db", s.db_workers, s.db_queue)
         self.hash = BoundedPool("hash", s.hash_workers, s.hash_queue)
-        self.cpu = BoundedPool("cpu", s.cpu_workers, s.cpu_queue)
+        self.cpu = BoundedPool("cpu", s.cpu_workers, s.cpu_queue, processes=s.cpu_processes)
         self.stop = BoundedPool("stop", 1, 64)
         """Only the session lookup of a STOP."""
 
