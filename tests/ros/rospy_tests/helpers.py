@@ -47,8 +47,17 @@ def wait_for(predicate: Callable[[], bool], timeout: float = 30.0) -> bool:
     return predicate()
 
 
+_publishers: list[Any] = []
+
+
 def instruction_publisher() -> Any:
+    """A fresh /execute_instruction publisher connected to the node. The earlier ones are
+    unregistered first: rospy shares one publisher per topic, and a connection to a node
+    an earlier test ended would count as connected while messages go nowhere."""
+    while _publishers:
+        _publishers.pop().unregister()
     pub = rospy.Publisher("/execute_instruction", std_msgs.String, queue_size=100)
+    _publishers.append(pub)
     assert wait_for(lambda: pub.get_num_connections() >= 1), "the node did not subscribe"
     return pub
 

@@ -38,13 +38,13 @@ def node(ros_master: str, tmp_path: Path) -> Iterator[Path]:
         yield log
 
 
-def send(*texts: str) -> None:
-    pub = instruction_publisher()
+def send(pub: Any, *texts: str) -> None:
     for text in texts:
         pub.publish(std_msgs.String(data=text))
 
 
 def test_a_failed_motion_is_reported_and_recoverable_with_reset(node: Path) -> None:
+    pub = instruction_publisher()
     errors = Inbox("/execute_error", std_msgs.String)
     log = Inbox("/rosout", rosgraph_msgs.Log)
     poses = Inbox("/tool_pose_stamped", geometry_msgs.PoseStamped)
@@ -52,7 +52,7 @@ def test_a_failed_motion_is_reported_and_recoverable_with_reset(node: Path) -> N
         assert wait_for(lambda: poses.last() is not None)
         # The first step: a move sent with the servo off (a statement leaves the
         # servo alone) fails with L2000 and leaves an alarm.
-        send("---SINGLE INSTRUCTION---", "MVS P_CURR+(0,0,10,0,0,0)")
+        send(pub, "---SINGLE INSTRUCTION---", "MVS P_CURR+(0,0,10,0,0,0)")
         assert wait_for(lambda: errors.last() is not None)
         reason = errors.last().data
         assert wait_for(lambda: "alarm" in trigger("state").message)
@@ -69,7 +69,7 @@ def test_a_failed_motion_is_reported_and_recoverable_with_reset(node: Path) -> N
         assert (reset.success, reset.message) == (True, "alarm reset")
         assert wait_for(lambda: "no alarm" in trigger("state").message)
         z = poses.last().pose.position.z
-        send("---MOV TOOL -Z---")  # tool Z points down: the arm goes up one step
+        send(pub, "---MOV TOOL -Z---")  # tool Z points down: the arm goes up one step
         assert wait_for(lambda: poses.last().pose.position.z > z + 0.0099)
     finally:
         errors.close()
@@ -78,13 +78,14 @@ def test_a_failed_motion_is_reported_and_recoverable_with_reset(node: Path) -> N
 
 
 def test_joint_states_keep_flowing_during_a_jog_step(node: Path) -> None:
+    pub = instruction_publisher()
     joints = Inbox("/joint_states", sensor_msgs.JointState)
     try:
         assert wait_for(lambda: len(joints.snapshot()) >= 50)
         rest = [m.header.stamp.to_sec() for m in joints.snapshot()[-50:]]
         poll = statistics.median(b - a for a, b in itertools.pairwise(rest))
         first = joints.last().position
-        send("---MOV TOOL +X---")
+        send(pub, "---MOV TOOL +X---")
         assert wait_for(lambda: joints.last().position != first)
         time.sleep(0.5)
         changed = [m for m in joints.snapshot() if m.position != first]

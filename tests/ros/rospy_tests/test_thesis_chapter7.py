@@ -45,11 +45,17 @@ def state() -> str:
 
 
 def pose_mm(pub: Any, answers: Inbox) -> list[float]:
-    """The pose the thesis's way: REQUEST TOOL POSE, answer "x,y,z,r,p,y" (m, rad)."""
+    """The pose the thesis's way: REQUEST TOOL POSE, answer "x,y,z,r,p,y" (m, rad). Asked
+    again if no answer comes: the first message to a just-started node can be lost while
+    rospy still holds the previous node's connection."""
     assert wait_for(lambda: answers.subscriber.get_num_connections() >= 1)
-    count = len(answers.snapshot())
-    send(pub, "---REQUEST TOOL POSE---")
-    assert wait_for(lambda: len(answers.snapshot()) > count)
+    for _ in range(10):
+        count = len(answers.snapshot())
+        send(pub, "---REQUEST TOOL POSE---")
+        if wait_for(lambda: len(answers.snapshot()) > count, timeout=3):  # noqa: B023
+            break
+    else:
+        raise AssertionError("no answer on /tool_pose")
     text = answers.last().data
     assert not text.startswith("(")
     values = [float(v) for v in text.split(",")]
