@@ -4,6 +4,7 @@
 
 import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
+import { ActionLog } from "./actionlog.js";
 import { describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, nameWorkspace, robotBadge, welcome } from "./first.js";
@@ -76,6 +77,7 @@ async function main() {
   app.targets = new TargetSwitch(app, $("target-switch"));
   app.live = new Live(app.targets.socketUrl());
   wireLive(app.live);
+  app.actionLog = new ActionLog(app);
   app.jog = new JogPad(app);
   app.view.setFrame($("jog-frame").value);
   wireHeader();
