@@ -14,7 +14,7 @@ goes to the controller the same way from every entry:
 >>> [item.text for item in prepared.items]
 ["10 MOV P1 ' repos", '20 END', 'P1=(1.00,2.00,3.00,4.00,5.00,6.00)(7,0)']
 >>> prepared.program_lines, prepared.point_count, prepared.note
-(2, 1, "comment on line 1 sent as plain ASCII (accents removed); your file is unchanged")
+(2, 1, 'comments on line 1 sent without accents; your file is unchanged')
 """
 
 from __future__ import annotations
