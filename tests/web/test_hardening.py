@@ -207,7 +207,7 @@ def test_stop_answers_during_a_login_flood_held_open(tmp_path: Path) -> None:
 
 def test_stop_answers_during_the_largest_checks(tmp_path: Path) -> None:
     store = make_store(tmp_path / "data")
-    sizes = PoolSizes(cpu_workers=2, cpu_queue=2)
+    sizes = PoolSizes(cpu_workers=2, cpu_queue=2, cpu_processes=True)  # as `melfa serve`
     settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), pools=sizes)
     program = "\n".join(f"{10 * i} MOV P{i % 50 + 1}" for i in range(1, 70_000))[:999_000]
     with live_server(store, settings) as live:

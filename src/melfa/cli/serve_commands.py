@@ -140,6 +140,7 @@ def serve(
 
     from melfa.web import WebSettings, create_app
     from melfa.web.logs import configure
+    from melfa.web.pools import PoolSizes
     from melfa.web.server import uvicorn_config
 
     try:
@@ -189,6 +190,7 @@ def serve(
         private_idle_s=private_idle,
         allowed_hosts=hosts,
         trusted_proxies=tuple(trusted_proxies or ()),
+        pools=PoolSizes(cpu_processes=True),  # checks never hold the GIL against STOP
     )
     web_app = create_app(settings, store=store)
     config = uvicorn_config(

@@ -13,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import functools
+import importlib
 import multiprocessing
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -47,6 +48,8 @@ class BoundedPool:
             # loop; in processes it cannot slow the loop, and its memory is not ours.
             context = multiprocessing.get_context("spawn")
             self._executor = concurrent.futures.ProcessPoolExecutor(workers, mp_context=context)
+            for _ in range(workers):  # start and warm them now, not on a student's first check
+                self._executor.submit(importlib.import_module, "melfa.web.routes.check")
         else:
             self._executor = concurrent.futures.ThreadPoolExecutor(workers, f"melfa-{name}")
 
@@ -81,8 +84,10 @@ class PoolSizes:
     cpu_workers: int = 2
     cpu_queue: int = 8
     """`/api/check`, numbering, stripping waiting beyond this are refused (503)."""
-    cpu_processes: bool = True
-    """Run them in worker processes (threads would hold the GIL against the event loop)."""
+    cpu_processes: bool = False
+    """Run them in worker processes, started with the server (threads hold the GIL against
+    the event loop: a STOP waits). `melfa serve` turns this on; in-process test apps keep
+    threads, which start instantly."""
 
 
 class Pools:
