@@ -195,9 +195,12 @@ def test_a_move_with_the_servo_off_is_refused_until_the_operator_asks_for_it(
     assert ok(ann.get("/api/robot/state"))["alarm"] is None  # nothing was sent
     assert_error(ann.post("/api/robot/run", json={}), 409)
     assert ok(ann.post("/api/robot/move", json={"point": "P1", "servo_on": True})) == {"ok": True}
-    settle(ann)
-    state = ok(ann.get("/api/robot/state"))
-    assert state["servo"] is True and abs(state["pose"][0] - 300) < 0.5
+
+    def at_p1() -> bool:
+        state = ok(ann.get("/api/robot/state"))
+        return bool(state["servo"]) and abs(state["pose"][0] - 300) < 0.5
+
+    wait_for(at_p1)  # the move's answer comes when it starts; the arm then takes its time
     entries = web.ivy.get("/api/audit").json()["entries"]
     servo = [e for e in entries if e["action"] == "robot.servo"]
     assert any("before move_to" in str(e["details"]) for e in servo)

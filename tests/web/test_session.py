@@ -80,7 +80,7 @@ def test_login_rate_limited(web: Web) -> None:
 
 def test_login_form_page_and_redirect(web: Web) -> None:
     page = web.client.get("/login")
-    assert page.status_code == 200 and '<form method="post" action="/login">' in page.text
+    assert page.status_code == 200 and '<form method="post" action="/login"' in page.text
     response = web.client.post(
         "/login",
         data={"username": "ann", "password": PASSWORDS["ann"], "next": "/audit"},
