@@ -186,6 +186,26 @@ class Session:
         assert not self.errors, self.errors
 
 
+def free_the_robot(page: Page, server: Server) -> None:
+    """Stop, clear any alarm, switch the servo off and release control as admin: the test
+    that calls it (and the next one) finds a free, idle robot as a student's first hour does."""
+    admin = page.context.browser.new_context()  # type: ignore[union-attr]
+    try:
+        reply = admin.request.post(
+            server.url + "/api/session",
+            data={"username": "admin", "password": server.passwords["admin"]},
+        )
+        token = reply.json()["csrf_token"]
+        headers = {"X-CSRF-Token": token}
+        admin.request.post(server.url + "/api/robot/stop", headers=headers)
+        admin.request.post(server.url + "/api/lease/takeover", headers=headers)
+        admin.request.post(server.url + "/api/robot/reset-alarm", headers=headers)
+        admin.request.post(server.url + "/api/robot/servo", data={"on": False}, headers=headers)
+        admin.request.delete(server.url + "/api/lease", headers=headers)
+    finally:
+        admin.close()
+
+
 @pytest.fixture
 def open_session(browser: Browser, server: Server) -> Iterator[Any]:
     """Factory: `open_session("alice")` gives a signed-in IDE; all closed afterwards."""

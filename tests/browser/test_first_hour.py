@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page, expect
 
-from tests.browser.conftest import ROOT, Server, Session
+from tests.browser.conftest import ROOT, Server, Session, free_the_robot
 
 pytestmark = pytest.mark.timeout(180)
 
@@ -29,25 +29,6 @@ def wait_until(predicate: Any, timeout: float = 10.0, what: str = "condition") -
     while not predicate():
         assert time.monotonic() < deadline, f"timed out waiting for {what}"
         time.sleep(0.05)
-
-
-def free_the_robot(page: Page, server: Server) -> None:
-    """Stop, clear any alarm and release control as admin: the next test (and module)
-    finds a free, idle robot."""
-    admin = page.context.browser.new_context()  # type: ignore[union-attr]
-    try:
-        reply = admin.request.post(
-            server.url + "/api/session",
-            data={"username": "admin", "password": server.passwords["admin"]},
-        )
-        token = reply.json()["csrf_token"]
-        headers = {"X-CSRF-Token": token}
-        admin.request.post(server.url + "/api/robot/stop", headers=headers)
-        admin.request.post(server.url + "/api/lease/takeover", headers=headers)
-        admin.request.post(server.url + "/api/robot/reset-alarm", headers=headers)
-        admin.request.delete(server.url + "/api/lease", headers=headers)
-    finally:
-        admin.close()
 
 
 def visible_texts(page: Page) -> list[str]:

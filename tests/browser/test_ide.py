@@ -12,7 +12,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import expect
 
-from tests.browser.conftest import Session
+from tests.browser.conftest import Server, Session, free_the_robot
 
 pytestmark = pytest.mark.timeout(120)
 
@@ -36,16 +36,17 @@ def wait_until(predicate: Any, timeout: float = 10.0, what: str = "condition") -
         time.sleep(0.05)
 
 
-def test_login_form_and_typo_suggestion_inline(open_session: Any) -> None:
-    s: Session = open_session("alice", login=False)
+def test_login_form_and_typo_suggestion_inline(open_session: Any, server: Server) -> None:
+    server.add_user("newcomer")  # a first sign-in, whatever earlier modules did with alice
+    s: Session = open_session("newcomer", login=False)
     page = s.page
     page.goto(s.server.url + "/")
     expect(page).to_have_url(s.server.url + "/login")
-    page.fill("input[name=username]", "alice")
-    page.fill("input[name=password]", s.server.passwords["alice"])
+    page.fill("input[name=username]", "newcomer")
+    page.fill("input[name=password]", s.server.passwords["newcomer"])
     page.click("button[type=submit]")
     s.wait_ready()
-    expect(page.locator("#user-name")).to_have_text("alice")
+    expect(page.locator("#user-name")).to_have_text("newcomer")
     # An empty workspace starts with the welcome project and its three-step guide.
     assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
     assert "PPICK" in s.eval("() => window.melfa.workspace.points")
@@ -88,8 +89,11 @@ def test_live_check_can_be_switched_off_and_checked_manually(open_session: Any) 
     page.check("#live-check")
 
 
-def test_open_mb4_strips_numbers_and_a_txt_is_refused(open_session: Any, tmp_path: Path) -> None:
-    s: Session = open_session("carol")
+def test_open_mb4_strips_numbers_and_a_txt_is_refused(
+    open_session: Any, server: Server, tmp_path: Path
+) -> None:
+    server.add_user("opener")  # its workspace starts with the welcome program
+    s: Session = open_session("opener")
     page = s.page
     numbered = tmp_path / "demo.MB4"
     numbered.write_bytes(b"10 MOV P1\r\n20 GOTO 10\r\n30 END\r\n")
@@ -178,9 +182,12 @@ def test_points_by_dialog_and_by_importing_the_current_position(
     expect(page.locator("#problem-list li")).to_have_count(1)
 
 
-def test_load_project_run_and_stop_overtakes(open_session: Any, stop_robot: None) -> None:
+def test_load_project_run_and_stop_overtakes(
+    open_session: Any, server: Server, stop_robot: None
+) -> None:
     s: Session = open_session("bob")
     page = s.page
+    free_the_robot(page, server)  # servo off, as a student finds it
     s.eval(
         "() => { window.__progress = []; window.melfa.live.on('progress', (m) => "
         "window.__progress.push([m.sent, m.total])); }"
@@ -298,17 +305,19 @@ def test_second_user_sees_the_first_holding_the_robot(open_session: Any) -> None
     expect(bob.page.locator("#lease-text")).to_contain_text("free")
 
 
-def test_screenshots_of_each_tab(open_session: Any, stop_robot: None) -> None:
+def test_screenshots_of_each_tab(open_session: Any, server: Server, stop_robot: None) -> None:
     """docs/screenshots/*.png at 1366×768 with the bundled pyramid example."""
     root = Path(__file__).resolve().parents[2]
     s: Session = open_session("admin")
     page = s.page
+    free_the_robot(page, server)  # the servo off whatever earlier tests left: Run asks first
     s.set_points((root / "examples/pyramid.POS").read_text(encoding="utf-8"))
     s.set_program((root / "examples/pyramid.MB4").read_text(encoding="utf-8"))
     expect(page.locator("#diag-summary")).to_be_empty()
     page.click("#act-load")
     expect(page.locator(".toast", has_text="Project loaded")).to_be_visible(timeout=30_000)
     page.click("#act-run")
+    page.locator(".toast.error").get_by_role("button", name="Turn on and retry").click()
     wait_until(lambda: int(page.get_attribute("#view3d", "data-path-points") or 0) > 40, 20, "path")
     page.evaluate("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
     s.screenshot("ide-editor")

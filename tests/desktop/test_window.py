@@ -290,8 +290,10 @@ def test_servo_override_and_jog_controls(ui: Ui, observer: ApiClient) -> None:
     assert ui.window.jog_buttons[(2, -1)].text() == "J3−"
 
 
-def test_a_refused_instruction_says_why(ui: Ui) -> None:
+def test_a_refused_instruction_says_why(ui: Ui, observer: ApiClient) -> None:
     ui.take_notices()
+    # A jog step of the test before may still be moving: then the refusal would be "busy".
+    wait_until(lambda: observer.state().moving is False and observer.state().running is False)
     ui.window.exec_edit.setText("MOV P_NOWHERE_AT_ALL")
     ui.window.exec_button.click()
     ui.idle()
