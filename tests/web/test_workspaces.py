@@ -73,6 +73,16 @@ def test_revisions_and_restore(web: Web) -> None:
     assert_error(stale, 409, "save-conflict")
 
 
+def test_numbers_beyond_the_database_are_refused_not_crashed(web: Web) -> None:
+    """schemathesis found a 31-digit revision number overflowing SQLite's integer (a 500)."""
+    ws = _default(web)
+    huge = 9855871688309933529604898684928
+    assert_error(web.ann.get(f"/api/workspaces/{ws}/revisions/{huge}"), 422)
+    restore = web.ann.post(f"/api/workspaces/{ws}/revisions/{huge}/restore", json={"base": 0})
+    assert_error(restore, 422)
+    assert_error(web.ann.get(f"/api/workspaces/{huge}"), 422)
+
+
 def test_other_students_workspace_is_forbidden(web: Web) -> None:
     ws = _default(web, "ann")
     assert_error(web.cat.get(f"/api/workspaces/{ws}"), 403, "forbidden")

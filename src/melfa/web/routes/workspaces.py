@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from fastapi import APIRouter, File, Form, Query, UploadFile
+from fastapi import APIRouter, File, Form, Path, Query, UploadFile
 from fastapi.responses import PlainTextResponse
 
 from melfa.store import FileKind, SaveReason, User, Workspace
@@ -23,6 +23,11 @@ from melfa.web.models import (
     WorkspaceList,
     WorkspaceOut,
 )
+
+# A revision number as the store keeps it (an SQLite integer): a larger one is a 422 in the
+# user's words, never an overflow inside the database driver.
+RevisionNumber = Annotated[int, Path(ge=1, le=2**62, description="The revision's number")]
+WorkspaceId = Annotated[int, Path(ge=1, le=2**62, description="The workspace's id")]
 
 router = APIRouter(prefix="/api/workspaces", tags=["workspaces"], responses=ERROR_RESPONSES)
 
@@ -62,7 +67,7 @@ async def list_workspaces(session: SessionDep, context: ContextDep) -> Workspace
 
 @router.get("/{workspace_id}", response_model=WorkspaceOut, summary="Program and points")
 async def get_workspace(
-    workspace_id: int, session: SessionDep, context: ContextDep
+    workspace_id: WorkspaceId, session: SessionDep, context: ContextDep
 ) -> WorkspaceOut:
     ws = await open_workspace(context, session.user, workspace_id)
     return workspace_out(await context.db(context.store.workspaces.state, ws.id))
@@ -70,7 +75,7 @@ async def get_workspace(
 
 @router.put("/{workspace_id}", response_model=SaveOut, summary="Save (autosave)")
 async def save_workspace(
-    workspace_id: int, body: SaveIn, session: SessionDep, context: ContextDep
+    workspace_id: WorkspaceId, body: SaveIn, session: SessionDep, context: ContextDep
 ) -> SaveOut:
     """Store program and points on top of revision ``base``; 409 ``save-conflict`` with the
     current revision in ``error.detail.current`` when someone saved meanwhile."""
@@ -89,7 +94,7 @@ async def save_workspace(
 
 @router.get("/{workspace_id}/revisions", response_model=RevisionList, summary="History")
 async def list_revisions(
-    workspace_id: int,
+    workspace_id: WorkspaceId,
     session: SessionDep,
     context: ContextDep,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
@@ -111,7 +116,7 @@ async def list_revisions(
     "/{workspace_id}/revisions/{number}", response_model=RevisionOut, summary="One revision"
 )
 async def get_revision(
-    workspace_id: int, number: int, session: SessionDep, context: ContextDep
+    workspace_id: WorkspaceId, number: RevisionNumber, session: SessionDep, context: ContextDep
 ) -> RevisionOut:
     ws = await open_workspace(context, session.user, workspace_id)
     return revision_out(await context.db(context.store.workspaces.revision, ws.id, number))
@@ -123,7 +128,11 @@ async def get_revision(
     summary="Make an old revision current",
 )
 async def restore_revision(
-    workspace_id: int, number: int, body: RestoreIn, session: SessionDep, context: ContextDep
+    workspace_id: WorkspaceId,
+    number: RevisionNumber,
+    body: RestoreIn,
+    session: SessionDep,
+    context: ContextDep,
 ) -> SaveOut:
     ws = await open_workspace(context, session.user, workspace_id)
     result = await context.db(
@@ -134,7 +143,7 @@ async def restore_revision(
 
 @router.post("/{workspace_id}/import", response_model=SaveOut, summary="Import .MB4 or .POS")
 async def import_file(
-    workspace_id: int,
+    workspace_id: WorkspaceId,
     session: SessionDep,
     context: ContextDep,
     file: Annotated[UploadFile, File(description="A .MB4 program or a .POS points file")],
@@ -165,7 +174,7 @@ async def import_file(
     responses={200: {"content": {"text/plain": {}}, "description": "The file"}},
 )
 async def export_file(
-    workspace_id: int,
+    workspace_id: WorkspaceId,
     kind: Literal["program", "points"],
     session: SessionDep,
     context: ContextDep,
