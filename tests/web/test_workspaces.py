@@ -81,6 +81,7 @@ def test_numbers_beyond_the_database_are_refused_not_crashed(web: Web) -> None:
     restore = web.ann.post(f"/api/workspaces/{ws}/revisions/{huge}/restore", json={"base": 0})
     assert_error(restore, 422)
     assert_error(web.ann.get(f"/api/workspaces/{huge}"), 422)
+    assert_error(web.ann.get(f"/api/workspaces/{ws}/revisions/-{huge}"), 422)
 
 
 def test_other_students_workspace_is_forbidden(web: Web) -> None:

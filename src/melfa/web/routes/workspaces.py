@@ -24,10 +24,10 @@ from melfa.web.models import (
     WorkspaceOut,
 )
 
-# A revision number as the store keeps it (an SQLite integer): a larger one is a 422 in the
+# Ids and numbers as the store keeps them (SQLite integers): one beyond is a 422 in the
 # user's words, never an overflow inside the database driver.
-RevisionNumber = Annotated[int, Path(ge=1, le=2**62, description="The revision's number")]
-WorkspaceId = Annotated[int, Path(ge=1, le=2**62, description="The workspace's id")]
+RevisionNumber = Annotated[int, Path(ge=-(2**62), le=2**62, description="The revision's number")]
+WorkspaceId = Annotated[int, Path(ge=-(2**62), le=2**62, description="The workspace's id")]
 
 router = APIRouter(prefix="/api/workspaces", tags=["workspaces"], responses=ERROR_RESPONSES)
 
