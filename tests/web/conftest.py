@@ -67,6 +67,9 @@ class Browser:
     def put(self, url: str, **kw: Any) -> Any:
         return self.client.put(url, headers=self.headers(kw.pop("headers", None)), **kw)
 
+    def patch(self, url: str, **kw: Any) -> Any:
+        return self.client.patch(url, headers=self.headers(kw.pop("headers", None)), **kw)
+
     def delete(self, url: str, **kw: Any) -> Any:
         return self.client.delete(url, headers=self.headers(kw.pop("headers", None)), **kw)
 

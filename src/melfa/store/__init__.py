@@ -73,6 +73,7 @@ from melfa.store.transfer import (
     program_from_file,
     program_to_file,
 )
+from melfa.store.workspace_names import DEFAULT_PERSONAL_NAME, MAX_NAME_CHARS, clean_name
 from melfa.store.workspaces import MAX_TEXT_CHARS, RetentionPolicy, SaveResult, Workspaces
 
 __all__ = [
@@ -80,6 +81,8 @@ __all__ = [
     "ADMIN_USERNAME",
     "DATABASE_FILENAME",
     "DATA_ENV",
+    "DEFAULT_PERSONAL_NAME",
+    "MAX_NAME_CHARS",
     "MAX_TEXT_CHARS",
     "MIGRATIONS",
     "AccessDenied",
@@ -131,6 +134,7 @@ __all__ = [
     "Workspaces",
     "WrongExtension",
     "check_csrf",
+    "clean_name",
     "database_path",
     "default_data_dir",
     "enrol",

@@ -184,6 +184,25 @@ _KEPT_REVISIONS = Migration(
 )
 """``kept``: an autosave whose text a restore replaced; thinning never removes it."""
 
+_WORKSPACE_NAMES = Migration(
+    "0008_workspace_names",
+    (
+        "ALTER TABLE workspaces ADD COLUMN name TEXT NOT NULL DEFAULT ''",
+        "ALTER TABLE workspaces ADD COLUMN archived INTEGER NOT NULL DEFAULT 0"
+        " CHECK (archived IN (0, 1))",
+        "UPDATE workspaces SET name = 'My programs' WHERE user_id IS NOT NULL",
+        "UPDATE workspaces SET name = (SELECT g.name FROM groups AS g WHERE g.id = group_id)"
+        " WHERE group_id IS NOT NULL",
+        "DROP INDEX workspaces_user",
+        "CREATE UNIQUE INDEX workspaces_user_name ON workspaces (user_id, name COLLATE NOCASE)"
+        " WHERE user_id IS NOT NULL",
+        "CREATE INDEX workspaces_owner ON workspaces (user_id, id) WHERE user_id IS NOT NULL",
+    ),
+)
+"""Several personal workspaces per user, each named (unique per owner, without case); the
+one a user had is named "My programs" and stays their default (the lowest id); a group's
+is named after the group. ``archived``: hidden from the switcher, never deleted."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -192,5 +211,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _ACCESS_TOKENS,
     _LOGIN_ADDRESSES,
     _KEPT_REVISIONS,
+    _WORKSPACE_NAMES,
 )
 """Every migration, in the order they apply. Append only."""

@@ -116,6 +116,15 @@ class Workspace:
     """Username or group name."""
     owner_id: int
     created: datetime
+    name: str = ""
+    """What the owner calls it ("My programs", "pyramid"); a group's defaults to the group."""
+    archived: bool = False
+    """Hidden from the switcher; kept with all its history (nothing is ever deleted)."""
+
+    @property
+    def shared(self) -> bool:
+        """A group's workspace: every member edits the same program."""
+        return self.kind is WorkspaceKind.GROUP
 
 
 class SaveReason(enum.Enum):

@@ -22,7 +22,7 @@ from datetime import datetime, timedelta
 
 from melfa.store.accounts import Accounts
 from melfa.store.db import Database
-from melfa.store.errors import AccessDenied, InvalidValue, NotFound, SaveConflict
+from melfa.store.errors import AccessDenied, AlreadyExists, InvalidValue, NotFound, SaveConflict
 from melfa.store.models import (
     Revision,
     RevisionInfo,
@@ -42,6 +42,7 @@ from melfa.store.transfer import (
     program_from_file,
     program_to_file,
 )
+from melfa.store.workspace_names import DEFAULT_PERSONAL_NAME, clean_name
 
 __all__ = ["MAX_TEXT_CHARS", "RetentionPolicy", "SaveResult", "Workspaces"]
 
@@ -69,7 +70,8 @@ class SaveResult:
 
 
 _WS_SELECT = """
-    SELECT w.id, w.user_id, w.group_id, w.created, w.head, u.username, g.name AS group_name
+    SELECT w.id, w.user_id, w.group_id, w.created, w.head, w.name, w.archived, u.username,
+           g.name AS group_name
     FROM workspaces AS w
     LEFT JOIN users AS u ON u.id = w.user_id
     LEFT JOIN groups AS g ON g.id = w.group_id
@@ -77,20 +79,15 @@ _WS_SELECT = """
 
 
 def _workspace(row: sqlite3.Row) -> Workspace:
-    if row["user_id"] is not None:
-        return Workspace(
-            row["id"],
-            WorkspaceKind.PERSONAL,
-            row["username"],
-            row["user_id"],
-            from_text(row["created"]),
-        )
+    personal = row["user_id"] is not None
     return Workspace(
         row["id"],
-        WorkspaceKind.GROUP,
-        row["group_name"],
-        row["group_id"],
+        WorkspaceKind.PERSONAL if personal else WorkspaceKind.GROUP,
+        row["username"] if personal else row["group_name"],
+        row["user_id"] if personal else row["group_id"],
         from_text(row["created"]),
+        row["name"],
+        bool(row["archived"]),
     )
 
 
@@ -125,22 +122,112 @@ class Workspaces:
     # --- finding workspaces ---------------------------------------------------------------
 
     def personal(self, user: User) -> Workspace:
-        """The user's own workspace, created empty on first use."""
+        """The user's default workspace (their first one, named "My programs" unless they
+        renamed it), created empty on first use."""
         now = to_text(self.db.clock())
 
         def get(conn: sqlite3.Connection) -> Workspace:
             if conn.execute("SELECT 1 FROM users WHERE id = ?", (user.id,)).fetchone() is None:
                 raise NotFound(f"no user {user.username!r}")
-            conn.execute(
-                "INSERT INTO workspaces (user_id, created) VALUES (?, ?)"
-                " ON CONFLICT (user_id) WHERE user_id IS NOT NULL DO NOTHING",
-                (user.id, now),
+            row = conn.execute(
+                _WS_SELECT + " WHERE w.user_id = ? ORDER BY w.id LIMIT 1", (user.id,)
+            ).fetchone()
+            if row is not None:
+                return _workspace(row)
+            cursor = conn.execute(
+                "INSERT INTO workspaces (user_id, created, name) VALUES (?, ?, ?)",
+                (user.id, now, DEFAULT_PERSONAL_NAME),
             )
-            return _workspace(
-                conn.execute(_WS_SELECT + " WHERE w.user_id = ?", (user.id,)).fetchone()
-            )
+            return _by_id(conn, cursor.lastrowid)
 
         return self.db.write(get)
+
+    def mine(self, user: User, *, archived: bool = False) -> list[Workspace]:
+        """The user's personal workspaces, the default first (created if none); archived
+        ones only when asked."""
+        default = self.personal(user)
+        rows = self.db.read(
+            lambda c: c.execute(
+                _WS_SELECT + " WHERE w.user_id = ? AND w.archived <= ? ORDER BY w.id",
+                (user.id, int(archived)),
+            ).fetchall()
+        )
+        listed = [_workspace(r) for r in rows]
+        return listed if listed and listed[0].id == default.id else [default, *listed]
+
+    def create(
+        self,
+        user: User,
+        name: str,
+        *,
+        program: str = "",
+        points: str = "",
+        reason: SaveReason = SaveReason.SAVE,
+    ) -> Workspace:
+        """A new personal workspace of `user` named `name`, empty or holding `program` and
+        `points` as its first revision. `AlreadyExists` when the user has one so named."""
+        cleaned = clean_name(name)
+        _check_size("program", program)
+        _check_size("points", points)
+        now = self.db.clock()
+
+        def write(conn: sqlite3.Connection) -> Workspace:
+            if conn.execute("SELECT 1 FROM users WHERE id = ?", (user.id,)).fetchone() is None:
+                raise NotFound(f"no user {user.username!r}")
+            if (
+                conn.execute("SELECT 1 FROM workspaces WHERE user_id = ?", (user.id,)).fetchone()
+                is None
+            ):
+                # The first workspace is the default one: keep it "My programs".
+                conn.execute(
+                    "INSERT INTO workspaces (user_id, created, name) VALUES (?, ?, ?)",
+                    (user.id, to_text(now), DEFAULT_PERSONAL_NAME),
+                )
+            _check_free(conn, user.id, cleaned, None)
+            cursor = conn.execute(
+                "INSERT INTO workspaces (user_id, created, name) VALUES (?, ?, ?)",
+                (user.id, to_text(now), cleaned),
+            )
+            workspace_id = int(cursor.lastrowid or 0)
+            if program or points:
+                self._save(conn, workspace_id, program, points, 0, user, reason, now, None)
+            return _by_id(conn, workspace_id)
+
+        return self.db.write(write)
+
+    def rename(self, workspace_id: int, name: str) -> Workspace:
+        """Give a workspace a new name (`AlreadyExists` if its owner has one so named)."""
+        cleaned = clean_name(name)
+
+        def write(conn: sqlite3.Connection) -> Workspace:
+            found = _by_id(conn, workspace_id)
+            if found.kind is WorkspaceKind.PERSONAL:
+                _check_free(conn, found.owner_id, cleaned, workspace_id)
+            conn.execute("UPDATE workspaces SET name = ? WHERE id = ?", (cleaned, workspace_id))
+            return _by_id(conn, workspace_id)
+
+        return self.db.write(write)
+
+    def archive(self, workspace_id: int, archived: bool = True) -> Workspace:
+        """Hide a personal workspace from the switcher (or bring it back). Nothing is
+        deleted: its revisions stay. A user's default workspace and a group's shared one
+        are never hidden."""
+
+        def write(conn: sqlite3.Connection) -> Workspace:
+            found = _by_id(conn, workspace_id)
+            if archived and found.shared:
+                raise InvalidValue("archived", "a group's shared workspace stays available")
+            first = conn.execute(
+                "SELECT min(id) FROM workspaces WHERE user_id = ?", (found.owner_id,)
+            ).fetchone()[0]
+            if archived and first == workspace_id:
+                raise InvalidValue("archived", "your first workspace stays available")
+            conn.execute(
+                "UPDATE workspaces SET archived = ? WHERE id = ?", (int(archived), workspace_id)
+            )
+            return _by_id(conn, workspace_id)
+
+        return self.db.write(write)
 
     def group(self, name: str) -> Workspace:
         """The lab group's shared workspace, created empty on first use."""
@@ -151,9 +238,10 @@ class Workspaces:
             if row is None:
                 raise NotFound(f"no group {name.strip()!r}")
             conn.execute(
-                "INSERT INTO workspaces (group_id, created) VALUES (?, ?)"
+                "INSERT INTO workspaces (group_id, created, name)"
+                " SELECT id, ?, name FROM groups WHERE id = ?"
                 " ON CONFLICT (group_id) WHERE group_id IS NOT NULL DO NOTHING",
-                (row["id"], now),
+                (now, row["id"]),
             )
             return _workspace(
                 conn.execute(_WS_SELECT + " WHERE w.group_id = ?", (row["id"],)).fetchone()
@@ -170,13 +258,15 @@ class Workspaces:
         return _workspace(row)
 
     def available_to(self, user: User) -> list[Workspace]:
-        """The workspaces `user` may open: their own and their group's (created if needed);
-        staff also see every existing one."""
-        mine = [self.personal(user)]
+        """The workspaces `user` may open: their own (not archived) and their group's
+        (created if needed); staff also see every other one not archived."""
+        mine = self.mine(user)
         if user.group is not None:
             mine.append(self.group(user.group))
         if user.role.is_staff:
-            rows = self.db.read(lambda c: c.execute(_WS_SELECT + " ORDER BY w.id").fetchall())
+            rows = self.db.read(
+                lambda c: c.execute(_WS_SELECT + " WHERE w.archived = 0 ORDER BY w.id").fetchall()
+            )
             ids = {w.id for w in mine}
             mine.extend(_workspace(r) for r in rows if r["id"] not in ids)
         return mine
@@ -363,7 +453,7 @@ class Workspaces:
     def export_file(self, workspace_id: int, kind: FileKind) -> ExportedFile:
         """The current program as a numbered `.MB4`, or the points as a `.POS` file."""
         state = self.state(workspace_id)
-        stem = state.workspace.owner
+        stem = state.workspace.name or state.workspace.owner
         if kind is FileKind.PROGRAM:
             return program_to_file(state.program, stem)
         return points_to_file(state.points, stem)
@@ -453,6 +543,21 @@ class Workspaces:
             )
 
         return self.db.write(write)
+
+
+def _by_id(conn: sqlite3.Connection, workspace_id: int | None) -> Workspace:
+    row = conn.execute(_WS_SELECT + " WHERE w.id = ?", (workspace_id,)).fetchone()
+    if row is None:
+        raise NotFound(f"no workspace {workspace_id}")
+    return _workspace(row)
+
+
+def _check_free(conn: sqlite3.Connection, user_id: int, name: str, keep: int | None) -> None:
+    """`AlreadyExists` when the user has another workspace called `name` (without case)."""
+    rows = conn.execute("SELECT id, name FROM workspaces WHERE user_id = ?", (user_id,))
+    for row in rows.fetchall():
+        if row["id"] != keep and row["name"].casefold() == name.casefold():
+            raise AlreadyExists(f"you already have a workspace called \u201c{row['name']}\u201d")
 
 
 def _head(conn: sqlite3.Connection, workspace_id: int, number: int) -> Revision | None:

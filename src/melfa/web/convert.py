@@ -7,7 +7,7 @@ from typing import Any
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.protocol.advice import FIX_LABELS, Fix, advice_for
 from melfa.service import Actor, StateSnapshot, event_to_dict
-from melfa.store import Revision, RevisionInfo, User, WorkspaceState
+from melfa.store import Revision, RevisionInfo, User, Workspace, WorkspaceState
 from melfa.web.models import (
     ActorOut,
     DiagnosticOut,
@@ -17,6 +17,7 @@ from melfa.web.models import (
     StateOut,
     TargetOut,
     UserOut,
+    WorkspaceInfo,
     WorkspaceOut,
 )
 from melfa.web.targets import Target
@@ -34,12 +35,20 @@ def user_out(user: User) -> UserOut:
     )
 
 
-def workspace_out(state: WorkspaceState) -> WorkspaceOut:
-    ws = state.workspace
-    return WorkspaceOut(
+def workspace_info(ws: Workspace) -> WorkspaceInfo:
+    return WorkspaceInfo(
         id=ws.id,
         kind=ws.kind.value,
         owner=ws.owner,
+        name=ws.name or ws.owner,
+        shared=ws.shared,
+        archived=ws.archived,
+    )
+
+
+def workspace_out(state: WorkspaceState) -> WorkspaceOut:
+    return WorkspaceOut(
+        **workspace_info(state.workspace).model_dump(),
         revision=state.revision,
         program=state.program,
         points=state.points,
@@ -114,6 +123,7 @@ __all__ = [
     "state_dict",
     "state_out",
     "user_out",
+    "workspace_info",
     "workspace_out",
 ]
 

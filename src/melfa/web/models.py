@@ -90,12 +90,31 @@ class UserList(BaseModel):
 class WorkspaceInfo(BaseModel):
     id: int
     kind: Literal["personal", "group"]
-    owner: str
+    owner: str = Field(description="The owner's username, or the group's name.")
+    name: str = Field(description="What its owner calls it (a group's: the group's name).")
+    shared: bool = Field(description="A group's workspace: every member edits it.")
+    archived: bool = Field(description="Hidden from the switcher; kept with its history.")
 
 
 class WorkspaceList(BaseModel):
     default_id: int = Field(description="The group's workspace if the user has a group.")
     workspaces: list[WorkspaceInfo]
+
+
+class WorkspaceCreateIn(Input):
+    name: ShortText = Field(description="Unique among the user's workspaces (any case).")
+    program: LongText = ""
+    points: LongText = ""
+    from_file: ShortText | None = Field(
+        None, description="The file the content came from: the first revision is an import."
+    )
+
+
+class WorkspacePatchIn(Input):
+    name: ShortText | None = Field(None, description="A new name.")
+    archived: bool | None = Field(
+        None, description="Hide from (true) or bring back to (false) the switcher."
+    )
 
 
 class WorkspaceOut(WorkspaceInfo):

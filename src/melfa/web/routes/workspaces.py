@@ -1,5 +1,6 @@
-"""The signed-in user's workspaces: read, autosave with a base revision (409 on conflict,
-with what is stored now), history and restore, `.MB4`/`.POS` import and export."""
+"""The signed-in user's workspaces: list, create (named, optionally from an opened file),
+rename and archive; read, autosave with a base revision (409 on conflict, with what is
+stored now), history and restore, `.MB4`/`.POS` import and export."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from fastapi.responses import PlainTextResponse
 
 from melfa.store import FileKind, SaveReason, User, Workspace
 from melfa.web.context import WebContext
-from melfa.web.convert import revision_info_out, revision_out, workspace_out
+from melfa.web.convert import revision_info_out, revision_out, workspace_info, workspace_out
 from melfa.web.deps import ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import (
@@ -19,9 +20,11 @@ from melfa.web.models import (
     RevisionOut,
     SaveIn,
     SaveOut,
+    WorkspaceCreateIn,
     WorkspaceInfo,
     WorkspaceList,
     WorkspaceOut,
+    WorkspacePatchIn,
 )
 
 # Ids and numbers as the store keeps them (SQLite integers): one beyond is a 422 in the
@@ -53,16 +56,53 @@ async def default_workspace(context: WebContext, user: User) -> Workspace:
     return await context.db(store.workspaces.personal, user)
 
 
-def _info(ws: Workspace) -> WorkspaceInfo:
-    return WorkspaceInfo(id=ws.id, kind=ws.kind.value, owner=ws.owner)
-
-
 @router.get("", response_model=WorkspaceList, summary="Workspaces I may open")
-async def list_workspaces(session: SessionDep, context: ContextDep) -> WorkspaceList:
+async def list_workspaces(
+    session: SessionDep,
+    context: ContextDep,
+    archived: Annotated[bool, Query(description="Also my archived workspaces")] = False,
+) -> WorkspaceList:
+    """Mine (the default one first), my group's shared one, and for staff every other."""
     user = session.user
     available = await context.db(context.store.workspaces.available_to, user)
+    if archived:
+        mine = await context.db(context.store.workspaces.mine, user, archived=True)
+        known = {w.id for w in available}
+        available += [w for w in mine if w.id not in known]
     default = await default_workspace(context, user)
-    return WorkspaceList(default_id=default.id, workspaces=[_info(w) for w in available])
+    return WorkspaceList(default_id=default.id, workspaces=[workspace_info(w) for w in available])
+
+
+@router.post("", response_model=WorkspaceOut, status_code=201, summary="New workspace")
+async def create_workspace(
+    body: WorkspaceCreateIn, session: SessionDep, context: ContextDep
+) -> WorkspaceOut:
+    """A new personal workspace of mine, empty or holding ``program`` and ``points`` (a file
+    opened beside the current work). 409 ``already-exists`` if I have one of that name."""
+    reason = SaveReason.IMPORT if body.from_file else SaveReason.SAVE
+    ws = await context.db(
+        context.store.workspaces.create,
+        session.user,
+        body.name,
+        program=body.program,
+        points=body.points,
+        reason=reason,
+    )
+    return workspace_out(await context.db(context.store.workspaces.state, ws.id))
+
+
+@router.patch("/{workspace_id}", response_model=WorkspaceInfo, summary="Rename or archive")
+async def patch_workspace(
+    workspace_id: WorkspaceId, body: WorkspacePatchIn, session: SessionDep, context: ContextDep
+) -> WorkspaceInfo:
+    """Rename (409 ``already-exists`` if the owner has one of that name) and/or archive:
+    hidden from the switcher, never deleted; the default and shared ones stay."""
+    ws = await open_workspace(context, session.user, workspace_id)
+    if body.name is not None:
+        ws = await context.db(context.store.workspaces.rename, ws.id, body.name)
+    if body.archived is not None:
+        ws = await context.db(context.store.workspaces.archive, ws.id, body.archived)
+    return workspace_info(ws)
 
 
 @router.get("/{workspace_id}", response_model=WorkspaceOut, summary="Program and points")
