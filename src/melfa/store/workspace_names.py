@@ -34,4 +34,3 @@ def clean_name(name: str) -> str:
     if any(unicodedata.category(ch).startswith("C") for ch in cleaned):
         raise InvalidValue("name", "must not contain control characters")
     return cleaned
-
