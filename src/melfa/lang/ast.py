@@ -1,8 +1,8 @@
 """The typed syntax tree of a MELFA BASIC IV program.
 
-Node families (all frozen dataclasses; every node has a `span`, 1-based, end exclusive).
-Not ``slots=True``: slotted dataclasses are built twice, which cost about 15 % of `melfa
-check`'s start-up (bench/bench_check.py) and bought nothing measurable in checking speed.
+Node families (all frozen records, `melfa.lang.record`: dataclasses that cost nothing to
+define, which matters for `melfa check`'s start-up; every node has a `span`, 1-based, end
+exclusive).
 
 * **Program / Line** — a program is a tuple of `Line`s, one per text line (blank and comment
   lines included, so line ``i`` of the tree is line ``i + 1`` of the text). A line has an
@@ -32,8 +32,9 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Iterator
-from dataclasses import dataclass, field
 from typing import NamedTuple, TypeAlias
+
+from melfa.lang.record import Record, field
 
 
 class Span(NamedTuple):
@@ -53,8 +54,7 @@ class Span(NamedTuple):
         return Span(self.line, self.column, other.end_line, other.end_column)
 
 
-@dataclass(frozen=True)
-class ParseIssue:
+class ParseIssue(Record):
     """A syntax problem found by the parser; `check()` turns it into a Diagnostic."""
 
     span: Span
@@ -76,8 +76,7 @@ class NumberKind(enum.Enum):
     BIN = "bin"
 
 
-@dataclass(frozen=True)
-class Number:
+class Number(Record):
     """A numeric literal; `value` is an int for INTEGER/HEX/BIN, a float for REAL."""
 
     value: int | float
@@ -86,16 +85,14 @@ class Number:
     span: Span
 
 
-@dataclass(frozen=True)
-class String:
+class String(Record):
     """A string literal; `value` is without the quotes."""
 
     value: str
     span: Span
 
 
-@dataclass(frozen=True)
-class Name:
+class Name(Record):
     """A variable (user or system). `name` is upper case (names are case-insensitive).
 
     `text` is the name as written (``Pa``), for messages; it takes no part in equality.
@@ -111,8 +108,7 @@ class Name:
         return self.text or self.name
 
 
-@dataclass(frozen=True)
-class Index:
+class Index(Record):
     """``NAME(i[, j[, k]])``: an array element, or an indexed system variable (``M_IN(3)``)."""
 
     name: Name
@@ -143,8 +139,7 @@ class ElementKind(enum.Enum):
     J8 = "J8"
 
 
-@dataclass(frozen=True)
-class Element:
+class Element(Record):
     """``P1.X``, ``J_CURR.J4``, ``P(3).FL1``."""
 
     base: Expr
@@ -152,8 +147,7 @@ class Element:
     span: Span
 
 
-@dataclass(frozen=True)
-class PositionLiteral:
+class PositionLiteral(Record):
     """``(x,y,z,a,b,c[,l1,l2])[(fl1,fl2)]`` or a joint constant ``(j1,…,j6[,j7,j8])``.
 
     Omitted elements (``(X,Y,Z,,,C)``, ``(,)``) are None. `flags` is None when the
@@ -166,8 +160,7 @@ class PositionLiteral:
     span: Span
 
 
-@dataclass(frozen=True)
-class Call:
+class Call(Record):
     """A built-in function call (``SIN(M1)``, ``LEFT$(C1$,2)``) or a user ``FNxxx(...)``.
 
     `name` is upper case; `user` is True for ``FN`` functions defined with DEF FN.
@@ -179,8 +172,7 @@ class Call:
     span: Span
 
 
-@dataclass(frozen=True)
-class Pallet:
+class Pallet(Record):
     """``(PLT n, k)``: grid point `index` of pallet `pallet`, a position."""
 
     pallet: Expr
@@ -226,15 +218,13 @@ _COMPARISON_OPS = frozenset(
 )
 
 
-@dataclass(frozen=True)
-class Unary:
+class Unary(Record):
     op: UnaryOp
     operand: Expr
     span: Span
 
 
-@dataclass(frozen=True)
-class Binary:
+class Binary(Record):
     """`op_text` keeps the spelling written (``><`` is NE, ``=<`` is LE, ``=>`` is GE)."""
 
     op: BinaryOp
@@ -244,8 +234,7 @@ class Binary:
     op_text: str = ""
 
 
-@dataclass(frozen=True)
-class InvalidExpr:
+class InvalidExpr(Record):
     """Where an expression could not be read; `issue` says why."""
 
     issue: ParseIssue
@@ -269,16 +258,14 @@ Expr: TypeAlias = (
 # ------------------------------------------------------------------------------ targets
 
 
-@dataclass(frozen=True)
-class LineRef:
+class LineRef(Record):
     """A jump to a step number: ``GOTO 100``."""
 
     number: int
     span: Span
 
 
-@dataclass(frozen=True)
-class LabelRef:
+class LabelRef(Record):
     """A jump to a label: ``GOTO *LOOP``; `name` is upper case without the ``*``.
 
     `text` is the label as written, without the ``*`` (no part in equality).
@@ -304,8 +291,7 @@ class JumpKind(enum.Enum):
 # ---------------------------------------------------------------------------- movement
 
 
-@dataclass(frozen=True)
-class MoveType:
+class MoveType(Record):
     """``TYPE c1, c2`` after a move."""
 
     c1: Expr
@@ -313,8 +299,7 @@ class MoveType:
     span: Span
 
 
-@dataclass(frozen=True)
-class Appended:
+class Appended(Record):
     """``WTH action`` or ``WTHIF condition, action`` after a move.
 
     `action` is an `Assign` (possibly with a DLY pulse), a HLT or SKIP `Command`, or an
@@ -331,8 +316,7 @@ class MoveKind(enum.Enum):
     MVS = "MVS"  # linear interpolation
 
 
-@dataclass(frozen=True)
-class Move:
+class Move(Record):
     """``MOV target[, close] [TYPE …] [WTH …]`` or ``MVS …``; ``MVS , d`` has no target."""
 
     kind: MoveKind
@@ -350,8 +334,7 @@ class ArcKind(enum.Enum):
     MVC = "MVC"  # start, via1, via2 (full circle)
 
 
-@dataclass(frozen=True)
-class ArcMove:
+class ArcMove(Record):
     """``MVR p1, p2, p3`` and the other arc/circle moves."""
 
     kind: ArcKind
@@ -361,8 +344,7 @@ class ArcMove:
     span: Span
 
 
-@dataclass(frozen=True)
-class ArchMove:
+class ArchMove(Record):
     """``MVA target[, arch no]``."""
 
     target: Expr
@@ -411,8 +393,7 @@ class CommandKind(enum.Enum):
     DEF_ARCH = "DEF ARCH"
 
 
-@dataclass(frozen=True)
-class Command:
+class Command(Record):
     """A keyword and its arguments (omitted arguments, as in ``ACCEL ,50``, are None)."""
 
     kind: CommandKind
@@ -426,8 +407,7 @@ class SwitchKind(enum.Enum):
     OADL = "OADL"
 
 
-@dataclass(frozen=True)
-class Switch:
+class Switch(Record):
     """``SERVO ON``, ``PREC OFF``, ``OADL ON``…; `args` are extra operands (mechanism no.)."""
 
     kind: SwitchKind
@@ -443,8 +423,7 @@ class CmpMode(enum.Enum):
     OFF = "OFF"
 
 
-@dataclass(frozen=True)
-class Cmp:
+class Cmp(Record):
     """``CMP JNT|POS|TOOL, mask`` or ``CMP OFF``."""
 
     mode: CmpMode
@@ -455,20 +434,17 @@ class Cmp:
 # ---------------------------------------------------------------------------------- flow
 
 
-@dataclass(frozen=True)
-class Goto:
+class Goto(Record):
     target: JumpTarget
     span: Span
 
 
-@dataclass(frozen=True)
-class Gosub:
+class Gosub(Record):
     target: JumpTarget
     span: Span
 
 
-@dataclass(frozen=True)
-class OnJump:
+class OnJump(Record):
     """``ON expr GOTO|GOSUB t1, t2, …`` (1-based; out of range falls through)."""
 
     selector: Expr
@@ -477,16 +453,14 @@ class OnJump:
     span: Span
 
 
-@dataclass(frozen=True)
-class Return:
+class Return(Record):
     """``RETURN`` (`mode` None) or the interrupt forms ``RETURN 0`` / ``RETURN 1``."""
 
     mode: Expr | None
     span: Span
 
 
-@dataclass(frozen=True)
-class If:
+class If(Record):
     """``IF cond THEN branch [ELSE branch]``; `then` None means a block IF (ends at ENDIF).
 
     A branch is a jump target (``THEN 100``, ``THEN *L``) or a statement (``THEN HOPEN 1``).
@@ -502,20 +476,17 @@ class If:
         return self.then is None
 
 
-@dataclass(frozen=True)
-class Else:
+class Else(Record):
     """A line holding only ``ELSE`` (block IF)."""
 
     span: Span
 
 
-@dataclass(frozen=True)
-class EndIf:
+class EndIf(Record):
     span: Span
 
 
-@dataclass(frozen=True)
-class For:
+class For(Record):
     """``FOR counter = start TO end [STEP step]``."""
 
     counter: Name
@@ -525,27 +496,23 @@ class For:
     span: Span
 
 
-@dataclass(frozen=True)
-class Next:
+class Next(Record):
     """``NEXT`` or ``NEXT A, B`` (closes the loops of A then B)."""
 
     counters: tuple[Name, ...]
     span: Span
 
 
-@dataclass(frozen=True)
-class While:
+class While(Record):
     condition: Expr
     span: Span
 
 
-@dataclass(frozen=True)
-class Wend:
+class Wend(Record):
     span: Span
 
 
-@dataclass(frozen=True)
-class Select:
+class Select(Record):
     subject: Expr
     span: Span
 
@@ -556,8 +523,7 @@ class CaseKind(enum.Enum):
     RANGE = "range"  # CASE 1 TO 5
 
 
-@dataclass(frozen=True)
-class Case:
+class Case(Record):
     """``CASE v`` / ``CASE IS op v`` (`op` a comparison) / ``CASE lo TO hi`` (`high` set)."""
 
     kind: CaseKind
@@ -567,31 +533,26 @@ class Case:
     span: Span
 
 
-@dataclass(frozen=True)
-class Break:
+class Break(Record):
     span: Span
 
 
-@dataclass(frozen=True)
-class Default:
+class Default(Record):
     span: Span
 
 
-@dataclass(frozen=True)
-class EndSelect:
+class EndSelect(Record):
     span: Span
 
 
-@dataclass(frozen=True)
-class Wait:
+class Wait(Record):
     """``WAIT condition`` (IV: ``WAIT M_IN(1)=1``)."""
 
     condition: Expr
     span: Span
 
 
-@dataclass(frozen=True)
-class Fprm:
+class Fprm(Record):
     """``FPRM a, b, …``: the dummy parameters of a program called with CALLP."""
 
     params: tuple[Name, ...]
@@ -610,8 +571,7 @@ class VarType(enum.Enum):
     JNT = "JNT"
 
 
-@dataclass(frozen=True)
-class DefVar:
+class DefVar(Record):
     """``DEF INTE a, b``; ``DEF POS P1 = (…)(7,0)`` gives one name a `value`."""
 
     type: VarType
@@ -628,8 +588,7 @@ class IOType(enum.Enum):
     DWORD = "DWORD"
 
 
-@dataclass(frozen=True)
-class DefIO:
+class DefIO(Record):
     """``DEF IO name = BIT|BYTE|WORD|INTEGER, bit [, mask]``."""
 
     name: Name
@@ -639,8 +598,7 @@ class DefIO:
     span: Span
 
 
-@dataclass(frozen=True)
-class DefFn:
+class DefFn(Record):
     """``DEF FNname[(a, b)] = expr``; `name` includes the FN prefix, upper case."""
 
     name: Name
@@ -649,8 +607,7 @@ class DefFn:
     span: Span
 
 
-@dataclass(frozen=True)
-class DefPlt:
+class DefPlt(Record):
     """``DEF PLT no, start, endA, endB, [diag], countA, countB, dir`` (diagonal may be None)."""
 
     number: Expr
@@ -664,8 +621,7 @@ class DefPlt:
     span: Span
 
 
-@dataclass(frozen=True)
-class DefAct:
+class DefAct(Record):
     """``DEF ACT prio, condition GOTO|GOSUB target [, S|L]``."""
 
     priority: Expr
@@ -676,23 +632,20 @@ class DefAct:
     span: Span
 
 
-@dataclass(frozen=True)
-class DimArray:
+class DimArray(Record):
     name: Name
     sizes: tuple[Expr, ...]
     span: Span
 
 
-@dataclass(frozen=True)
-class Dim:
+class Dim(Record):
     """``DIM A(10), PT(3, 4)``."""
 
     arrays: tuple[DimArray, ...]
     span: Span
 
 
-@dataclass(frozen=True)
-class ActSet:
+class ActSet(Record):
     """``ACT n = 1|0`` (``ACT 0 = …`` is the master switch)."""
 
     number: Expr
@@ -705,8 +658,7 @@ class ActSet:
 AssignTarget: TypeAlias = Name | Index | Element
 
 
-@dataclass(frozen=True)
-class Assign:
+class Assign(Record):
     """``target = value`` with an optional pulse ``M_OUT(17)=1 DLY 0.5``."""
 
     target: AssignTarget
@@ -721,8 +673,7 @@ class FileMode(enum.Enum):
     APPEND = "APPEND"
 
 
-@dataclass(frozen=True)
-class Open:
+class Open(Record):
     """``OPEN "COM1:" [FOR INPUT|OUTPUT|APPEND] AS [#]n``."""
 
     file: Expr
@@ -731,8 +682,7 @@ class Open:
     span: Span
 
 
-@dataclass(frozen=True)
-class Print:
+class Print(Record):
     """``PRINT #n, items`` (items separated by ``,`` or ``;``)."""
 
     channel: Expr | None
@@ -740,8 +690,7 @@ class Print:
     span: Span
 
 
-@dataclass(frozen=True)
-class Input:
+class Input(Record):
     """``INPUT #n, targets``."""
 
     channel: Expr | None
@@ -749,16 +698,14 @@ class Input:
     span: Span
 
 
-@dataclass(frozen=True)
-class Close:
+class Close(Record):
     """``CLOSE`` or ``CLOSE #1, #2``."""
 
     channels: tuple[Expr, ...]
     span: Span
 
 
-@dataclass(frozen=True)
-class OnCom:
+class OnCom(Record):
     """``ON COM[(n)] GOSUB target``."""
 
     port: Expr | None
@@ -772,8 +719,7 @@ class ComState(enum.Enum):
     STOP = "STOP"
 
 
-@dataclass(frozen=True)
-class ComControl:
+class ComControl(Record):
     """``COM[(n)] ON|OFF|STOP``."""
 
     port: Expr | None
@@ -781,8 +727,7 @@ class ComControl:
     span: Span
 
 
-@dataclass(frozen=True)
-class InvalidStatement:
+class InvalidStatement(Record):
     """A statement that could not be parsed. `text` is its source; `issue` says why."""
 
     text: str
@@ -835,8 +780,7 @@ Statement: TypeAlias = (
 # ------------------------------------------------------------------------------- program
 
 
-@dataclass(frozen=True)
-class Line:
+class Line(Record):
     """One text line. `statement` is None for blank, comment-only and label-only lines.
 
     `comment` is the comment text (``' …`` or ``REM …``) when the line has one.
@@ -854,8 +798,7 @@ class Line:
     label_text: str | None = field(default=None, compare=False)
 
 
-@dataclass(frozen=True)
-class Program:
+class Program(Record):
     """A whole program; `lines[i]` is text line ``i + 1``."""
 
     lines: tuple[Line, ...]
@@ -879,17 +822,15 @@ def constant_number(expr: Expr | None) -> int | float | None:
 
 
 # Node classes of the tree, and for each the names of its child-bearing fields.
-_NODE_TYPES: frozenset[type] = frozenset(  # built once, after every class above
+_NODE_TYPES: frozenset[type[Record]] = frozenset(  # built once, after every class above
     obj
     for obj in list(globals().values())
-    if isinstance(obj, type)
-    and hasattr(obj, "__dataclass_fields__")
-    and obj not in (Span, ParseIssue)
+    if isinstance(obj, type) and issubclass(obj, Record) and obj not in (Record, ParseIssue)
 )
 _CHILD_FIELDS: dict[type, tuple[str, ...]] = {
     cls: tuple(
         name
-        for name in cls.__dataclass_fields__  # type: ignore[attr-defined]
+        for name in cls.__record_fields__
         if name not in ("span", "issue", "text", "name", "kind", "op", "op_text", "value")
         or (name in ("name", "value") and cls not in (Number, String))
     )

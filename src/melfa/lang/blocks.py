@@ -13,10 +13,10 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Sequence
-from dataclasses import dataclass, field
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.model import MAX_IF_DEPTH, MAX_LOOP_DEPTH
+from melfa.lang.record import Record, field
 
 
 class BlockKind(enum.Enum):
@@ -26,8 +26,7 @@ class BlockKind(enum.Enum):
     SELECT = "SELECT"
 
 
-@dataclass(frozen=True, slots=True)
-class BlockProblem:
+class BlockProblem(Record):
     """A structural mistake on line index `line` (rule name, controller code, fix hint)."""
 
     line: int
@@ -38,8 +37,7 @@ class BlockProblem:
     suggestion: str | None = None
 
 
-@dataclass(slots=True)
-class BlockStructure:
+class BlockStructure(Record, frozen=False):
     """Jump tables for the interpreter and the problems for the checker.
 
     * ``for_next[for] = next`` and ``next_for[next] = (for, …)`` (a ``NEXT A, B`` closes two);
@@ -67,8 +65,7 @@ class BlockStructure:
     problems: list[BlockProblem] = field(default_factory=list)
 
 
-@dataclass(slots=True)
-class _Open:
+class _Open(Record, frozen=False):
     kind: BlockKind
     line: int
     span: A.Span

@@ -8,7 +8,8 @@ Positions follow one convention in the whole of `melfa.lang`: lines and columns 
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
+
+from melfa.lang.record import Record
 
 
 class Severity(enum.Enum):
@@ -19,8 +20,7 @@ class Severity(enum.Enum):
     INFO = "info"
 
 
-@dataclass(frozen=True, slots=True)
-class Diagnostic:
+class Diagnostic(Record):
     """One finding of the checker.
 
     `code` is the controller's own error number when one exists (``"L4220"``), so a

@@ -13,11 +13,11 @@ line without damage (an ERROR token is copied as it is).
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
 
 from melfa.lang.diagnostics import Diagnostic
 from melfa.lang.lexer import tokenize
 from melfa.lang.numbering import renumber, strip
+from melfa.lang.record import Record
 from melfa.lang.tokens import Token, TokenKind
 
 __all__ = ["FormatResult", "LineNumbers", "format_program", "normalize_case"]
@@ -31,8 +31,7 @@ class LineNumbers(enum.Enum):
     STRIP = "strip"  # remove numbers no jump uses (`melfa.lang.numbering.strip`)
 
 
-@dataclass(frozen=True, slots=True)
-class FormatResult:
+class FormatResult(Record):
     """The formatted text, or the original when `diagnostics` hold an error."""
 
     text: str

@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import enum
 from collections.abc import Mapping
-from dataclasses import dataclass
+
+from melfa.lang.record import Record
 
 
 class Dialect(enum.Enum):
@@ -107,8 +108,7 @@ RANGES: Mapping[str, tuple[float, float, str]] = {
 # --------------------------------------------------------------------------- functions §5
 
 
-@dataclass(frozen=True, slots=True)
-class Function:
+class Function(Record):
     """A built-in function: argument kinds (None: any kind), how many, what it gives.
 
     `params` lists the kind of each argument in order; when more arguments are allowed than
@@ -240,8 +240,7 @@ class Index(enum.Enum):
     REQUIRED = "required"  # an I/O, hand or timer number: M_IN(8)
 
 
-@dataclass(frozen=True, slots=True)
-class SystemVariable:
+class SystemVariable(Record):
     """A robot status variable (§6): its kind, index and whether a program may assign it."""
 
     name: str
@@ -318,8 +317,7 @@ def is_external(name: str) -> bool:
 # ------------------------------------------------------------------------------ dialects
 
 
-@dataclass(frozen=True, slots=True)
-class Construct:
+class Construct(Record):
     """A construct of another dialect: what it is and how to write it in IV (None: no way)."""
 
     word: str

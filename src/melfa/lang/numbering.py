@@ -26,10 +26,10 @@ Decisions:
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
 
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
+from melfa.lang.record import Record
 from melfa.lang.tokens import Token, TokenKind
 
 __all__ = [
@@ -65,8 +65,7 @@ class NumberingError(ValueError):
         self.diagnostics = diagnostics
 
 
-@dataclass(frozen=True, slots=True)
-class NumberingResult:
+class NumberingResult(Record):
     """The new text, or the old one when `diagnostics` hold an error."""
 
     text: str
@@ -77,8 +76,7 @@ class NumberingResult:
         return not any(d.is_error for d in self.diagnostics)
 
 
-@dataclass(frozen=True, slots=True)
-class Reference:
+class Reference(Record):
     """A step number used as a jump target; `token` is the INTEGER token."""
 
     number: int
@@ -86,8 +84,7 @@ class Reference:
     keyword: str  # GOTO, GOSUB, THEN or ELSE: the word the list hangs off
 
 
-@dataclass(slots=True)
-class _Line:
+class _Line(Record, frozen=False):
     tokens: list[Token]  # all tokens of the text line, NEWLINE/EOF included
 
     @property

@@ -25,11 +25,11 @@ from __future__ import annotations
 import enum
 import re
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass, field
 
 from melfa.lang.ast import Expr, constant_number
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.parser import parse_constant
+from melfa.lang.record import Record, field
 
 __all__ = [
     "DEFAULT_FL1",
@@ -63,8 +63,7 @@ class PointKind(enum.Enum):
     JNT = "JNT"
 
 
-@dataclass(frozen=True, slots=True)
-class PointDef:
+class PointDef(Record):
     """One named point.
 
     `values` holds 6 to 8 numbers in mm/degrees; `None` marks an omitted element.
@@ -112,8 +111,7 @@ class PointDef:
         return self.name.upper()
 
 
-@dataclass(frozen=True, slots=True)
-class PointsFile:
+class PointsFile(Record):
     """What a points file holds: its points, and what is wrong with it.
 
     `names` lists every name a line tried to define, even when its value is broken, so

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.check import check_ast, internal_error
@@ -24,6 +23,7 @@ from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
 from melfa.lang.points import PointDef, parse_points
+from melfa.lang.record import Record
 
 ReachCheck = Callable[[Sequence[PointDef], str], list[Diagnostic]]
 """(points, the points file's text) -> warnings; `melfa.kin.reach.reach_diagnostics`."""
@@ -32,8 +32,7 @@ _OFFSET_OPS = frozenset({A.BinaryOp.ADD, A.BinaryOp.SUB, A.BinaryOp.MUL, A.Binar
 _ORDER = {Severity.ERROR: 0, Severity.WARNING: 1, Severity.INFO: 2}
 
 
-@dataclass(frozen=True, slots=True)
-class ProjectReport:
+class ProjectReport(Record):
     """Diagnostics per file, each list sorted by position (errors first on a tie)."""
 
     programs: tuple[tuple[Diagnostic, ...], ...]

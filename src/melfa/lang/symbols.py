@@ -10,10 +10,10 @@ only reports what is certainly wrong. Sections (§) are those of melfa-basic-iv.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass, field
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.model import FUNCTIONS, SYSTEM_VARIABLES, Kind
+from melfa.lang.record import Record, field
 
 _DEF_KIND = {
     A.VarType.INTE: Kind.NUM,
@@ -30,16 +30,14 @@ _POSITIONAL = (Kind.POS, Kind.JNT)
 _LOGIC = (A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR)
 
 
-@dataclass(frozen=True, slots=True)
-class Made:
+class Made(Record):
     """Where a name is declared: line index, the name as written, its span."""
 
     line: int
     name: A.Name
 
 
-@dataclass(slots=True)
-class Symbols:
+class Symbols(Record, frozen=False):
     """The program's names. Keys are upper case (names ignore case)."""
 
     declared: dict[str, Kind] = field(default_factory=dict)  # DEF INTE/…/IO
