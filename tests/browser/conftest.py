@@ -58,9 +58,11 @@ class Server:
     data: Path
     passwords: dict[str, str]
 
-    def add_user(self, name: str, role: str = "student") -> str:
+    def add_user(self, name: str, role: str = "student", group: str | None = None) -> str:
         """Create an account with the `melfa users add` CLI; returns its password."""
         command = [sys.executable, "-m", "melfa", "users", "add", name, "--role", role]
+        if group is not None:
+            command += ["--group", group]
         out = subprocess.run(
             [*command, "--generate", "--data", str(self.data)],
             capture_output=True,

@@ -103,7 +103,7 @@ def test_open_mb4_strips_numbers_and_a_txt_is_refused(
     page.set_input_files("#file-mb4", str(numbered))
     dialog = page.locator("#open-dialog")
     expect(dialog).to_be_visible()
-    expect(dialog).to_contain_text("demo.MB4 would replace the program")
+    expect(dialog).to_contain_text("demo.MB4 replaces the program")
     page.click("#open-cancel")
     assert s.eval("() => window.melfa.editor.text") == before
     page.set_input_files("#file-mb4", str(numbered))

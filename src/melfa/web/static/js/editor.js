@@ -4,7 +4,7 @@
 
 import "./melfa-mode.js";
 import { api } from "./api.js";
-import { confirmReplace } from "./opener.js";
+import { confirmReplace, openBeside } from "./opener.js";
 import { $, debounce, describeDiagnostic, el, hasExtension, readTextFile, showError, toast } from "./ui.js";
 
 const ace = window.ace;
@@ -255,7 +255,12 @@ export class ProgramEditor extends EventTarget {
       if (!out.ok) {
         toast(`${file.name}: step numbers kept`, { kind: "warning", text: "Some numbers could not be removed without changing the program.", items: out.diagnostics.map(describeDiagnostic) });
       }
-      if (!(await confirmReplace(this.workspace, file.name, out.text))) return;
+      const choice = await confirmReplace(this.workspace, file.name, out.text, "program");
+      if (choice === "cancel") return;
+      if (choice === "beside") {
+        if (await openBeside(this.workspace, file.name, { program: out.text })) this.check();
+        return;
+      }
       this.workspace.replace({ program: out.text }, "file");
       toast(`Opened ${file.name}`, { kind: "ok", text: "Step numbers are added back when you save or load the project." });
       this.check();

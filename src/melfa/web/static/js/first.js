@@ -1,21 +1,8 @@
-// The student's first hour: the workspace named (and the shared one saying so), a clear
-// "Virtual robot" badge, a welcome project with a guided first run for an empty workspace,
-// and the keyboard way out of the editor (Esc, then Tab), stated on screen.
+// The student's first hour: a clear "Virtual robot" badge, a welcome project with a guided
+// first run for an empty workspace, and the keyboard way out of the editor (Esc, then
+// Tab), stated on screen. (The workspace's name and sharing: switcher.js.)
 
 import { $, el, toast } from "./ui.js";
-
-/** Name the workspace next to the editor's buttons: "My workspace" / "Group X (shared)". */
-export function nameWorkspace(workspace, user) {
-  let label = $("workspace-name");
-  if (!label) {
-    label = el("span", { id: "workspace-name", class: "workspace-name" });
-    $("history-button").after(label);
-  }
-  const shared = workspace.kind === "group";
-  label.textContent = shared ? `Group ${workspace.owner} · shared with your group` : workspace.owner === user ? "My workspace" : `${workspace.owner}'s workspace`;
-  label.classList.toggle("shared", shared);
-  label.title = shared ? "Everyone in the group edits this program: changes are saved for all of you." : "Only you edit this program.";
-}
 
 /** A clear badge when the robot is the virtual one (no arm moves in the lab). */
 export function robotBadge(hello) {

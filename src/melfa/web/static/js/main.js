@@ -7,7 +7,7 @@ import { ProgramEditor } from "./editor.js";
 import { ActionLog } from "./actionlog.js";
 import { describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
-import { keyboardExit, nameWorkspace, robotBadge, welcome } from "./first.js";
+import { keyboardExit, robotBadge, welcome } from "./first.js";
 import { JogPad } from "./jog.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
@@ -19,6 +19,7 @@ import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
 import { Workspace } from "./workspace.js";
+import { WorkspaceSwitcher } from "./switcher.js";
 
 const app = {
   user: "",
@@ -88,8 +89,8 @@ async function main() {
   app.live.connect();
 
   try {
+    app.switcher = new WorkspaceSwitcher(workspace, app.user);
     await workspace.open();
-    nameWorkspace(workspace, app.user);
     await welcome(workspace, editor);
   } catch (err) {
     showError("Could not open your workspace", err);
@@ -367,6 +368,9 @@ function wireToolbar(workspace, editor) {
   $("history-close").addEventListener("click", () => showHistory(false));
   workspace.on("saved", () => {
     if (!history.hidden) workspace.loadHistory();
+  });
+  workspace.on("switched", () => {
+    if (!history.hidden) workspace.loadHistory(); // History follows the current workspace
   });
   $("act-clear").addEventListener("click", () => {
     editor.clear();

@@ -5,6 +5,7 @@
 
 import { api } from "./api.js";
 import { moving } from "./fixes.js";
+import { confirmReplace, openBeside } from "./opener.js";
 import { $, debounce, describeDiagnostic, el, hasExtension, readTextFile, showError, toast } from "./ui.js";
 
 const LINE = /^\s*(?:DEF\s+(POS|JNT)\s+)?([A-Za-z][A-Za-z0-9_]*)\s*=\s*\(([^)]*)\)\s*(?:\(([^)]*)\))?\s*(?:'.*)?$/i;
@@ -319,6 +320,12 @@ export class PointsTab {
     }
     try {
       const text = (await readTextFile(file)).replace(/\r\n?/g, "\n");
+      const choice = await confirmReplace(this.workspace, file.name, text, "points");
+      if (choice === "cancel") return;
+      if (choice === "beside") {
+        await openBeside(this.workspace, file.name, { points: text });
+        return;
+      }
       this.workspace.update({ points: text });
       toast(`Loaded ${file.name}`, { kind: "ok", text: `${parsePoints(text).length} points.` });
     } catch (err) {

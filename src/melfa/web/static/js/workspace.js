@@ -1,7 +1,9 @@
 // The workspace: program + points, autosaved to the server with the base revision, and a
 // draft in localStorage on every keystroke so a reload, a dropped connection or a crashed
 // tab never loses typing. A 409 conflict asks the student (keep mine / load theirs); edits
-// are never dropped silently.
+// are never dropped silently. One object follows the CURRENT workspace: switching to
+// another (or creating one) saves the edits first, then swaps id and texts, so everything
+// holding `app.workspace` (editor, points, history, debugger, load, export) acts on it.
 
 import { api, ApiError, OfflineError, downloadText } from "./api.js";
 import { showDiff } from "./opener.js";
@@ -16,6 +18,11 @@ export class Workspace extends EventTarget {
     this.user = user;
     this.id = null;
     this.owner = "";
+    this.name = "";
+    this.kind = "personal";
+    this.shared = false;
+    this.list = []; // what GET /api/workspaces gave: [{id, kind, owner, name, shared}]
+    this.defaultId = null;
     this.base = 0; // the revision our texts are based on
     this.program = "";
     this.points = "";
@@ -29,6 +36,11 @@ export class Workspace extends EventTarget {
 
   get draftKey() {
     return `melfa.draft.${this.user}.${this.id}`;
+  }
+
+  /** The workspace's name as a file name stem (downloads are named after it). */
+  get fileStem() {
+    return (this.name || this.owner || "program").replace(/[^A-Za-z0-9._-]+/g, "_").replace(/^[._]+|[._]+$/g, "") || "program";
   }
 
   get dirty() {
@@ -49,14 +61,39 @@ export class Workspace extends EventTarget {
     node.className = "save-state " + kind;
   }
 
-  /** Open the default workspace; restore an unsaved draft or ask when it conflicts. */
+  get lastKey() {
+    return `melfa.workspace.${this.user}`;
+  }
+
+  /** The workspaces this user may open (and which is the default). */
+  async refreshList() {
+    const out = await api("GET", "/api/workspaces");
+    this.list = out.workspaces;
+    this.defaultId = out.default_id;
+    this.emit("list", {});
+    return this.list;
+  }
+
+  /** Open the workspace opened last in this browser (else the default one); restore an
+   * unsaved draft or ask when it conflicts. */
   async open() {
-    const list = await api("GET", "/api/workspaces");
-    const id = list.default_id;
+    await this.refreshList();
+    let last = null;
+    try { last = Number(localStorage.getItem(this.lastKey)); } catch { /* no storage */ }
+    await this.load(this.list.some((w) => w.id === last) ? last : this.defaultId);
+  }
+
+  /** Load workspace `id` into this object (nothing of the previous one is kept here). */
+  async load(id) {
     const ws = await api("GET", `/api/workspaces/${id}`);
+    clearTimeout(this.retryTimer);
+    this.autosave.cancel();
     this.id = ws.id;
     this.owner = ws.owner;
-    this.kind = ws.kind; // personal | group (shared: first.js names it)
+    this.name = ws.name;
+    this.kind = ws.kind; // personal | group
+    this.shared = ws.shared;
+    try { localStorage.setItem(this.lastKey, String(ws.id)); } catch { /* no storage */ }
     this.base = ws.revision;
     this.saved = { program: ws.program, points: ws.points };
     this.program = ws.program;
@@ -79,7 +116,55 @@ export class Workspace extends EventTarget {
       this.clearDraft();
     }
     this.emit("replaced", { source: "open" });
+    this.emit("switched", {});
     this.showStatus();
+  }
+
+  /** Save what is typed before leaving this workspace: true when the server has it. A
+   * conflict opens the usual dialog (and stays here); offline keeps the draft here. */
+  async flush() {
+    if (this.saving) await this.saving.catch(() => {});
+    if (this.dirty && !this.conflictOpen) await this.save("autosave").catch(() => {});
+    return !this.dirty && !this.conflictOpen;
+  }
+
+  /** Switch to workspace `id`, never losing edits: false (and a message) if they could
+   * not be saved first. */
+  async switchTo(id) {
+    if (id === this.id) return true;
+    if (!(await this.flush())) {
+      toast("Still on " + this.name, { kind: "warning", text: "Your edits here are not saved yet, so the workspace was not switched. Once the status says Saved, switch again." });
+      return false;
+    }
+    await this.load(id);
+    return true;
+  }
+
+  /** A new workspace of mine named `name` (holding `content` if given), then switch to it.
+   * The current one is saved first and left as it is. */
+  async create(name, { program = "", points = "", fromFile = null } = {}) {
+    if (!(await this.flush())) {
+      toast("Nothing created yet", { kind: "warning", text: `Your edits to ${this.name} are not saved yet. Once the status says Saved, try again.` });
+      return null;
+    }
+    const made = await api("POST", "/api/workspaces", { name, program, points, from_file: fromFile });
+    await this.refreshList();
+    await this.load(made.id);
+    return made;
+  }
+
+  /** Give the current workspace a new name. */
+  async rename(name) {
+    const out = await api("PATCH", `/api/workspaces/${this.id}`, { name });
+    this.name = out.name;
+    await this.refreshList();
+    this.emit("switched", {});
+    return out;
+  }
+
+  /** The names of my own workspaces (for a free name). */
+  myNames() {
+    return this.list.filter((w) => w.kind === "personal" && w.owner === this.user).map((w) => w.name);
   }
 
   readDraft() {
@@ -142,11 +227,13 @@ export class Workspace extends EventTarget {
     if (!this.dirty && reason === "autosave") return;
     if (this.conflictOpen) return;
     const sent = { program: this.program, points: this.points };
+    const id = this.id;
     this.status("Saving…");
-    const job = api("PUT", `/api/workspaces/${this.id}`, { base: this.base, ...sent, reason });
+    const job = api("PUT", `/api/workspaces/${id}`, { base: this.base, ...sent, reason });
     this.saving = job;
     try {
       const out = await job;
+      if (id !== this.id) return; // switched meanwhile (never: switching waits for saves)
       this.base = out.revision.number;
       this.saved = { program: out.revision.program, points: out.revision.points };
       clearTimeout(this.retryTimer);
@@ -203,8 +290,8 @@ export class Workspace extends EventTarget {
       this.replace({ program: current.program, points: current.points }, "theirs");
     };
     $("conflict-download").onclick = () => {
-      downloadText(this.program, `${this.owner || "program"}-mine.MB4`);
-      if (this.points) downloadText(this.points, `${this.owner || "points"}-mine.POS`);
+      downloadText(this.program, `${this.fileStem}-mine.MB4`);
+      if (this.points) downloadText(this.points, `${this.fileStem}-mine.POS`);
     };
     dialog.addEventListener("cancel", (e) => e.preventDefault(), { once: true }); // a choice is required
     if (!dialog.open) dialog.showModal();
