@@ -31,6 +31,7 @@ computes it from the flat lines.
 from __future__ import annotations
 
 import enum
+import re
 from collections.abc import Iterator
 from typing import NamedTuple, TypeAlias
 
@@ -821,18 +822,25 @@ def constant_number(expr: Expr | None) -> int | float | None:
     return None
 
 
-# Node classes of the tree, and for each the names of its child-bearing fields.
+# Node classes of the tree, and for each the names of its fields that hold nodes (a node,
+# a tuple of nodes, or None), read from the annotations: `walk` then never looks at strings,
+# numbers, flags or enums.
 _NODE_TYPES: frozenset[type[Record]] = frozenset(  # built once, after every class above
     obj
     for obj in list(globals().values())
     if isinstance(obj, type) and issubclass(obj, Record) and obj not in (Record, ParseIssue)
 )
+_NODE_NAMES = {cls.__name__ for cls in _NODE_TYPES} | {
+    "Expr",
+    "Statement",
+    "JumpTarget",
+    "AssignTarget",
+}
 _CHILD_FIELDS: dict[type, tuple[str, ...]] = {
     cls: tuple(
         name
         for name in cls.__record_fields__
-        if name not in ("span", "issue", "text", "name", "kind", "op", "op_text", "value")
-        or (name in ("name", "value") and cls not in (Number, String))
+        if _NODE_NAMES.intersection(re.findall(r"\w+", cls.__annotations__[name]))
     )
     for cls in _NODE_TYPES
 }
@@ -853,5 +861,5 @@ def walk(node: object) -> Iterator[object]:
         yield item
         for name in fields:
             value = getattr(item, name)
-            if value is not None and not isinstance(value, (str, int, float, enum.Enum)):
+            if value is not None:
                 push(value)

@@ -15,52 +15,56 @@ import re
 
 from melfa.lang.tokens import KEYWORDS, Token, TokenKind
 
-# One alternative per token kind; the leading group captures the whitespace prefix.
+# The whitespace before a token, then the token: one alternative per token kind, in this
+# order (the first that matches wins). `findall` returns (whitespace, token) pairs without a
+# match object per token, and the token's first character then tells its kind (see
+# `_FIRST`): this loop runs on every keystroke, over every token of the program.
 # re.ASCII keeps `[A-Z]` from matching look-alike Unicode letters under IGNORECASE.
 _MASTER = re.compile(
     r"""
-    (?P<ws>[ \t]*)
-    (?:
-      (?P<NEWLINE>\r\n|\r|\n)
-    | (?P<COMMENT>'[^\r\n]*|REM(?![A-Z0-9_$%!])[^\r\n]*)
-    | (?P<STRING>"[^"\r\n]*")
-    | (?P<USTRING>"[^"\r\n]*)
-    | (?P<HEX>&H[0-9A-F]+)
-    | (?P<BIN>&B[01]+)
-    | (?P<REAL>(?:\d+\.\d*|\.\d+)(?:E[+-]?\d+)?|\d+E[+-]?\d+)
-    | (?P<INTEGER>\d+)
-    | (?P<DOT>\.[A-Z][A-Z0-9_]*)
-    | (?P<LABEL>\*[A-Z][A-Z0-9_]*[$%!]?)
-    | (?P<WORD>[A-Z][A-Z0-9_]*[$%!]?)
-    | (?P<OP><>|><|<=|=<|>=|=>|<<|>>|[-+*/\\^=<>\#;])
-    | (?P<COMMA>,)
-    | (?P<LPAREN>\()
-    | (?P<RPAREN>\))
-    | (?P<EOF>\Z)
-    | (?P<ERROR>[\s\S])
+    ([ \t]*)
+    (
+      \r\n|\r|\n                                  # NEWLINE
+    | '[^\r\n]*|REM(?![A-Z0-9_$%!])[^\r\n]*       # COMMENT
+    | "[^"\r\n]*"?                                # STRING, or ERROR when not closed
+    | &H[0-9A-F]+ | &B[01]+                       # HEX, BIN
+    | (?:\d+\.\d*|\.\d+)(?:E[+-]?\d+)?|\d+E[+-]?\d+  # REAL
+    | \d+                                         # INTEGER (or LINE_NUMBER)
+    | \.[A-Z][A-Z0-9_]*                           # DOT_ELEMENT
+    | \*[A-Z][A-Z0-9_]*[$%!]?                     # LABEL
+    | [A-Z][A-Z0-9_]*[$%!]?                       # a word: KEYWORD or IDENT
+    | <>|><|<=|=<|>=|=>|<<|>>|[-+*/\\^=<>\#;]     # OP
+    | [,()]                                       # COMMA, LPAREN, RPAREN
+    | \Z                                          # EOF (an empty token)
+    | [\s\S]                                      # ERROR: one character
     )
     """,
     re.IGNORECASE | re.ASCII | re.VERBOSE,
 )
 
-_SIMPLE_KINDS: dict[str, TokenKind] = {
-    "NEWLINE": TokenKind.NEWLINE,
-    "COMMENT": TokenKind.COMMENT,
-    "STRING": TokenKind.STRING,
-    "USTRING": TokenKind.ERROR,
-    "HEX": TokenKind.HEX,
-    "BIN": TokenKind.BIN,
-    "REAL": TokenKind.REAL,
-    "INTEGER": TokenKind.INTEGER,
-    "DOT": TokenKind.DOT_ELEMENT,
-    "LABEL": TokenKind.LABEL,
-    "OP": TokenKind.OP,
-    "COMMA": TokenKind.COMMA,
-    "LPAREN": TokenKind.LPAREN,
-    "RPAREN": TokenKind.RPAREN,
-    "EOF": TokenKind.EOF,
-    "ERROR": TokenKind.ERROR,
+# Markers in `_FIRST` for first characters whose kind needs a second look.
+_WORD, _REM, _DIGIT, _QUOTE, _AMP, _DOT, _STAR = range(7)
+
+# First character of a token -> its kind, or a marker. Anything else is an ERROR token.
+_FIRST: dict[str, TokenKind | int] = {
+    "": TokenKind.EOF,
+    "\r": TokenKind.NEWLINE,
+    "\n": TokenKind.NEWLINE,
+    "'": TokenKind.COMMENT,
+    ",": TokenKind.COMMA,
+    "(": TokenKind.LPAREN,
+    ")": TokenKind.RPAREN,
+    '"': _QUOTE,
+    "&": _AMP,
+    ".": _DOT,
+    "*": _STAR,
+    **dict.fromkeys("-+/\\^=<>#;", TokenKind.OP),
+    **dict.fromkeys("0123456789", _DIGIT),
+    **dict.fromkeys("ABCDEFGHIJKLMNOPQSTUVWXYZabcdefghijklmnopqstuvwxyz", _WORD),
+    "R": _REM,
+    "r": _REM,
 }
+_WORD_CHARS = frozenset("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_$%!")
 
 # After one of these, `*NAME` is multiplication, not a label.
 _OPERAND_END = frozenset(
@@ -81,6 +85,21 @@ def _word_kind(word: str) -> TokenKind:
     return TokenKind.KEYWORD if word.upper() in KEYWORDS else TokenKind.IDENT
 
 
+def _second_look(marker: int, tok: str) -> TokenKind:
+    """The kind of a token whose first character is not enough (not a word or a number)."""
+    if marker == _QUOTE:
+        return TokenKind.STRING if len(tok) > 1 and tok[-1] == '"' else TokenKind.ERROR
+    if marker == _AMP:
+        if len(tok) == 1:
+            return TokenKind.ERROR
+        return TokenKind.HEX if tok[1] in "Hh" else TokenKind.BIN
+    if marker == _DOT:
+        if len(tok) == 1:
+            return TokenKind.ERROR
+        return TokenKind.REAL if tok[1].isdigit() else TokenKind.DOT_ELEMENT
+    return TokenKind.LABEL if len(tok) > 1 else TokenKind.OP  # _STAR
+
+
 def tokenize(text: str) -> list[Token]:
     """Split `text` into tokens; the last one is EOF. Never raises.
 
@@ -93,43 +112,57 @@ def tokenize(text: str) -> list[Token]:
     tokens: list[Token] = []
     append = tokens.append
     new = tuple.__new__  # Token(...) without the Python-level __new__: this loop is hot
-    line = 1
-    line_start = 0
-    prev = TokenKind.NEWLINE  # the kind of the previous token; start of text = new line
-    kind_of = _SIMPLE_KINDS
+    first = _FIRST
     keywords = KEYWORDS
+    word_chars = _WORD_CHARS
     t_newline = TokenKind.NEWLINE
     t_keyword = TokenKind.KEYWORD
     t_ident = TokenKind.IDENT
-    t_integer = TokenKind.INTEGER
-    for m in _MASTER.finditer(text):
-        group = m.lastgroup
-        ws_start, start = m.span(1)
-        end = m.end()
-        tok = text[start:end]
+    t_error = TokenKind.ERROR
+    line = 1
+    line_start = 0  # offset of the current line's first character
+    pos = 0  # offset of the end of the previous token
+    prev = t_newline  # the kind of the previous token; start of text = new line
+    for ws, tok in _MASTER.findall(text):
+        start = pos + len(ws)
+        pos = start + len(tok)
         col = start - line_start + 1
-        if group == "WORD":
-            kind = t_keyword if tok.upper() in keywords else t_ident
-        elif group == "INTEGER":
-            kind = TokenKind.LINE_NUMBER if prev is t_newline else t_integer
-        elif group == "LABEL" and prev in _OPERAND_END:
-            prefix = text[ws_start:start]
-            append(new(Token, (TokenKind.OP, "*", line, col, line, col + 1, prefix)))
-            word = tok[1:]
-            kind = _word_kind(word)
-            append(new(Token, (kind, word, line, col + 1, line, col + len(tok), "")))
-            prev = kind
-            continue
+        found = first.get(tok[:1], t_error)
+        kind: TokenKind
+        if isinstance(found, int):
+            if found == _WORD or (
+                found == _REM
+                and not (tok[:3].upper() == "REM" and (len(tok) == 3 or tok[3] not in word_chars))
+            ):
+                kind = t_keyword if tok.upper() in keywords else t_ident
+            elif found == _REM:
+                kind = TokenKind.COMMENT
+            elif found == _DIGIT:
+                if not tok.isdigit():
+                    kind = TokenKind.REAL
+                elif prev is t_newline:
+                    kind = TokenKind.LINE_NUMBER
+                else:
+                    kind = TokenKind.INTEGER
+            else:
+                kind = _second_look(found, tok)
+                if kind is TokenKind.LABEL and prev in _OPERAND_END:
+                    # `P1*P2`: the operator * and a word, not the label *P2.
+                    append(new(Token, (TokenKind.OP, "*", line, col, line, col + 1, ws)))
+                    word = tok[1:]
+                    kind = _word_kind(word)
+                    append(new(Token, (kind, word, line, col + 1, line, col + len(tok), "")))
+                    prev = kind
+                    continue
         else:
-            kind = kind_of[group]  # type: ignore[index]
+            kind = found
             if kind is t_newline:
-                prefix = text[ws_start:start]
-                append(new(Token, (kind, tok, line, col, line + 1, 1, prefix)))
+                append(new(Token, (kind, tok, line, col, line + 1, 1, ws)))
                 line += 1
-                line_start = end
+                line_start = pos
                 prev = kind
                 continue
-        append(new(Token, (kind, tok, line, col, line, col + len(tok), text[ws_start:start])))
+        append(new(Token, (kind, tok, line, col, line, col + len(tok), ws)))
         prev = kind
     return tokens
 
