@@ -28,6 +28,12 @@ def _fresh(open_session: Any, server: Server, name: str, group: str | None = Non
     return open_session(name)
 
 
+def _shot(s: Session, name: str) -> None:
+    """A screenshot of what this test is about: the toasts of earlier steps put away."""
+    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
+    s.screenshot(name)
+
+
 def _menu_items(s: Session) -> list[str]:
     s.page.click("#ws-switch")
     expect(s.page.locator("#ws-menu")).to_be_visible()
@@ -52,7 +58,7 @@ def test_open_beside_over_unsaved_work_makes_a_new_workspace(
     expect(dialog).to_contain_text("with edits not saved yet")
     expect(page.locator("#open-beside")).to_contain_text("A new workspace “PYRAMID”")
     expect(page.locator("#open-beside")).to_be_focused()  # the choice that changes nothing
-    s.screenshot("open-dialog")
+    _shot(s, "open-dialog")
     page.click("#open-beside")
 
     expect(page.locator("#ws-current-name")).to_have_text("PYRAMID")
@@ -67,8 +73,9 @@ def test_open_beside_over_unsaved_work_makes_a_new_workspace(
 
     # Reachable through the switcher; switching back shows the old program.
     assert _menu_items(s) == ["My programs", "PYRAMID"]
+    assert "null" not in s.page.inner_text("#ws-menu")
     expect(page.locator('#ws-menu [aria-checked="true"]')).to_contain_text("PYRAMID")
-    s.screenshot("workspaces")
+    _shot(s, "workspaces")
     page.locator("#ws-menu .ws-item", has_text="My programs").click()
     expect(page.locator("#ws-current-name")).to_have_text("My programs")
     assert s.eval("() => window.melfa.editor.text") == MINE
@@ -191,7 +198,7 @@ def test_group_workspace_is_labelled_shared(open_session: Any, server: Server) -
     group_item = page.locator("#ws-menu .ws-item", has_text="Lab-B")
     expect(group_item).to_contain_text("shared with group Lab-B")
     expect(page.locator("#ws-menu .ws-item", has_text="My programs")).to_be_visible()
-    s.screenshot("workspaces-shared")
+    _shot(s, "workspaces-shared")
     page.keyboard.press("Escape")
 
 
@@ -220,3 +227,25 @@ def test_switching_with_an_unsaved_edit_keeps_it(open_session: Any, server: Serv
     expect(page.locator("#ws-current-name")).to_have_text("Lab-C")
     assert s.eval("() => window.melfa.editor.text") == typed
     expect(page.locator("#history-list li").first).to_contain_text("wsswitch")
+
+
+def test_archive_hides_a_workspace_and_brings_it_back(open_session: Any, server: Server) -> None:
+    s = _fresh(open_session, server, "wsarchive")
+    page = s.page
+    s.eval("() => window.melfa.workspace.create('Old try', {program: 'MOV P1\\nEND\\n'})")
+    expect(page.locator("#ws-current-name")).to_have_text("Old try")
+    old_id = s.eval("() => window.melfa.workspace.id")
+    page.click("#ws-switch")
+    page.once("dialog", lambda d: d.accept())
+    page.click("#ws-archive")
+    expect(page.locator("#ws-current-name")).to_have_text("My programs")
+    assert _menu_items(s) == ["My programs"]
+    expect(page.locator("#ws-archive")).to_have_count(0)  # the first one stays
+    page.click("#ws-show-archived")
+    back = page.locator("#ws-menu .ws-item.archived", has_text="Old try")
+    expect(back).to_be_visible()
+    back.click()
+    expect(page.locator("#ws-current-name")).to_have_text("Old try")
+    assert s.eval("() => window.melfa.workspace.id") == old_id
+    assert s.eval("() => window.melfa.editor.text") == "MOV P1\nEND\n"
+    assert _menu_items(s) == ["My programs", "Old try"]

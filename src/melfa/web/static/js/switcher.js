@@ -15,6 +15,7 @@ export class WorkspaceSwitcher {
   constructor(workspace, user) {
     this.workspace = workspace;
     this.user = user;
+    this.showArchived = false;
     this.build();
     workspace.on("switched", () => this.render());
     workspace.on("list", () => this.render());
@@ -31,7 +32,8 @@ export class WorkspaceSwitcher {
     this.menu.addEventListener("keydown", (e) => this.onKey(e));
     this.box = el("div", { class: "ws-switcher", id: "ws-switcher" }, this.button, this.menu);
     $("open-mb4").before(this.box);
-    document.addEventListener("click", (e) => { if (!this.box.contains(e.target)) this.toggle(false); });
+    // composedPath: the item clicked may already be replaced by fill() when this runs.
+    document.addEventListener("click", (e) => { if (!e.composedPath().includes(this.box)) this.toggle(false); });
     this.dialog = new NameDialog();
   }
 
@@ -51,9 +53,12 @@ export class WorkspaceSwitcher {
 
   fill() {
     const ws = this.workspace;
-    const mine = ws.list.filter((w) => w.kind === "personal" && w.owner === this.user);
-    const groups = ws.list.filter((w) => w.kind === "group");
-    const others = ws.list.filter((w) => w.kind === "personal" && w.owner !== this.user);
+    const open = ws.list.filter((w) => !w.archived);
+    const mine = open.filter((w) => w.kind === "personal" && w.owner === this.user);
+    const groups = open.filter((w) => w.kind === "group");
+    const others = open.filter((w) => w.kind === "personal" && w.owner !== this.user);
+    const archived = ws.list.filter((w) => w.archived);
+    const own = ws.kind === "personal" && ws.owner === this.user;
     const item = (w) => {
       const said = describeWorkspace(w, this.user);
       const current = w.id === ws.id;
@@ -66,14 +71,51 @@ export class WorkspaceSwitcher {
       said.note ? el("span", { class: said.shared ? "ws-tag shared" : "ws-tag" }, said.note) : null);
     };
     const section = (title, list) => (list.length ? [el("div", { class: "ws-section", role: "presentation" }, title), ...list.map(item)] : []);
-    this.menu.replaceChildren(
+    this.menu.replaceChildren(...[
       ...section("My workspaces", mine),
       ...section("Group", groups),
       ...section("Other people's", others),
       el("div", { class: "ws-sep", role: "separator" }),
       el("button", { type: "button", role: "menuitem", class: "ws-action", id: "ws-new", onclick: () => this.create() }, "New workspace…"),
       el("button", { type: "button", role: "menuitem", class: "ws-action", id: "ws-rename", onclick: () => this.rename() }, `Rename “${ws.name}”…`),
-    );
+      own && ws.id !== this.firstOwnId() ? el("button", { type: "button", role: "menuitem", class: "ws-action", id: "ws-archive", onclick: () => this.archive() }, `Archive “${ws.name}”…`) : null,
+      archived.length ? el("div", { class: "ws-sep", role: "separator" }) : null,
+      archived.length ? el("button", {
+        type: "button", role: "menuitem", class: "ws-action ws-archived-toggle", id: "ws-show-archived", "aria-expanded": String(this.showArchived),
+        onclick: () => { this.showArchived = !this.showArchived; this.fill(); this.menu.querySelector("#ws-show-archived").focus(); },
+      }, `${this.showArchived ? "Hide" : "Show"} archived (${archived.length})`) : null,
+      ...(this.showArchived ? archived.map((w) => el("button", {
+        type: "button", role: "menuitem", class: "ws-item archived", "data-id": String(w.id),
+        title: "Bring it back to the list (its program and history are all there)", onclick: () => this.unarchive(w),
+      }, el("span", { class: "ws-check", "aria-hidden": "true" }), el("span", { class: "ws-item-name" }, w.name), el("span", { class: "ws-tag" }, "bring back"))) : []),
+    ].filter(Boolean));
+  }
+
+  /** My first workspace ("My programs"): never archived. */
+  firstOwnId() {
+    const ids = this.workspace.list.filter((w) => w.kind === "personal" && w.owner === this.user).map((w) => w.id);
+    return ids.length ? Math.min(...ids) : null;
+  }
+
+  async archive() {
+    this.toggle(false);
+    const ws = this.workspace;
+    const name = ws.name;
+    if (!confirm(`Archive “${name}”?\n\nIt leaves this list; nothing in it is deleted. “Show archived” at the bottom of this menu brings it back.`)) return;
+    try {
+      if (await ws.archive(ws.id)) toast(`“${name}” archived`, { kind: "ok", text: "Nothing was deleted: “Show archived” in the workspace menu brings it back." });
+    } catch (err) {
+      showError(`Could not archive “${name}”`, err);
+    }
+  }
+
+  async unarchive(w) {
+    try {
+      await this.workspace.archive(w.id, false);
+      await this.switchTo(w.id);
+    } catch (err) {
+      showError(`Could not bring back “${w.name}”`, err);
+    }
   }
 
   toggle(open) {

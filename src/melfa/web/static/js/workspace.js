@@ -65,9 +65,10 @@ export class Workspace extends EventTarget {
     return `melfa.workspace.${this.user}`;
   }
 
-  /** The workspaces this user may open (and which is the default). */
+  /** The workspaces this user may open (and which is the default); my archived ones too
+   * (marked `archived`: the switcher lists them apart, and their names stay taken). */
   async refreshList() {
-    const out = await api("GET", "/api/workspaces");
+    const out = await api("GET", "/api/workspaces?archived=true");
     this.list = out.workspaces;
     this.defaultId = out.default_id;
     this.emit("list", {});
@@ -80,7 +81,7 @@ export class Workspace extends EventTarget {
     await this.refreshList();
     let last = null;
     try { last = Number(localStorage.getItem(this.lastKey)); } catch { /* no storage */ }
-    await this.load(this.list.some((w) => w.id === last) ? last : this.defaultId);
+    await this.load(this.list.some((w) => w.id === last && !w.archived) ? last : this.defaultId);
   }
 
   /** Load workspace `id` into this object (nothing of the previous one is kept here). */
@@ -162,7 +163,16 @@ export class Workspace extends EventTarget {
     return out;
   }
 
-  /** The names of my own workspaces (for a free name). */
+  /** Hide (or bring back) one of my workspaces; nothing in it is deleted. Archiving the
+   * current one switches to the default first. */
+  async archive(id, archived = true) {
+    if (archived && id === this.id && !(await this.switchTo(this.defaultId))) return null;
+    const out = await api("PATCH", `/api/workspaces/${id}`, { archived });
+    await this.refreshList();
+    return out;
+  }
+
+  /** The names of my own workspaces, archived ones included (for a free name). */
   myNames() {
     return this.list.filter((w) => w.kind === "personal" && w.owner === this.user).map((w) => w.name);
   }
