@@ -14,7 +14,7 @@ import pytest
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 
-ACYCLIC = ("melfa.sim.interp", "melfa.sim.debug")
+ACYCLIC = ("melfa.sim", "melfa.sim.interp", "melfa.sim.debug")
 
 
 def _modules(package: str) -> dict[str, Path]:

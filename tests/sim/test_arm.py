@@ -4,29 +4,33 @@ import pytest
 
 from melfa.kin import HOME, JOINT_MAX_SPEED, Joints, Pose, fk
 from melfa.sim.arm import (
+    JOG_WATCHDOG_S,
+    Inch,
+    JogMode,
+    SimulatedArm,
+    directions_from_masks,
+)
+from melfa.sim.arm_errors import (
     ERR_BUSY,
     ERR_ILLEGAL_POSITION,
     ERR_JOINT_LIMIT,
     ERR_OUT_OF_RANGE,
     ERR_SERVO_OFF,
-    JOG_WATCHDOG_S,
     ArmBusy,
-    HandEvent,
-    HandState,
     IllegalPosition,
-    Inch,
-    JogMode,
     JogRefused,
     JointLimitError,
-    MoveEvent,
     OutOfRange,
     ServoOff,
-    SimulatedArm,
-    TrajectoryRecorder,
-    directions_from_masks,
 )
 from melfa.sim.motion import ACCEL_TIME_S
 from melfa.sim.plans import MoveKind
+from melfa.sim.trajectory import (
+    HandEvent,
+    HandState,
+    MoveEvent,
+    TrajectoryRecorder,
+)
 
 HOME_POSE = fk(HOME)
 

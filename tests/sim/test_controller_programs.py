@@ -8,12 +8,13 @@ import pytest
 from melfa.protocol.answers import DState, Position, State
 from melfa.protocol.messages import Ok
 from melfa.sim import VirtualController
-from melfa.sim.arm import HandState, SimulatedArm
+from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
 from melfa.sim.interp.interpreter import Interpreter
 from melfa.sim.machine import SimArm
 from melfa.sim.runner import RunnerStatus
+from melfa.sim.trajectory import HandState
 from tests.fixtures_sim import Driver
 
 

@@ -8,13 +8,14 @@ import math
 import pytest
 
 from melfa.kin import Pose, fk, pose_mul
-from melfa.sim.arm import HandState, SimulatedArm
+from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
 from melfa.sim.interp.fast import run_fast, simulate
 from melfa.sim.interp.interpreter import Interpreter
 from melfa.sim.interp.io import IOState
 from melfa.sim.runner import ProgramRunner, RunnerStatus, StatementExecutor
+from melfa.sim.trajectory import HandState
 
 THESIS_PROGRAM = """10 SERVO ON
 20 SPD 20

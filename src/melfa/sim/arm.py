@@ -6,25 +6,13 @@ caller's clock, real or simulated) and nothing here reads a clock. A move builds
 along it. "As fast as possible" callers jump their clock to `motion_end()`.
 
 Both the virtual controller's EXEC and the interpreter's RUN drive one `SimulatedArm`.
-Refusals are `ArmError`s carrying the controller's error number (protocol.md §2.3):
-
-| class | number | when |
-|---|---|---|
-| `ServoOff` | L2000 | a move or jog with the servo off |
-| `JogRefused` | L2030 | a jog the arm cannot take (moving, unsupported mode) |
-| `JointLimitError` | H2160 | a target or path sample outside a joint range or interference limit |
-| `OutOfRange` | L2600 | no IK solution: out of reach, or a path through a singularity [GUESS] |
-| `IllegalPosition` | L2800 | impossible geometry: collinear arc points, FL1 change in MVS [GUESS] |
-| `ArmBusy` | L5640 | a new move while one is running (the busy reply S6/S7 rely on) |
-
-[GUESS] L2600 ("position data exceeds the limit") rather than H2180-H2193 (X/Y/Z data exceeds
-the limit) for unreachable targets: the latter read like the XYZ operating-range check.
+Its refusals are `melfa.sim.arm_errors.ArmError`s; what it did is kept by a
+`melfa.sim.trajectory.TrajectoryRecorder`.
 """
 
 from __future__ import annotations
 
 import enum
-from collections import deque
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
@@ -32,58 +20,42 @@ from melfa.kin import (
     DEFAULT_INTERFERENCE,
     HOME,
     Interference,
-    InterferenceLimitExceeded,
-    JointLimitExceeded,
     Joints,
     KinematicsError,
     Pose,
-    Unreachable,
     fk,
     ik,
     pose_mul,
 )
-from melfa.protocol.error_table import BUSY, JOG_REFUSED, JOINT_LIMIT, SERVO_OFF
 from melfa.protocol.jog import JOG_WATCHDOG_S
 from melfa.sim import motion
+from melfa.sim.arm_errors import (
+    ArmBusy,
+    ArmError,
+    JogRefused,
+    ServoOff,
+    from_kinematics,
+)
 from melfa.sim.motion import JogMode, Speeds
-from melfa.sim.paths import IllegalMove
-from melfa.sim.plans import Frames, MoveKind, Plan
+from melfa.sim.plans import Frames, Plan
 from melfa.sim.timing import Profile
+from melfa.sim.trajectory import (
+    HandEvent,
+    HandState,
+    MoveEvent,
+    TrajectoryRecorder,
+    TrajectorySample,
+)
 
 __all__ = [
-    "ERR_BUSY",
-    "ERR_ILLEGAL_POSITION",
-    "ERR_JOG_REFUSED",
-    "ERR_JOINT_LIMIT",
-    "ERR_OUT_OF_RANGE",
-    "ERR_SERVO_OFF",
     "HAND_COUNT",
     "JOG_WATCHDOG_S",
-    "ArmBusy",
-    "ArmError",
-    "HandEvent",
-    "HandState",
-    "IllegalPosition",
     "Inch",
     "JogMode",
-    "JogRefused",
-    "JointLimitError",
-    "MoveEvent",
-    "OutOfRange",
-    "ServoOff",
     "SimulatedArm",
-    "TrajectoryRecorder",
-    "TrajectorySample",
     "directions_from_masks",
-    "from_kinematics",
 ]
 
-ERR_SERVO_OFF = SERVO_OFF
-ERR_JOG_REFUSED = JOG_REFUSED
-ERR_JOINT_LIMIT = JOINT_LIMIT
-ERR_OUT_OF_RANGE = 2600
-ERR_ILLEGAL_POSITION = 2800
-ERR_BUSY = BUSY
 
 HAND_COUNT = 8
 """Hands 1..8 [DOC S1 HOPEN/HCLOSE]."""
@@ -95,155 +67,6 @@ INCH_LOW = 0.1
 """[GUESS] inching step "low"."""
 OP_OVERRIDE_DEFAULT = 100.0
 """[GUESS] the OP override after power-on (the real one is whatever the panel was left at)."""
-
-
-# --- errors --------------------------------------------------------------------------------
-
-
-class ArmError(Exception):
-    """A refusal by the (simulated) controller, with its error number and level letter."""
-
-    number: int = 0
-    level: str = "L"
-
-    def __init__(self, message: str, number: int | None = None) -> None:
-        if number is not None:
-            self.number = number
-        self.message = message
-        super().__init__(f"{self.code}: {message}")
-
-    @property
-    def code(self) -> str:
-        """Number with its level letter, as the error list writes it: "H2160"."""
-        return f"{self.level}{self.number}"
-
-
-class ServoOff(ArmError):
-    number = ERR_SERVO_OFF
-
-
-class JogRefused(ArmError):
-    number = ERR_JOG_REFUSED
-
-
-class JointLimitError(ArmError):
-    """`joint` is 1-based, or None for an interference limit (several joints together)."""
-
-    number = ERR_JOINT_LIMIT
-    level = "H"
-
-    def __init__(self, message: str, joint: int | None = None, value: float | None = None) -> None:
-        self.joint = joint
-        self.value = value
-        super().__init__(message)
-
-
-class OutOfRange(ArmError):
-    number = ERR_OUT_OF_RANGE
-
-
-class IllegalPosition(ArmError):
-    number = ERR_ILLEGAL_POSITION
-
-
-class ArmBusy(ArmError):
-    number = ERR_BUSY
-
-
-def from_kinematics(exc: KinematicsError) -> ArmError:
-    """The controller error for a kinematics refusal."""
-    if isinstance(exc, JointLimitExceeded):
-        return JointLimitError(str(exc), exc.joint, exc.value)
-    if isinstance(exc, InterferenceLimitExceeded):
-        return JointLimitError(str(exc))
-    if isinstance(exc, Unreachable):
-        return OutOfRange(str(exc))
-    if isinstance(exc, IllegalMove):
-        return IllegalPosition(str(exc))
-    return OutOfRange(str(exc))
-
-
-# --- recorder ------------------------------------------------------------------------------
-
-
-class HandState(enum.Enum):
-    OPEN = "open"
-    CLOSED = "closed"
-
-
-@dataclass(frozen=True, slots=True)
-class TrajectorySample:
-    """Where the arm was at `time`: joints (deg), TCP pose, hands 1..8 (None = never set)."""
-
-    time: float
-    joints: Joints
-    pose: Pose
-    hands: tuple[HandState | None, ...]
-    line: int | None
-
-
-@dataclass(frozen=True, slots=True)
-class HandEvent:
-    time: float
-    hand: int
-    state: HandState
-    line: int | None
-
-
-@dataclass(frozen=True, slots=True)
-class MoveEvent:
-    """A motion began at `time`; `plan.sample(t - time)` replays it (fast runs included)."""
-
-    time: float
-    kind: MoveKind
-    plan: Plan
-    line: int | None
-
-    @property
-    def end_time(self) -> float:
-        return self.time + self.plan.duration
-
-
-class TrajectoryRecorder:
-    """Bounded ring buffers of samples and events (oldest dropped first)."""
-
-    def __init__(self, max_samples: int = 20000, max_events: int = 5000) -> None:
-        self._samples: deque[TrajectorySample] = deque(maxlen=max_samples)
-        self._events: deque[HandEvent | MoveEvent] = deque(maxlen=max_events)
-
-    def add_sample(self, sample: TrajectorySample) -> None:
-        self._samples.append(sample)
-
-    def add_event(self, event: HandEvent | MoveEvent) -> None:
-        self._events.append(event)
-
-    @property
-    def samples(self) -> list[TrajectorySample]:
-        return list(self._samples)
-
-    @property
-    def events(self) -> list[HandEvent | MoveEvent]:
-        return list(self._events)
-
-    @property
-    def moves(self) -> list[MoveEvent]:
-        return [e for e in self._events if isinstance(e, MoveEvent)]
-
-    @property
-    def hand_events(self) -> list[HandEvent]:
-        return [e for e in self._events if isinstance(e, HandEvent)]
-
-    @property
-    def last(self) -> TrajectorySample | None:
-        return self._samples[-1] if self._samples else None
-
-    def since(self, time: float) -> list[TrajectorySample]:
-        """Samples at or after `time` (for streaming to a viewer)."""
-        return [s for s in self._samples if s.time >= time]
-
-    def clear(self) -> None:
-        self._samples.clear()
-        self._events.clear()
 
 
 # --- jog ---------------------------------------------------------------------------------

@@ -18,6 +18,8 @@ from melfa.protocol.error_table import ERROR_MESSAGES, ORIGIN_NOT_SET
 from melfa.protocol.jog import Jog
 from melfa.protocol.messages import Reply, Request
 from melfa.sim.config import KeySwitch, SimConfig
+from melfa.sim.interp.armport import ArmPort
+from melfa.sim.interp.interpreter import Interpreter
 from melfa.sim.interp.io import IOState
 from melfa.sim.machine import ArmFault, ControllerArm, SimArm, make_arm
 from melfa.sim.runner import (
@@ -342,10 +344,6 @@ def _default_runner_factory(arm: ControllerArm, io: IOState) -> RunnerFactory:
     """The interpreter on the shared `SimulatedArm` and I/O; `LineWalker` for a foreign arm."""
     if not isinstance(arm, SimArm):
         return LineWalker
-    # Lazy: the interpreter pulls in the language toolkit; a bare controller does not need it.
-    from melfa.sim.interp.armport import ArmPort
-    from melfa.sim.interp.interpreter import Interpreter
-
     port = ArmPort(arm.arm)
     return lambda: Interpreter(port, io)
 
@@ -354,8 +352,4 @@ def _default_executor(arm: ControllerArm, io: IOState) -> StatementExecutor | No
     """EXEC outside any loaded program: a bare interpreter on the shared arm and I/O."""
     if not isinstance(arm, SimArm):
         return None
-    # Lazy for the same reason as above.
-    from melfa.sim.interp.armport import ArmPort
-    from melfa.sim.interp.interpreter import Interpreter
-
     return Interpreter(ArmPort(arm.arm), io)

@@ -14,7 +14,8 @@ from typing import Protocol
 
 from melfa.kin import JOINT_LIMITS, Pose
 from melfa.protocol.jog import Jog
-from melfa.sim.arm import ArmError, Inch, JogMode, SimulatedArm, directions_from_masks
+from melfa.sim.arm import Inch, JogMode, SimulatedArm, directions_from_masks
+from melfa.sim.arm_errors import ArmError
 from melfa.sim.motion import Speeds
 
 

@@ -36,7 +36,6 @@ from melfa.kin.pose import pose_to_matrix
 from melfa.kin.reach import unreachable_points
 from melfa.kin.solver import fk_batch
 from melfa.lang.points import PointDef
-from melfa.sim.arm import MoveEvent
 from melfa.sim.debug.cell import Cell
 from melfa.sim.debug.engine import (
     DEFAULT_MAX_TIME_S,
@@ -48,6 +47,7 @@ from melfa.sim.debug.engine import (
     load_points,
 )
 from melfa.sim.interp import errors
+from melfa.sim.trajectory import MoveEvent
 
 KINEMATIC_ERRORS = frozenset(
     {errors.JOINT_LIMIT, errors.ILLEGAL_POSITION}

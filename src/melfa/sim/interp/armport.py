@@ -13,7 +13,8 @@ from typing import TypeVar
 
 from melfa.kin import Joints as KJoints
 from melfa.kin import Pose
-from melfa.sim.arm import ArmError, SimulatedArm
+from melfa.sim.arm import SimulatedArm
+from melfa.sim.arm_errors import ArmError
 from melfa.sim.interp import errors
 from melfa.sim.interp.robot import ArcKind
 from melfa.sim.interp.values import Joints, Position

@@ -23,7 +23,7 @@ from typing import TextIO
 
 from melfa.kin import Pose
 from melfa.lang.points import PointDef, parse_points
-from melfa.sim.arm import HandState, SimulatedArm
+from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
 from melfa.sim.interp.errors import error_text
@@ -32,6 +32,7 @@ from melfa.sim.interp.interpreter import Interpreter, Step
 from melfa.sim.interp.io import IOState
 from melfa.sim.interp.values import point_value
 from melfa.sim.runner import RunnerStatus
+from melfa.sim.trajectory import HandState
 
 REAL_TIME_TICK_S = 0.02
 """How often the real-time mode advances the program (wall-clock seconds)."""
