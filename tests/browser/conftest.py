@@ -136,10 +136,14 @@ def browser() -> Iterator[Browser]:
 class Session:
     """One signed-in browser context with the IDE open."""
 
-    def __init__(self, browser: Browser, server: Server, user: str) -> None:
+    def __init__(
+        self, browser: Browser, server: Server, user: str, *, first_run: bool = False
+    ) -> None:
         self.server = server
         self.user = user
         self.context: BrowserContext = browser.new_context(viewport=VIEWPORT)  # type: ignore[arg-type]
+        if not first_run:  # the first-run guide was seen (test_guide.py wants it unseen)
+            self.context.add_init_script(f"localStorage.setItem('melfa.guide.{user}', 'done')")
         self.context.set_default_timeout(10_000)
         self.errors: list[str] = []
         self.page: Page = self.context.new_page()
@@ -213,8 +217,8 @@ def open_session(browser: Browser, server: Server) -> Iterator[Any]:
     """Factory: `open_session("alice")` gives a signed-in IDE; all closed afterwards."""
     sessions: list[Session] = []
 
-    def make(user: str, *, login: bool = True) -> Session:
-        session = Session(browser, server, user)
+    def make(user: str, *, login: bool = True, first_run: bool = False) -> Session:
+        session = Session(browser, server, user, first_run=first_run)
         sessions.append(session)
         if login:
             session.login_api()

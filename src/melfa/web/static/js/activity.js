@@ -2,9 +2,15 @@
 // told the same way by the header pill, the activity line, the jog pad and the 3D view.
 // And the words for a jog direction in each frame: which way the hand really goes.
 
-/** {text, pill, busy, error} for a state message. */
-export function describeActivity(m) {
-  const detail = m?.activity_detail || "";
+/**
+ * {text, pill, busy, error, hint} for a state message. `lineOf(step)` maps the controller's
+ * step number to the editor's line when this browser knows the loaded text (then the words
+ * name the line the editor marks); otherwise the step number of the loaded .MB4 is said.
+ */
+export function describeActivity(m, lineOf = null) {
+  let detail = m?.activity_detail || "";
+  const line = (m?.activity === "running" || m?.activity === "paused") && m.line && lineOf ? lineOf(m.line) : null;
+  if (line) detail = `line ${line}`;
   const program = m?.program ? ` ${m.program}` : "";
   switch (m?.activity) {
     case "uploading": return { text: "Uploading…", pill: "uploading", busy: true };
@@ -12,7 +18,7 @@ export function describeActivity(m) {
     case "jogging": return { text: `Jogging${detail ? " " + jogWords(detail) : ""}`, pill: "jogging", busy: true };
     case "moving-to": return { text: `Moving to ${detail || "a point"}`, pill: "moving", busy: true };
     case "running": return { text: `Running${program}${detail ? " · " + detail : ""}`, pill: `running${detail ? " · " + detail : ""}`, busy: true };
-    case "paused": return { text: `Paused${detail ? " at " + detail : ""}: Run continues, Reset program starts over`, pill: "paused" };
+    case "paused": return { text: `Paused${detail ? " at " + detail : ""}`, pill: "paused", hint: "Run continues; Reset program starts over" };
     case "moving": return { text: "Robot moving", pill: "moving", busy: true };
     case "offline": return { text: "Robot not connected", pill: "offline", error: true };
     default: return { text: "Idle", pill: "idle" };

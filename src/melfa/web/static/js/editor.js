@@ -161,18 +161,14 @@ export class ProgramEditor extends EventTarget {
     }
     list.replaceChildren(
       ...this.diagnostics.map((d) =>
-        el("li", {
-          tabindex: "0",
-          role: "button",
-          "aria-label": `${d.severity} at line ${d.line}: ${describeDiagnostic(d)}`,
-          onclick: () => this.goTo(d),
-          onkeydown: (e) => { if (e.key === "Enter" || e.key === " ") { e.preventDefault(); this.goTo(d); } },
-        },
-        el("span", { class: `sev ${d.severity}` }, d.severity),
-        el("span", { class: "loc" }, `${d.line}:${d.column}`),
-        el("span", {}, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
-          d.code ? el("span", { class: "code" }, `  ${d.code}`) : null),
-        this.fixButton(d),
+        // A real button per problem (its visible words are its name); the fix beside it.
+        el("li", {},
+          el("button", { type: "button", class: "problem-go", title: `Go to line ${d.line}`, onclick: () => this.goTo(d) },
+            el("span", { class: `sev ${d.severity}` }, d.severity),
+            el("span", { class: "loc" }, `${d.line}:${d.column}`),
+            el("span", {}, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
+              d.code ? el("span", { class: "code" }, `  ${d.code}`) : null)),
+          this.fixButton(d),
         )),
     );
   }
@@ -185,8 +181,7 @@ export class ProgramEditor extends EventTarget {
     if (!/^[A-Za-z][A-Za-z0-9]*$/.test(name)) return null;
     return el("button", {
       type: "button", class: "btn btn-sm fix-add-point",
-      onclick: (e) => { e.stopPropagation(); this.onAddPoint(name); },
-      onkeydown: (e) => e.stopPropagation(),
+      onclick: () => this.onAddPoint(name),
     }, `Add ${name} from the current position`);
   }
 

@@ -1,10 +1,10 @@
-// The student's first hour: a clear "Virtual robot" badge, a welcome project with a guided
-// first run for an empty workspace, and the keyboard way out of the editor (Esc, then
+// The student's first hour: a clear "Virtual robot" badge, a welcome project for an empty
+// workspace (guide.js walks through it), and the keyboard way out of the editor (Esc, then
 // Tab), stated on screen. (The workspace's name and sharing: switcher.js.)
 
-import { $, el, toast } from "./ui.js";
+import { $, el } from "./ui.js";
 
-/** A clear badge when the robot is the virtual one (no arm moves in the lab). */
+/** A clear badge when the robot is the virtual one (no arm moves in the lab); true if virtual. */
 export function robotBadge(hello) {
   let badge = $("robot-badge");
   if (!badge) {
@@ -15,26 +15,25 @@ export function robotBadge(hello) {
   badge.textContent = virtual ? "Virtual robot" : "Real robot";
   badge.classList.toggle("real", !virtual);
   badge.title = virtual ? "A simulated RV-6S: nothing moves in the lab." : "The lab's RV-6S: the real arm moves.";
+  return virtual;
 }
 
-/** An empty workspace starts with the welcome project and a three-step guide. */
-export async function welcome(workspace, editor) {
-  if (workspace.program.trim() || workspace.points.trim()) return false;
-  const [program, points] = await Promise.all(
+let welcomeFiles = null;
+/** The welcome project's [program, points] (fetched once). */
+export function welcomeProject() {
+  welcomeFiles ??= Promise.all(
     ["welcome.MB4", "welcome.POS"].map((f) => fetch(`/static/welcome/${f}`).then((r) => (r.ok ? r.text() : ""))),
   );
+  return welcomeFiles;
+}
+
+/** An empty workspace starts with the welcome project (the guide then walks through it). */
+export async function welcome(workspace, editor) {
+  if (workspace.program.trim() || workspace.points.trim()) return false;
+  const [program, points] = await welcomeProject();
   if (!program) return false;
   workspace.replace({ program, points }, "welcome");
   editor.check();
-  toast("Welcome! Your first run in three steps", {
-    kind: "info",
-    timeout: 0,
-    items: [
-      "1. Read the program: each line has a comment saying what it does.",
-      "2. Press Load project: the program and its points go to the robot.",
-      "3. Press Run: melfa asks to switch the servo on (say yes), then watch the arm on the right.",
-    ],
-  });
   return true;
 }
 

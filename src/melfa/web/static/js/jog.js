@@ -245,7 +245,7 @@ export class JogPad {
   draw() {
     this.canvas.dataset.lit = [...this.lit].join(",");
     const labels = {};
-    const said = describeActivity(this.app.state);
+    const said = describeActivity(this.app.state, this.app.lineOf);
     this.shownActivity = said.text;
     this.shownHand = this.app.state?.hands?.[0];
     const ctx = this.ctx;
@@ -295,15 +295,19 @@ export class JogPad {
     const frameName = { xyz: "Base XYZ", tool: "Tool", joint: "Joint" }[this.frame];
     ctx.fillText(`Frame: ${frameName}`, lx, 40);
     ctx.fillText(`Mode: ${this.mode === "step" ? "step" : "hold to move"}`, lx, 62);
-    // What the robot does, as the service says it (the same words as the header).
-    ctx.fillStyle = said.busy ? "#1f5fbf" : said.error ? "#b42318" : "#4b5563";
-    ctx.font = "600 13px system-ui, sans-serif";
-    ctx.fillText(said.text.length > 24 ? said.text.slice(0, 23) + "…" : said.text, lx, 90);
+    // What the robot does, as the service says it (the same words as the header), in a
+    // line of text above the keys: read by screen readers, never cut to fit.
     this.canvas.dataset.activity = said.text;
+    const line = $("jog-state");
+    if (line) {
+      $("jog-state-text").textContent = said.text;
+      line.title = said.hint || "";
+      line.dataset.kind = said.error ? "error" : said.busy ? "busy" : "idle";
+    }
     if (document.activeElement !== this.canvas) {
       ctx.fillStyle = "#8a96a3";
       ctx.font = "400 12px system-ui, sans-serif";
-      ctx.fillText("Click to use the keys", lx, 118);
+      ctx.fillText("Click to use the keys", lx, 96);
     }
   }
 }

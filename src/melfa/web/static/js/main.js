@@ -8,7 +8,9 @@ import { ActionLog } from "./actionlog.js";
 import { describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, robotBadge, welcome } from "./first.js";
+import { Guide } from "./guide.js";
 import { JogPad } from "./jog.js";
+import { ToolbarOverflow } from "./layout.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
@@ -31,6 +33,8 @@ const app = {
   uploading: null, // {command_id, sent, total} while our load runs
   activityLock: false, // an explicit operation owns the activity line
   tracing: false, // drawing the path of a running program
+  virtual: null, // the robot is a simulated one (the hello says so)
+  events: new EventTarget(), // what the student's actions came to: "load" {ok, err}
 };
 window.melfa = app; // for debugging in the console (and the browser tests)
 
@@ -88,15 +92,23 @@ async function main() {
   renderReadouts(null);
   app.live.connect();
 
+  let welcomed = false;
   try {
     app.switcher = new WorkspaceSwitcher(workspace, app.user);
     await workspace.open();
-    await welcome(workspace, editor);
+    welcomed = await welcome(workspace, editor);
   } catch (err) {
     showError("Could not open your workspace", err);
   }
   app.debug = new DebugPanel(app); // after the workspace: breakpoints are kept per workspace
   app.preflight = new PreflightPanel(app);
+  // Every toolbar button is in place now: fit the row (secondary actions into "More").
+  app.overflow = new ToolbarOverflow(document.querySelector(".toolbar"), {
+    wrap: $("toolbar-more"), button: $("more-button"), menu: $("more-menu"),
+    ids: ["act-clear", "action-log-button", "act-save", "act-preflight", "act-check"],
+  });
+  app.guide = new Guide(app);
+  app.guide.autoStart(welcomed);
   app.debug.onTarget();
   points.render();
   points.check();
@@ -115,11 +127,11 @@ function wireLive(live) {
   live.on("status", ({ state }) => {
     const up = state === "open";
     setStatus("web-status", up ? "up" : state === "connecting" ? "wait" : "down",
-      up ? "connected" : state === "connecting" ? "connecting…" : "disconnected — click to reconnect");
+      up ? "connected" : state === "connecting" ? "connecting…" : "disconnected");
     if (!up) setStatus("robot-status", "down", "unknown");
   });
   live.on("hello", (m) => {
-    robotBadge(m);
+    app.virtual = robotBadge(m);
     app.targets.confirm(m.target);
     setLink(m.link);
     setLease(m.lease_holder);
@@ -154,11 +166,13 @@ function setStatus(id, state, text) {
   // The accessible name starts with the visible text ("Server connected"), then the hint.
   const what = id === "web-status" ? "Server" : "Robot";
   node.setAttribute("aria-label", `${what} ${text}. Click to reconnect.`);
+  node.title = `${what}: ${text}${node.dataset.detail ? ` (${node.dataset.detail})` : ""}. Click to reconnect.`;
 }
 
 function setLink(status, detail = "") {
   const state = status === "connected" ? "up" : status === "connecting" || status === "reconnecting" ? "wait" : "down";
-  setStatus("robot-status", state, status + (detail && state !== "up" ? ` (${detail})` : ""));
+  $("robot-status").dataset.detail = state === "up" ? "" : detail; // in the tooltip: the header stays one line
+  setStatus("robot-status", state, status);
 }
 
 function setLease(holder, since = undefined, state = undefined) {
@@ -173,7 +187,7 @@ function setLease(holder, since = undefined, state = undefined) {
   text.replaceChildren(
     "Control: ",
     holder ? el("strong", {}, mine ? "you" : holder.user) : el("strong", {}, "free"),
-    holder && !mine && holder.role ? ` (${holder.role})` : "",
+    holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${holder.role})`) : "",
     when && !isNaN(when) ? el("span", { class: "lease-since" }, ` since ${when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" })}`) : "",
     holder && app.leaseState && app.leaseState !== "connected" ? el("span", { class: "lease-state" }, ` · ${app.leaseState}`) : "",
   );
@@ -215,6 +229,7 @@ function rememberLoaded(program, lines) {
     localStorage.setItem(`melfa.loaded.${app.user}`, JSON.stringify(app.loaded));
   } catch { /* storage full: the highlight just will not survive a reload */ }
 }
+app.lineOf = (step) => loadedLine(step);
 function loadedLine(step) {
   if (!app.loaded) {
     try { app.loaded = JSON.parse(localStorage.getItem(`melfa.loaded.${app.user}`) || "null"); } catch { app.loaded = null; }
@@ -225,7 +240,7 @@ function loadedLine(step) {
 
 function renderActivity() {
   const m = app.state;
-  const said = describeActivity(m);
+  const said = describeActivity(m, app.lineOf);
   const pill = $("run-state");
   pill.textContent = said.pill;
   pill.className = said.error ? "pill bad" : said.busy ? "pill busy" : "pill";
@@ -252,7 +267,7 @@ function renderActivity() {
   if (app.activityLock) return;
   if (said.pill === "idle" && app.resultShown) return;
   app.resultShown = false;
-  setActivity(said.text, { busy: !!said.busy, error: !!said.error });
+  setActivity(said.text, { busy: !!said.busy, error: !!said.error, hint: said.hint });
 }
 
 function renderReadouts(m) {
@@ -390,7 +405,9 @@ async function loadProject(workspace, editor) {
     app.idle(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`);
     setActivity(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`, { progress: 1 });
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
+    app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
   } catch (err) {
+    app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: false, err } }));
     app.idle("Load failed", true);
     if (err.code === "program-has-errors" && err.detail?.diagnostics) {
       editor.show(err.detail.diagnostics);
@@ -432,6 +449,7 @@ function selectTab(name, focus = false) {
   if (name !== "robot") app.jog.releaseAll();
   else app.jog.draw();
 }
+app.selectTab = selectTab;
 function wireTabs() {
   for (const t of TABS) $(`tab-${t}`).addEventListener("click", () => selectTab(t));
   document.querySelector(".tabs").addEventListener("keydown", (e) => {

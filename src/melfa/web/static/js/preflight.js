@@ -34,9 +34,8 @@ export class PreflightPanel {
     this.ghost.addEventListener("change", () => { this.group.visible = this.ghost.checked; this.app.view.requestRender(); });
     const editCell = el("button", { type: "button", class: "btn btn-sm", id: "cell-edit", hidden: true, title: "The table plane and obstacles pre-flight checks against" }, "Cell…");
     editCell.addEventListener("click", () => this.editCell());
-    const head = document.querySelector(".view-head");
-    head.insertBefore(el("label", { class: "check ghost-label", title: "The path of the last pre-flight, over the arm" }, this.ghost, " Simulated path"), $("path-clear"));
-    head.insertBefore(editCell, $("path-clear"));
+    // In the 3D view's corner tools, before its own buttons.
+    $("path-clear").before(el("label", { class: "check ghost-label", title: "The path of the last pre-flight, over the arm" }, this.ghost, " Simulated path"), editCell);
     this.list = el("ul", { id: "preflight-findings" });
     this.summary = el("p", { class: "pf-summary", id: "preflight-summary" });
     const close = el("button", { type: "button", class: "btn btn-sm btn-icon", "aria-label": "Close the pre-flight report" }, "✕");

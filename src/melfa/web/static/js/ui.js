@@ -62,6 +62,16 @@ export function onFix(action, handler) {
   fixHandlers.set(action, handler);
 }
 
+/** An API error in the student's words: what happened, where, and for control who has it. */
+export function errorText(err) {
+  let text = err?.message || String(err);
+  if (err?.where?.line) text += ` (line ${err.where.line}${err.where.column ? ":" + err.where.column : ""})`;
+  if (err?.code === "lease-required" && err.detail?.holder) {
+    text = `${err.detail.holder.user} is controlling the robot. Ask them to release it, or an instructor can take over.`;
+  }
+  return text;
+}
+
 /**
  * Show an API error as a toast that says what went wrong, where known where, the
  * controller's code (L2000) and the one-click fix as a button. `retry(extra)` repeats the
@@ -72,12 +82,7 @@ export function showError(what, err, { retry = null } = {}) {
   const items = [];
   const diags = err?.detail?.diagnostics;
   if (Array.isArray(diags)) for (const d of diags) items.push(describeDiagnostic(d));
-  let text = err?.message || String(err);
-  if (err?.where?.line) text += ` (line ${err.where.line}${err.where.column ? ":" + err.where.column : ""})`;
-  if (err?.code === "lease-required" && err.detail?.holder) {
-    text = `${err.detail.holder.user} is controlling the robot. Ask them to release it` +
-      (err.detail.holder.role ? "" : "") + ", or an instructor can take over.";
-  }
+  const text = errorText(err);
   const actions = [];
   const fix = err?.detail?.fix;
   if (fix && fixHandlers.has(fix)) {
@@ -87,8 +92,9 @@ export function showError(what, err, { retry = null } = {}) {
 }
 
 /** The toolbar's activity line: busy spinner, text, optional progress 0…1. */
-export function setActivity(text, { busy = false, error = false, progress = null } = {}) {
+export function setActivity(text, { busy = false, error = false, progress = null, hint = "" } = {}) {
   const box = document.getElementById("activity");
+  box.title = hint;
   box.classList.toggle("busy", busy);
   box.classList.toggle("error", error);
   document.getElementById("activity-spinner").hidden = !busy;

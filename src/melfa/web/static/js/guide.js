@@ -1,0 +1,273 @@
+// The guided first run (issue 16): for a student whose workspace was empty, a callout that
+// points at one thing at a time (a ring around it, the callout beside it, never over it)
+// and follows what the student really does: read the program → Load project (on to the
+// next step when the load succeeded; when it failed, why and what to do, in the words of
+// the error) → Run (the servo question and its "Turn on and retry") → the arm moving and
+// the running line → done, with where to go next (Points, jogging).
+//
+// Skippable at every step (the button, or Esc outside the editor), keyboard reachable (it
+// sits after the toolbar in the page order), read out by screen readers (a polite live
+// region). Finished or skipped, it does not come back on its own for that user (kept in
+// this browser, per user); the user menu's "Show the first-run guide" opens it again.
+
+import { welcomeProject } from "./first.js";
+import { $, el, errorText } from "./ui.js";
+
+const REMEMBER = (user) => `melfa.guide.${user}`;
+const GAP = 12; // between the callout and what it points at, px
+const MARGIN = 8; // from the window's edges, px
+
+export class Guide {
+  constructor(app) {
+    this.app = app;
+    this.step = null;
+    this.sawRunning = false;
+    this.build();
+    app.live.on("state", (m) => this.onState(m));
+    app.events.addEventListener("load", (e) => this.onLoad(e.detail));
+    // A refused Run shows an error toast: the guide points at its fix or tells its reason.
+    new MutationObserver(() => this.onToasts()).observe($("toasts"), { childList: true });
+    document.addEventListener("keydown", (e) => this.onKey(e));
+    window.addEventListener("resize", () => this.place());
+    $("guide-open").addEventListener("click", () => this.start());
+  }
+
+  get remembered() {
+    return localStorage.getItem(REMEMBER(this.app.user));
+  }
+
+  /** Opens by itself for a first run: the workspace was empty, or still holds the welcome program. */
+  async autoStart(welcomed) {
+    if (this.remembered) return false;
+    if (!welcomed) {
+      const [program] = await welcomeProject().catch(() => [""]);
+      const same = (t) => t.replace(/\r\n/g, "\n").trim();
+      if (!program || same(this.app.workspace.program) !== same(program)) return false;
+    }
+    this.start();
+    return true;
+  }
+
+  start() {
+    this.sawRunning = false;
+    this.show("program", { focus: true });
+  }
+
+  /** Skip (the button or Esc) or finish: either way it stays closed for this user. */
+  close(how) {
+    if (!this.step) return;
+    localStorage.setItem(REMEMBER(this.app.user), how);
+    this.step = null;
+    this.box.hidden = true;
+    this.rings.replaceChildren();
+    this.live.textContent = how === "done" ? "First-run guide finished." : "First-run guide closed. Open it again from your user menu.";
+    clearInterval(this.follow);
+    document.body.dataset.guide = "";
+  }
+
+  // ---- the steps ----
+  steps() {
+    const app = this.app;
+    const real = app.virtual === false;
+    const b = (text) => el("strong", {}, text);
+    return {
+      program: {
+        title: "This is your program",
+        anchor: () => $("editor"),
+        body: () => [
+          el("p", {}, "Each line is one instruction for the robot. The grey text after ", b("'"), " is a comment: it says what the line does. Read them from the top."),
+          el("p", {}, "The points the program moves to (", b("PHOME"), ", ", b("PPICK"), ", ", b("PPLACE"), ") are in the Points tab."),
+        ],
+        next: "Next",
+        enter: () => app.selectTab?.("editor"),
+      },
+      load: {
+        title: "Send it to the robot",
+        anchor: () => $("act-load"),
+        body: () => [el("p", {}, "Press ", b("Load project"), ": the program and its points are checked and go to the robot's memory.")],
+      },
+      run: {
+        title: "Run it",
+        anchor: () => $("act-run"),
+        also: () => (real ? [$("estop")] : []),
+        body: () => [
+          el("p", {}, "Press ", b("Run"), ". The robot's motors (the servo) start switched off: melfa asks whether to switch them on. Say yes."),
+          real
+            ? el("p", { class: "guide-warn" }, "This is the lab's real arm: it will move. Keep clear of it. ", b("STOP"), " (red, top right, or Esc twice) stops it at once.")
+            : el("p", {}, "This is a virtual robot: only the arm on the right moves, nothing in the lab."),
+        ],
+      },
+      servo: {
+        title: "Switch the servo on",
+        anchor: () => document.querySelector("#toasts .toast.error .toast-action"),
+        also: () => (real ? [$("estop")] : []),
+        body: () => [el("p", {}, "The servo is off, so the robot refused to move. Press ", b(this.fixLabel || "Turn on and retry"), ": melfa switches it on and runs the program.")],
+      },
+      watch: {
+        title: "Watch it move",
+        anchor: () => document.querySelector(".view-stage"),
+        side: ["left", "bottom"],
+        also: () => [document.querySelector("#editor .melfa-runline"), ...(real ? [$("estop")] : [])],
+        body: () => [
+          el("p", {}, "The arm on the right follows the robot. In the editor the line running now is marked in blue; the label above the arm names it too."),
+          el("p", {}, real ? "STOP (top right) stops the arm at any moment." : "The program ends by itself after a few moves."),
+        ],
+        next: "Next",
+      },
+      done: {
+        title: "Your first run worked",
+        anchor: () => $("tab-points"),
+        also: () => [$("tab-robot")],
+        body: () => [
+          el("p", {}, "Next: the ", b("Points"), " tab lists where the arm goes; change a point, or import where the robot stands."),
+          el("p", {}, "In ", b("Robot control"), " you move the arm yourself: hold W A S D and the arrow keys."),
+        ],
+        next: "Finish",
+      },
+    };
+  }
+
+  show(name, { focus = false, problem = null } = {}) {
+    const all = this.steps();
+    const spec = all[name];
+    this.step = name;
+    spec.enter?.();
+    const order = ["program", "load", "run", "watch", "done"];
+    const index = order.indexOf(name === "servo" ? "run" : name);
+    this.counter.textContent = `Step ${index + 1} of ${order.length}`;
+    this.title.textContent = spec.title;
+    this.body.replaceChildren(
+      ...spec.body(),
+      !problem ? "" : el("div", { class: "guide-problem", role: "alert" }, el("strong", {}, problem.title), el("p", {}, problem.text), el("p", {}, problem.todo)),
+    );
+    this.next.hidden = !spec.next;
+    this.next.textContent = spec.next || "";
+    this.box.hidden = false;
+    this.box.dataset.step = name;
+    document.body.dataset.guide = name;
+    // Screen readers hear each step once, whole.
+    this.live.textContent = `${this.counter.textContent}: ${spec.title}. ${this.body.textContent}`;
+    this.place();
+    clearInterval(this.follow);
+    this.follow = setInterval(() => this.place(), 250); // the anchor may move (toasts, resizes)
+    if (focus) this.box.focus();
+  }
+
+  onNext() {
+    const after = { program: "load", watch: "done" };
+    if (this.step === "done") this.close("done");
+    else if (after[this.step]) this.show(after[this.step], { focus: true });
+  }
+
+  // ---- following what the student does ----
+  onLoad({ ok, err }) {
+    if (!this.step || !["program", "load"].includes(this.step)) return;
+    if (ok) {
+      this.show("run");
+      return;
+    }
+    const fix = err?.detail?.fix_label;
+    let todo = "Fix it, then press Load project again.";
+    if (err?.code === "program-has-errors" || err?.code === "points-have-errors") {
+      todo = "The problems are listed under the editor, each with its line: fix them, then press Load project again.";
+    } else if (err?.code === "lease-required") {
+      todo = "Wait until they release it, or switch to My simulator (top) to try on your own simulated arm, then press Load project again.";
+    } else if (fix) {
+      todo = `Press ${fix} in the red message, then Load project again.`;
+    }
+    this.show("load", { problem: { title: "The project was not loaded", text: errorText(err), todo } });
+  }
+
+  onToasts() {
+    if (this.step !== "run") return;
+    const refused = document.querySelector("#toasts .toast.error");
+    if (!refused) return;
+    const fix = refused.querySelector(".toast-action");
+    if (fix && /servo/i.test(refused.textContent)) {
+      this.fixLabel = fix.textContent;
+      this.show("servo");
+    } else if (fix) {
+      this.show("run", { problem: { title: "Run did not start", text: refused.querySelector("span")?.textContent || "", todo: `Press ${fix.textContent} in the red message.` } });
+    } else {
+      this.show("run", { problem: { title: "Run did not start", text: refused.querySelector("span")?.textContent || "", todo: "Do what the red message says, then press Run again." } });
+    }
+  }
+
+  onState(m) {
+    if (!this.step) return;
+    const running = !!(m.running || m.program_running);
+    if (running && ["load", "run", "servo"].includes(this.step)) {
+      this.sawRunning = true;
+      this.show("watch");
+    } else if (running) {
+      this.sawRunning = true;
+    } else if (this.step === "watch" && this.sawRunning && !m.paused) {
+      this.show("done", { focus: true });
+    }
+  }
+
+  onKey(e) {
+    if (e.key !== "Escape" || !this.step) return;
+    // Esc in the editor starts its own way out (Esc, then Tab); in a dialog or menu it closes that.
+    if (e.target.closest?.("#editor, dialog, [role=menu], .menu")) return;
+    this.close("skipped");
+  }
+
+  // ---- the callout and its rings ----
+  build() {
+    this.counter = el("span", { class: "guide-count" });
+    this.title = el("h2", { id: "guide-title" });
+    this.body = el("div", { class: "guide-body", id: "guide-body" });
+    this.next = el("button", { type: "button", class: "btn btn-sm btn-primary", id: "guide-next", onclick: () => this.onNext() });
+    const skip = el("button", { type: "button", class: "btn btn-sm", id: "guide-skip", title: "Close the guide (Esc). Your user menu opens it again.", onclick: () => this.close("skipped") }, "Skip guide");
+    this.box = el("section", { class: "guide", id: "guide", role: "dialog", "aria-modal": "false", "aria-labelledby": "guide-title", "aria-describedby": "guide-body", tabindex: "-1", hidden: true },
+      el("div", { class: "guide-head" }, this.counter),
+      this.title, this.body,
+      el("div", { class: "guide-actions" }, skip, this.next),
+    );
+    this.rings = el("div", { class: "guide-rings", "aria-hidden": "true" });
+    this.live = el("div", { class: "sr-only", id: "guide-live", "aria-live": "polite" });
+    // After the toolbar in the page's order: Tab reaches it before the workspace.
+    document.querySelector(".toolbar").after(this.box, this.rings, this.live);
+  }
+
+  /** Rings around the anchor (and companions); the callout on the first side with room. */
+  place() {
+    if (!this.step) return;
+    const spec = this.steps()[this.step];
+    const anchor = spec.anchor();
+    const targets = [anchor, ...(spec.also?.() || [])].filter((n) => n && n.offsetParent !== null);
+    this.rings.replaceChildren(...targets.map((n) => {
+      const r = n.getBoundingClientRect();
+      return el("div", { class: "guide-ring", style: `left:${r.left - 4}px;top:${r.top - 4}px;width:${r.width + 8}px;height:${r.height + 8}px` });
+    }));
+    const box = this.box;
+    const w = box.offsetWidth;
+    const h = box.offsetHeight;
+    const vw = window.innerWidth;
+    const vh = window.innerHeight;
+    if (!anchor || anchor.offsetParent === null) {
+      Object.assign(box.style, { left: `${vw - w - 2 * MARGIN}px`, top: `${vh - h - 2 * MARGIN}px` });
+      box.dataset.side = "none";
+      return;
+    }
+    const a = anchor.getBoundingClientRect();
+    const clampX = (x) => Math.max(MARGIN, Math.min(vw - w - MARGIN, x));
+    const clampY = (y) => Math.max(MARGIN, Math.min(vh - h - MARGIN, y));
+    const spots = {
+      bottom: [clampX(a.left + a.width / 2 - w / 2), a.bottom + GAP],
+      top: [clampX(a.left + a.width / 2 - w / 2), a.top - GAP - h],
+      right: [a.right + GAP, clampY(a.top + a.height / 2 - h / 2)],
+      left: [a.left - GAP - w, clampY(a.top + a.height / 2 - h / 2)],
+    };
+    const fits = ([x, y]) => x >= MARGIN && y >= MARGIN && x + w <= vw - MARGIN && y + h <= vh - MARGIN;
+    const order = [...(spec.side || []), "bottom", "right", "left", "top"];
+    const side = order.find((s) => fits(spots[s])) || "bottom";
+    const [x, y] = side in spots && fits(spots[side]) ? spots[side] : [clampX(a.left), clampY(a.bottom + GAP)];
+    Object.assign(box.style, { left: `${Math.round(x)}px`, top: `${Math.round(y)}px` });
+    box.dataset.side = side;
+    // The arrow points at the anchor's middle along the callout's edge.
+    const along = side === "bottom" || side === "top" ? a.left + a.width / 2 - x : a.top + a.height / 2 - y;
+    box.style.setProperty("--arrow", `${Math.round(Math.max(16, Math.min((side === "bottom" || side === "top" ? w : h) - 16, along)))}px`);
+  }
+}

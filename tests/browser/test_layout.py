@@ -1,0 +1,113 @@
+"""The IDE's layout at 1024, 1366 and 1920 px (issue 16), in the state a student sees most:
+signed in, someone else's program running on the lab robot (so someone else holds control),
+then an alarm shown; on every tab, and with the debugger's bar on "My simulator". For every
+control of the header, the toolbars and the 3D view's head, and the jog pad's state line:
+no text clipped, no single-line label wrapped, no two controls overlapping, nothing past
+the window's right edge; STOP whole, large and inside the window."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from tests.browser.conftest import Server, Session, free_the_robot
+
+pytestmark = pytest.mark.timeout(240)
+
+WIDTHS = [(1024, 768), (1366, 768), (1920, 1080)]
+LOOP = "' Back and forth\nSERVO ON\nOVRD 10\n*LOOP\nMOV Pa\nMOV Pb\nGOTO *LOOP\n"
+POINTS = (
+    "DEF POS Pa=(400.00,-150.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    "DEF POS Pb=(400.00,150.00,400.00,180.00,0.00,180.00)(7,0)\n"
+)
+# Everything checked: the controls and labels of the header, the toolbars (main, debugger,
+# the tab's own bar), the 3D view's head and tools, the tabs, the jog pad's state line.
+CONTROLS = """
+  .topbar .brand, .topbar .robot-badge, .topbar .target-label, .topbar button, .topbar .lease-text,
+  .toolbar > *, .debug-bar > *, .tabs [role=tab], .panel:not([hidden]) .subbar > *,
+  .view-head > *, .view-tools > *, #jog-state, #run-state
+"""
+# Returns what is wrong, in words (an empty list when the layout holds).
+CHECK = (Path(__file__).parent / "layout_check.js").read_text(encoding="utf-8")
+
+
+def wait_until(predicate: Any, timeout: float = 15.0, what: str = "condition") -> None:
+    deadline = time.monotonic() + timeout
+    while not predicate():
+        assert time.monotonic() < deadline, f"timed out waiting for {what}"
+        time.sleep(0.05)
+
+
+def check_every_width(page: Page, state: str, tabs: tuple[str, ...]) -> list[str]:
+    found = []
+    for width, height in WIDTHS:
+        page.set_viewport_size({"width": width, "height": height})
+        for tab in tabs:
+            page.click(f"#tab-{tab}")
+            page.wait_for_timeout(250)  # the toolbar re-fits on the next frame
+            found += [f"{state} {width}px {tab}: {p}" for p in page.evaluate(CHECK, CONTROLS)]
+    return found
+
+
+def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
+    open_session: Any, server: Server, stop_robot: None
+) -> None:
+    bob: Session = open_session("bob")
+    free_the_robot(bob.page, server)
+    bob.set_points(POINTS)
+    bob.set_program(LOOP)
+    bob.page.click("#lease-take")
+    bob.page.click("#act-load")
+    expect(bob.page.locator(".toast", has_text="Project loaded")).to_be_visible(timeout=30_000)
+    bob.eval("() => sessionStorage.setItem('melfa.servo-on-for-moves', '1')")  # said yes before
+    bob.page.click("#act-run")
+
+    alice: Session = open_session("alice")
+    page = alice.page
+    wait_until(lambda: "running" in (page.text_content("#run-state") or ""), what="bob's run")
+    expect(page.locator("#lease-text")).to_contain_text("bob")
+    expect(page.locator("#robot-badge")).to_have_text("Virtual robot")
+    expect(page.locator("#jog-state")).to_contain_text("Running")
+    page.evaluate("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
+    found = check_every_width(page, "running", ("editor", "points", "robot"))
+    # The narrowest window keeps the secondary actions in the More menu, the widest none.
+    page.set_viewport_size({"width": 1024, "height": 768})
+    page.wait_for_timeout(250)
+    moved = page.evaluate("() => window.melfa.overflow.moved")
+    assert moved, "at 1024 px the toolbar should have moved something into More"
+    page.click("#more-button")
+    expect(page.locator("#more-menu #act-clear")).to_be_visible()
+    page.keyboard.press("Escape")
+    expect(page.locator("#more-menu")).to_be_hidden()
+    page.set_viewport_size({"width": 1920, "height": 1080})
+    page.wait_for_timeout(250)
+    assert page.evaluate("() => window.melfa.overflow.moved") == []
+    alice.screenshot("layout-1920")
+
+    # An alarm: bob's robot refuses a move past a joint limit.
+    bob.page.click("#act-stop")
+    wait_until(lambda: not bob.eval("() => window.melfa.state.running"), what="stopped")
+    bob.eval("() => window.melfa.workspace.update({points: 'DEF JNT JFAR=(500,0,90,0,90,0)\\n'})")
+    bob.page.click("#tab-robot")
+    bob.page.select_option("#goto-point", "JFAR")
+    bob.page.click("#goto-move")
+    expect(page.locator("#alarm")).to_be_visible(timeout=15_000)
+    page.evaluate("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
+    found += check_every_width(page, "alarm", ("editor", "points", "robot"))
+    for width, height in WIDTHS[:2]:
+        page.set_viewport_size({"width": width, "height": height})
+        page.click("#tab-robot")
+        page.wait_for_timeout(250)
+        alice.screenshot(f"layout-{width}")
+    free_the_robot(page, server)
+
+    # The debugger's bar, on her own simulator.
+    page.click("#target-switch [data-target=mine]")
+    expect(page.locator("#debug-bar")).to_be_visible()
+    found += check_every_width(page, "debugger", ("editor",))
+    page.click("#target-switch [data-target=lab]")
+    assert not found, "\n".join(found)
