@@ -12,7 +12,6 @@ import socket
 import subprocess
 import sys
 import tempfile
-import time
 import urllib.request
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -21,6 +20,8 @@ from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, sync_playwright
+
+from tests.waiting import wait_until
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = [
@@ -75,41 +76,52 @@ class Server:
         return password
 
 
+def _stop(proc: subprocess.Popen[bytes]) -> None:
+    proc.send_signal(signal.SIGINT)
+    try:
+        proc.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
 @contextlib.contextmanager
-def serving(data: Path, *extra: str) -> Iterator[Server]:
-    """`melfa serve` on a free port with ``data`` and ``extra`` options, with three
-    students (alice, bob, carol); stopped (SIGINT) at the end."""
+def melfa_serve(data: Path, *extra: str, timeout: float = 30.0) -> Iterator[str]:
+    """`melfa serve` on a free port with ``data`` and ``extra`` options, its output in
+    data/serve.log; yields its URL once /api/health says the robot link is connected, and
+    stops it (SIGINT) at the end. The one start-up of a served melfa for browser tests."""
     port = _free_port()
     env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
     env["MELFA_ADMIN_PASSWORD"] = ADMIN_PASSWORD
-    log = (data / "serve.log").open("w")
+    log_path = data / "serve.log"
     command = [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)]
-    proc = subprocess.Popen([*command, *extra], stdout=log, stderr=subprocess.STDOUT, env=env)
     url = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 30
-        while True:
-            assert proc.poll() is None, (data / "serve.log").read_text()
+    with log_path.open("w") as log:
+        proc = subprocess.Popen([*command, *extra], stdout=log, stderr=subprocess.STDOUT, env=env)
+
+        def connected() -> bool:
+            assert proc.poll() is None, log_path.read_text()
             try:
                 with urllib.request.urlopen(url + "/api/health", timeout=2) as reply:
-                    if json.loads(reply.read())["robot"]["link"] == "connected":
-                        break
+                    return bool(json.loads(reply.read())["robot"]["link"] == "connected")
             except OSError:
-                pass
-            assert time.monotonic() < deadline, "melfa serve did not answer"
-            time.sleep(0.1)
+                return False
+
+        try:
+            wait_until(connected, timeout, what=lambda: f"melfa serve: {log_path.read_text()}")
+            yield url
+        finally:
+            _stop(proc)
+
+
+@contextlib.contextmanager
+def serving(data: Path, *extra: str) -> Iterator[Server]:
+    """`melfa_serve` with three students (alice, bob, carol)."""
+    with melfa_serve(data, *extra) as url:
         server = Server(url, data, {"admin": ADMIN_PASSWORD})
         for name in ("alice", "bob", "carol"):
             server.add_user(name)
         yield server
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
-        log.close()
 
 
 @pytest.fixture(scope="session")

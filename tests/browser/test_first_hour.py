@@ -6,13 +6,13 @@ user's two sessions. The layouts at 1024, 1366 and 1920 px: test_layout.py."""
 from __future__ import annotations
 
 import re
-import time
 from typing import Any
 
 import pytest
 from playwright.sync_api import Page, expect
 
 from tests.browser.conftest import ROOT, Server, Session, free_the_robot
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(180)
 
@@ -22,13 +22,6 @@ LEAKS = re.compile(
     r"\d;\d;|\bRUN\d|\bJOG\d|\bEXEC[A-Z]|MSVC|SRVON|RSTALRM|Traceback|"
     r"\b[A-Z][A-Za-z]*(Error|Refused|Closed)\b|check=false|None\b|undefined|\[object"
 )
-
-
-def wait_until(predicate: Any, timeout: float = 10.0, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
 
 
 def visible_texts(page: Page) -> list[str]:

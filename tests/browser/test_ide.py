@@ -5,7 +5,6 @@ tests that move it leave it stopped (`stop_robot`)."""
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +12,7 @@ import pytest
 from playwright.sync_api import expect
 
 from tests.browser.conftest import Server, Session, free_the_robot
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(120)
 
@@ -27,13 +27,6 @@ GOTO *LOOP
 LOOP_POINTS = """DEF POS Pa=(400.00,-150.00,400.00,180.00,0.00,180.00)(7,0)
 DEF POS Pb=(400.00,150.00,400.00,180.00,0.00,180.00)(7,0)
 """
-
-
-def wait_until(predicate: Any, timeout: float = 10.0, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
 
 
 def test_login_form_and_typo_suggestion_inline(open_session: Any, server: Server) -> None:

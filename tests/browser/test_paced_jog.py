@@ -4,76 +4,46 @@ service polls between jog renewals), and every view says "jogging"."""
 
 from __future__ import annotations
 
-import json
 import os
-import signal
-import socket
 import subprocess
 import sys
-import time
-import urllib.request
 from collections.abc import Iterator
 from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, expect
 
-from tests.browser.conftest import ADMIN_PASSWORD, Server, Session
+from tests.browser.conftest import (
+    ADMIN_PASSWORD,
+    Server,
+    Session,
+    _free_port,
+    _stop,
+    melfa_serve,
+)
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(180)
-
-
-def _port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
 
 
 @pytest.fixture(scope="module")
 def paced(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     data = tmp_path_factory.mktemp("melfa-paced")
-    sim_port, web_port = _port(), _port()
-    env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
-    env["MELFA_ADMIN_PASSWORD"] = ADMIN_PASSWORD
-    log = (data / "serve.log").open("w")
-    sim = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{sim_port}", "--baud", "9600"],
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        env=env,
-    )
-    time.sleep(1.0)
-    serve = subprocess.Popen(
-        [
-            *(sys.executable, "-m", "melfa", "serve", "--port", str(web_port)),
-            *("--data", str(data), "--robot", f"tcp://127.0.0.1:{sim_port}"),
-        ],
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        env=env,
-    )
-    url = f"http://127.0.0.1:{web_port}"
-    try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                with urllib.request.urlopen(url + "/api/health", timeout=2) as reply:
-                    if json.loads(reply.read())["robot"]["link"] == "connected":
-                        break
-            except OSError:
-                pass
-            assert time.monotonic() < deadline, (data / "serve.log").read_text()
-            time.sleep(0.2)
-        server = Server(url, data, {"admin": ADMIN_PASSWORD})
-        yield server
-    finally:
-        for proc in (serve, sim):
-            proc.send_signal(signal.SIGINT)
-            try:
-                proc.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-        log.close()
+    sim_port = _free_port()
+    sim_log = data / "sim.log"
+    command = [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{sim_port}"]
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}  # its "listening" line reaches the log now
+    with sim_log.open("w") as log:
+        sim = subprocess.Popen(
+            [*command, "--baud", "9600"], stdout=log, stderr=subprocess.STDOUT, env=env
+        )
+        try:
+            wait_until(lambda: "listening on" in sim_log.read_text(), 60, "melfa sim to listen")
+            robot = f"tcp://127.0.0.1:{sim_port}"
+            with melfa_serve(data, "--robot", robot, timeout=60) as url:
+                yield Server(url, data, {"admin": ADMIN_PASSWORD})
+        finally:
+            _stop(sim)
 
 
 def test_jog_state_flows_while_the_key_is_held_on_a_9600_baud_link(

@@ -14,9 +14,7 @@ from __future__ import annotations
 import http.server
 import json
 import math
-import os
 import re
-import signal
 import subprocess
 import sys
 import threading
@@ -30,7 +28,8 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Page
 
-from tests.browser.conftest import ROOT, _free_port
+from tests.browser.conftest import ROOT, _free_port, melfa_serve
+from tests.waiting import wait_until
 
 PAGE = Path(__file__).parent / "pages" / "thesis_client.html"
 # The thesis's example program (chapter 7.1.1), as its editor holds it (numbers stripped),
@@ -70,14 +69,13 @@ class Melfa:
     def wait_pose(self, want: Callable[[list[float]], bool], timeout: float = 90.0) -> list[float]:
         """The pose once it satisfies ``want`` as measured by the controller (PPOSF: the
         pose computed from two-decimal joints while moving may differ by ~0.1 mm)."""
-        end = time.monotonic() + timeout
-        while time.monotonic() < end:
+
+        def there() -> list[float] | None:
             state = self.get("/api/robot/state")
             pose = list(state["pose"])
-            if state["pose_measured"] and want(pose):
-                return pose
-            time.sleep(0.1)
-        raise AssertionError(f"the arm did not get there; it is at {self.pose()}")
+            return pose if state["pose_measured"] and want(pose) else None
+
+        return wait_until(there, timeout, what=lambda: f"the arm; it is at {self.pose()}")
 
 
 def cli(data: Path, *args: str) -> str:
@@ -96,40 +94,10 @@ def melfa(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Melfa]:
     """`melfa serve --rosbridge-port … --rosbridge-mode thesis`, and a lab account with a
     token made by `melfa users token`."""
     data = tmp_path_factory.mktemp("melfa-thesis")
-    port, bridge = _free_port(), _free_port()
-    env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
-    env["MELFA_ADMIN_PASSWORD"] = "thesis-tests-admin-pw"
-    log = (data / "serve.log").open("w")
-    command = [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)]
-    proc = subprocess.Popen(
-        [*command, "--rosbridge-port", str(bridge), "--rosbridge-mode", "thesis"],
-        stdout=log,
-        stderr=subprocess.STDOUT,
-        env=env,
-    )
-    web = f"http://127.0.0.1:{port}"
-    try:
-        deadline = time.monotonic() + 30
-        while True:
-            assert proc.poll() is None, (data / "serve.log").read_text()
-            try:
-                with urllib.request.urlopen(web + "/api/health", timeout=2) as reply:
-                    if json.loads(reply.read())["robot"]["link"] == "connected":
-                        break
-            except OSError:
-                pass
-            assert time.monotonic() < deadline, "melfa serve did not answer"
-            time.sleep(0.1)
+    bridge = _free_port()
+    with melfa_serve(data, "--rosbridge-port", str(bridge), "--rosbridge-mode", "thesis") as web:
         cli(data, "add", "lab", "--generate")
         yield Melfa(web, bridge, cli(data, "token", "lab", "--label", "thesis page"))
-    finally:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
-        log.close()
 
 
 @pytest.fixture(scope="module")

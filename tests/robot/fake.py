@@ -6,7 +6,6 @@ import contextlib
 import os
 import select
 import threading
-import time
 import tty
 from collections.abc import Callable
 
@@ -53,16 +52,6 @@ class FakeController:
         self._stop.set()
         self._thread.join(timeout=2)
         self.hang_up()
-
-
-def wait_for(condition: Callable[[], bool], timeout: float = 30.0) -> bool:
-    """Poll ``condition`` until true (generous timeout: returns as soon as it holds)."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if condition():
-            return True
-        time.sleep(0.01)
-    return condition()
 
 
 OPEN_BANNER = (

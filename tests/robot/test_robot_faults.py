@@ -12,7 +12,8 @@ import pytest
 from melfa.link import LinkClosed, LinkSettings, LinkTimeout, SerialLink
 from melfa.protocol import RemoteProtocolError
 from melfa.robot import ControllerError, Robot
-from tests.robot.fake import OPEN_BANNER, FakeController, wait_for
+from tests.robot.fake import OPEN_BANNER, FakeController
+from tests.waiting import wait_until
 
 REPLY_TIMEOUT_S = 10.0
 """Generous: a loaded machine must not turn a prompt reply into a timeout."""
@@ -133,7 +134,7 @@ def test_stop_overtakes_a_slow_reply(fake_robot) -> None:  # type: ignore[no-unt
     results: list[object] = []
     worker = threading.Thread(target=lambda: results.append(robot.joints()))
     worker.start()
-    assert wait_for(lambda: fake.lines[-1:] == [b"1;1;JPOSF"])
+    wait_until(lambda: fake.lines[-1:] == [b"1;1;JPOSF"])
     robot.stop()
     worker.join(30)
     assert not worker.is_alive()

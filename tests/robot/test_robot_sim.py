@@ -27,7 +27,7 @@ from melfa.robot import (
 )
 from melfa.sim import PtyServer, SimConfig, VirtualController
 from tests.robot.conftest import LINK
-from tests.robot.fake import wait_for
+from tests.waiting import wait_until
 
 NUMBERED = "10 SERVO ON\n20 MOV P1\n30 HOPEN 1\n40 END\n"
 UNNUMBERED = "SERVO ON\nMOV P1\n\nHCLOSE 1\nEND\n"
@@ -115,7 +115,7 @@ def test_exec_pose_and_joints(robot: Robot, controller: VirtualController) -> No
     robot.exec("JT=(10,0,0,0,0,0)")
     robot.exec("MOV J_CURR+JT")
     robot.wait_idle(timeout=60)
-    assert wait_for(lambda: not controller.moving)
+    wait_until(lambda: not controller.moving)
     after = robot.joints().values(*JOINT_NAMES)
     assert after[0] == pytest.approx(before[0] + 10, abs=0.01)
     pose = robot.pose()
@@ -180,7 +180,7 @@ def test_stop_from_another_thread_interrupts_wait(
 
     thread = threading.Thread(target=worker)
     thread.start()
-    assert wait_for(lambda: robot.channel.received_replies > 5, 30)
+    wait_until(lambda: robot.channel.received_replies > 5, 30)
     robot.stop()
     thread.join(timeout=60)
     assert not thread.is_alive()

@@ -8,8 +8,7 @@ import itertools
 import json
 import math
 import threading
-import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +19,7 @@ from websockets.sync.client import ClientConnection, connect
 
 from melfa.robot import RobotSettings
 from tests.ros.webserver import Server, serve
+from tests.waiting import wait_until
 
 STEP_M = RobotSettings().jog_step_mm / 1000
 PROGRAM = "10 SERVO ON\n20 MOV P1\n30 END\n"
@@ -30,15 +30,6 @@ POINTS = "DEF POS P1=(400.00,100.00,600.00,180.00,0.00,180.00)(7,0)\n"
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     with serve(Path(tmp_path_factory.mktemp("web"))) as running:
         yield running
-
-
-def wait_for(predicate: Callable[[], bool], timeout: float = 20.0) -> bool:
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if predicate():
-            return True
-        time.sleep(0.02)
-    return predicate()
 
 
 class Inbox:
@@ -87,7 +78,7 @@ def test_roslibpy_control_messages_move_the_tool_and_joint_states_arrive(server:
         joints, poses = Inbox(), Inbox()
         roslibpy.Topic(ros, "/joint_states", "sensor_msgs/JointState").subscribe(joints)
         roslibpy.Topic(ros, "/tool_pose_stamped", "geometry_msgs/PoseStamped").subscribe(poses)
-        assert wait_for(lambda: len(joints) >= 5 and len(poses) >= 1)
+        wait_until(lambda: len(joints) >= 5 and len(poses) >= 1)
         first = joints.last()
         assert first is not None
         assert first["name"] == [f"joint_{i}" for i in range(1, 7)]
@@ -106,8 +97,8 @@ def test_roslibpy_control_messages_move_the_tool_and_joint_states_arrive(server:
             pose = poses.last()
             return pose is not None and math.dist(position(pose), expected) < 1e-4
 
-        assert wait_for(arrived), (position(start), expected, poses.last())
-        assert wait_for(lambda: (joints.last() or first)["position"] != first["position"])
+        wait_until(arrived, what=lambda: f"{expected} from {position(start)}: {poses.last()}")
+        wait_until(lambda: (joints.last() or first)["position"] != first["position"])
     finally:
         ros.close()
 
@@ -141,7 +132,7 @@ def test_roslibpy_services_load_and_run_a_program(server: Server) -> None:
             pose = poses.last()
             return pose is not None and math.dist(position(pose), (0.4, 0.1, 0.6)) < 1e-3
 
-        assert wait_for(at_p1), poses.last()
+        wait_until(at_p1, what=lambda: f"P1; the pose is {poses.last()}")
         assert call("stop") == {"success": True, "message": "stopped"}
     finally:
         ros.close()
@@ -153,7 +144,7 @@ def test_roslibpy_string_topics_and_requests(server: Server) -> None:
         texts, joints = Inbox(), Inbox()
         roslibpy.Topic(ros, "/joint_state", "std_msgs/String").subscribe(texts)
         roslibpy.Topic(ros, "/joint_states", "sensor_msgs/JointState").subscribe(joints)
-        assert wait_for(lambda: len(texts) >= 3 and len(joints) >= 3)
+        wait_until(lambda: len(texts) >= 3 and len(joints) >= 3)
         last, state = texts.last(), joints.last()
         assert last is not None and state is not None
         values = [float(v) for v in last["data"].strip("()").split(",")]

@@ -17,8 +17,9 @@ from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import ClientConnection, connect
 
 from melfa.ros.rosbridge_server import Outbox
-from tests.ros.test_rosbridge import Inbox, receive, wait_for
+from tests.ros.test_rosbridge import Inbox, receive
 from tests.ros.webserver import Server, serve
+from tests.waiting import wait_until
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +49,7 @@ def test_a_token_in_the_url_signs_in_and_revoking_it_closes_the_socket(server: S
     try:
         joints = Inbox()
         roslibpy.Topic(ros, "/joint_states", "sensor_msgs/JointState").subscribe(joints)
-        assert wait_for(lambda: len(joints) >= 2)
+        wait_until(lambda: len(joints) >= 2)
         user = server.store.accounts.get_user("ann")
         (listed,) = server.store.tokens.list(user)
         server.store.tokens.revoke(user, listed.id)
@@ -214,12 +215,12 @@ def test_thesis_mode_answers_only_when_asked_without_parentheses(server: Server)
         poses, joints = Inbox(), Inbox()
         roslibpy.Topic(ros, "/tool_pose", "std_msgs/String").subscribe(poses)
         roslibpy.Topic(ros, "/joint_states", "sensor_msgs/JointState").subscribe(joints)
-        assert wait_for(lambda: len(joints) >= 10)
+        wait_until(lambda: len(joints) >= 10)
         assert len(poses) == 0  # the thesis's node published on request only
         roslibpy.Topic(ros, "/execute_instruction", "std_msgs/String").publish(
             roslibpy.Message({"data": "---REQUEST TOOL POSE---"})
         )
-        assert wait_for(lambda: len(poses) == 1)
+        wait_until(lambda: len(poses) == 1)
         text = poses.last()["data"]  # type: ignore[index]
         values = [float(v) for v in text.split(",")]
         assert not text.startswith("(") and len(values) == 6
@@ -241,7 +242,7 @@ def test_override_and_state_services(server: Server) -> None:
         assert missing["success"] is False and "~override" in missing["message"]
         assert call("override", {"override": 150})["success"] is False
         assert call("override", {"override": 40}) == {"success": True, "message": "override 40 %"}
-        assert wait_for(lambda: "override 40 %" in call("state", {})["message"])
+        wait_until(lambda: "override 40 %" in call("state", {})["message"])
         assert "link connected" in call("state", {})["message"]
         assert call("reset", {}) == {"success": True, "message": "alarm reset"}
     finally:

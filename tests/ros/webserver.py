@@ -8,7 +8,6 @@ from __future__ import annotations
 import contextlib
 import socket
 import threading
-import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +21,7 @@ from melfa.service import ServiceConfig
 from melfa.store import Store
 from melfa.web import SESSION_COOKIE, WebSettings, create_app
 from melfa.web.rosbridge_app import create_rosbridge_app
+from tests.waiting import start_uvicorn
 
 PASSWORDS = {"ann": "ann-password-12", "ivy": "ivy-password-12"}
 
@@ -75,14 +75,7 @@ def _start(app: FastAPI, port: int) -> tuple[uvicorn.Server, threading.Thread]:
     config = uvicorn.Config(
         app, host="127.0.0.1", port=port, log_level="warning", ws="websockets-sansio"
     )
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, name="uvicorn", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:
-        assert thread.is_alive() and time.monotonic() < deadline, "uvicorn did not start"
-        time.sleep(0.02)
-    return server, thread
+    return start_uvicorn(config)
 
 
 @contextlib.contextmanager

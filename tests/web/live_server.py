@@ -5,20 +5,19 @@ from __future__ import annotations
 
 import socket
 import threading
-import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 import httpx
-import uvicorn
 from argon2 import PasswordHasher
 
 from melfa.store import Store
 from melfa.web import WebSettings, create_app
 from melfa.web.context import WebContext
 from melfa.web.server import uvicorn_config
+from tests.waiting import start_uvicorn
 from tests.web.conftest import PASSWORDS
 
 CHEAP = PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
@@ -85,13 +84,7 @@ def live_server(store: Store, settings: WebSettings) -> Iterator[Live]:
         log_level="warning",
         lifespan="on",
     )
-    server = uvicorn.Server(config)
-    thread = threading.Thread(target=server.run, name="live-uvicorn", daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 30
-    while not server.started:  # a guard against a hang, not a measurement
-        assert thread.is_alive() and time.monotonic() < deadline, "uvicorn did not start"
-        time.sleep(0.02)
+    server, thread = start_uvicorn(config)
     try:
         yield Live(f"http://127.0.0.1:{port}", port, app, store)
     finally:

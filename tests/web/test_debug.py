@@ -5,8 +5,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from tests.waiting import wait_until
 from tests.web.conftest import Web, assert_error
-from tests.web.test_robot import ok, wait_for
+from tests.web.test_robot import ok
 from tests.web.test_ws import until
 
 PROGRAM = """SERVO ON
@@ -44,28 +45,28 @@ def test_breakpoint_step_over_into_variables_input_and_end(web: Web) -> None:
     assert started["status"]["state"] == "idle" and started["program"] == PROGRAM
     assert [b["line"] for b in started["status"]["breakpoints"]] == [3]
     ok(ann.post("/api/debug/command/run"))
-    wait_for(lambda: stopped_at(ann, 3))
+    wait_until(lambda: stopped_at(ann, 3))
     assert status(ann)["stop"]["reason"] == "breakpoint"
     ok(ann.post("/api/debug/command/step"))  # into the GOSUB: its label
-    wait_for(lambda: stopped_at(ann, 9))
+    wait_until(lambda: stopped_at(ann, 9))
     ok(ann.post("/api/debug/command/step"))
-    wait_for(lambda: stopped_at(ann, 10))
+    wait_until(lambda: stopped_at(ann, 10))
     ok(ann.post("/api/debug/command/step"))
-    wait_for(lambda: stopped_at(ann, 11))
+    wait_until(lambda: stopped_at(ann, 11))
     out = ok(ann.get("/api/debug"))
     assert values(out)["M3"] == ("5", True)  # changed by the last step
     assert [f["line"] for f in ok(ann.get("/api/debug"))["status"]["breakpoints"]] == [3]
     ok(ann.post("/api/debug/command/step-out"))
-    wait_for(lambda: stopped_at(ann, 4))
+    wait_until(lambda: stopped_at(ann, 4))
     ok(ann.post("/api/debug/command/step-over"))
-    wait_for(lambda: stopped_at(ann, 5))
+    wait_until(lambda: stopped_at(ann, 5))
     out = ok(ann.get("/api/debug"))
     assert values(out)["M1"] == ("2", True) and values(out)["M3"] == ("5", False)
     ok(ann.post("/api/debug/command/continue"))
-    wait_for(lambda: status(ann)["waiting"] is True)  # WAIT M_IN(8) = 1
+    wait_until(lambda: status(ann)["waiting"] is True)  # WAIT M_IN(8) = 1
     assert status(ann)["location"]["line"] == 5
     ok(ann.post("/api/debug/input", json={"bit": 8, "value": 1}))
-    wait_for(lambda: status(ann)["state"] == "finished")
+    wait_until(lambda: status(ann)["state"] == "finished")
     assert ok(ann.post("/api/debug/evaluate", json={"expression": "M2"}))["value"] == "20"
     assert_error(ann.post("/api/debug/command/continue"), 422, "debug-refused")
 
@@ -75,9 +76,9 @@ def test_run_to_cursor_and_a_run_time_error_on_its_line(web: Web) -> None:
     program = "SERVO ON\nM1 = 1\nM2 = 2\nM3 = M9 + 1\nEND\n"
     ok(ann.post("/api/debug", json={"program": program, "points": "", "check": False}))
     ok(ann.post("/api/debug/run-to", json={"line": 3}))
-    wait_for(lambda: stopped_at(ann, 3))
+    wait_until(lambda: stopped_at(ann, 3))
     ok(ann.post("/api/debug/command/continue"))
-    wait_for(lambda: status(ann)["state"] == "failed")
+    wait_until(lambda: status(ann)["state"] == "failed")
     error = status(ann)["stop"]["error"]
     assert error["location"]["line"] == 4 and error["code"].startswith("L")
     assert "M9" in error["explanation"] and error["number"] > 0
@@ -122,6 +123,6 @@ def test_stop_pauses_the_program_under_the_debugger(web: Web) -> None:
     points = POINTS + "DEF POS P2=(300.00,200.00,400.00,180.00,0.00,180.00)(7,0)\n"
     ok(ann.post("/api/debug", json={"program": program, "points": points}))
     ok(ann.post("/api/debug/command/run"))
-    wait_for(lambda: status(ann)["state"] == "running")
+    wait_until(lambda: status(ann)["state"] == "running")
     ok(ann.post("/api/robot/stop", params={"target": "mine"}))
     assert status(ann)["state"] == "paused" and status(ann)["stop"]["reason"] == "pause"

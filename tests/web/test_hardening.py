@@ -96,6 +96,47 @@ def _jogging_socket(live: Live, user: str = "ann") -> tuple[Any, str, str]:
     return ws, token, csrf
 
 
+def test_a_release_sent_right_behind_its_jog_start_stops_the_arm(live: Live) -> None:
+    """A key tapped faster than the server answers: jog_start, a heartbeat, jog_release and a
+    late heartbeat go out together. jog_start re-reads the session before moving (a hop to
+    the store's pool) and jog_release does not, so a server handling a socket's messages
+    side by side would let the release overtake the start, find no jog to end, and leave the
+    arm jogging until the dead-man. One socket's messages are handled in order: the start is
+    answered first, the release ends that jog, the late heartbeat does not revive it."""
+    token, csrf = live.login("ann")
+    with live.client() as c:
+        reply = c.post("/api/robot/servo", json={"on": True}, headers=auth(token, csrf))
+        assert reply.status_code == 200, reply.text
+    ws = open_ws(live, token)
+    try:
+        until_type(ws, "hello")
+        start = {"type": "jog_start", "frame": "joint", "axis": 0, "direction": 1, "id": 1}
+        release = {"type": "jog_release", "id": 2}
+        beat = {"type": "jog_heartbeat"}
+        for message in (start, beat, release, beat):
+            ws.send(json.dumps(message))
+        acks: list[int] = []
+        ended = None
+        while len(acks) < 2 or ended is None:
+            message = json.loads(ws.recv(timeout=30))
+            assert message["type"] != "error", message
+            if message["type"] == "ack":
+                acks.append(message["id"])
+            elif message["type"] == "jog" and not message["active"]:
+                ended = message
+        assert acks == [1, 2]
+        assert ended["reason"] == "released"
+        ws.send(json.dumps({"type": "ping", "id": 3}))
+        until_type(ws, "pong", id=3)  # after the late heartbeat was handled
+        settled = until_type(ws, "state", moving=False, jogging=False)
+        later = [until_type(ws, "state") for _ in range(3)]
+        assert [state["joints"] for state in later] == [settled["joints"]] * 3, later
+        assert not any(state["jogging"] for state in later)
+    finally:
+        ws.close()
+    assert live.context.service.state.jogging is False
+
+
 def _sign_out(live: Live, token: str, csrf: str) -> None:
     with live.client() as c:
         reply = c.delete("/api/session", headers=auth(token, csrf))

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import pytest
 
+from tests.waiting import wait_until
 from tests.web.conftest import Web, assert_error
 
 PROGRAM = "SERVO ON\nMOV P1\nHLT\nEND\n"
@@ -21,14 +21,6 @@ def ok(response: Any) -> Any:
     return response.json()
 
 
-def wait_for(predicate: Any, timeout: float = 10.0) -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        if time.monotonic() > deadline:
-            raise AssertionError("condition not met in time")
-        time.sleep(0.02)
-
-
 def settle(browser: Any) -> None:
     """Until the arm stands still (EXEC of a move is refused while one runs: L5640)."""
 
@@ -36,8 +28,7 @@ def settle(browser: Any) -> None:
         state = ok(browser.get("/api/robot/state"))
         return state["moving"] is False
 
-    time.sleep(0.05)
-    wait_for(still)
+    wait_until(still, what="the arm to stand still")
 
 
 @pytest.fixture
@@ -97,18 +88,18 @@ def test_exec_hand_move_override_jog_step_and_reads(web: Web, ws_id: int) -> Non
     assert ok(ann.post("/api/robot/hand", json={"hand": 2, "action": "open"}))["open"] is True
     assert ok(ann.post("/api/robot/override", json={"percent": 100})) == {"percent": 100}
     ok(ann.post("/api/robot/move", json={"joints": [10, 0, 90, 0, 90, 0]}))
-    wait_for(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0] - 10) < 0.01)
+    wait_until(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0] - 10) < 0.01)
     settle(ann)
     ok(ann.post("/api/robot/move", json={"point": "jhome"}))
-    wait_for(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0]) < 0.01)
+    wait_until(lambda: abs(ok(ann.get("/api/robot/joints"))["values"][0]) < 0.01)
     settle(ann)
     ok(ann.post("/api/robot/move", json={"point": "P1", "linear": True}))
-    wait_for(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 300) < 0.5)
+    wait_until(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 300) < 0.5)
     settle(ann)
     pose = ok(ann.get("/api/robot/pose"))
     assert pose["names"] == ["X", "Y", "Z", "A", "B", "C"]
     ok(ann.post("/api/robot/move", json={"pose": [310, 0, 400, 180, 0, 180]}))
-    wait_for(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 310) < 0.5)
+    wait_until(lambda: abs(ok(ann.get("/api/robot/pose"))["values"][0] - 310) < 0.5)
     settle(ann)
     ok(ann.post("/api/robot/jog-step", json={"frame": "joint", "axis": 0, "direction": 1}))
     state = ok(ann.get("/api/robot/state"))
@@ -200,7 +191,7 @@ def test_a_move_with_the_servo_off_is_refused_until_the_operator_asks_for_it(
         state = ok(ann.get("/api/robot/state"))
         return bool(state["servo"]) and abs(state["pose"][0] - 300) < 0.5
 
-    wait_for(at_p1)  # the move's answer comes when it starts; the arm then takes its time
+    wait_until(at_p1)  # the move's answer comes when it starts; the arm then takes its time
     entries = web.ivy.get("/api/audit").json()["entries"]
     servo = [e for e in entries if e["action"] == "robot.servo"]
     assert any("before move_to" in str(e["details"]) for e in servo)

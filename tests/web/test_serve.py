@@ -9,11 +9,13 @@ import signal
 import socket
 import subprocess
 import sys
-import time
 import urllib.request
 from pathlib import Path
+from typing import Any
 
 import pytest
+
+from tests.waiting import wait_until
 
 
 def free_port() -> int:
@@ -34,16 +36,16 @@ def test_serve_starts_answers_and_stops_cleanly(tmp_path: Path) -> None:
         env=env,
     )
     try:
-        health = None
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline and proc.poll() is None:
+
+        def answer() -> Any:
+            assert proc.poll() is None, proc.stderr.read() if proc.stderr else "it stopped"
             try:
                 with urllib.request.urlopen(f"http://127.0.0.1:{port}/api/health", timeout=2) as r:
-                    health = json.loads(r.read())
-                    break
+                    return json.loads(r.read())
             except OSError:
-                time.sleep(0.1)
-        assert health is not None, proc.stderr.read() if proc.poll() is not None else "no answer"
+                return None
+
+        health = wait_until(answer, 30, "melfa serve to answer /api/health")
         assert health["status"] == "ok" and health["robot"]["link"] == "connected"
         proc.send_signal(signal.SIGINT)
         out, err = proc.communicate(timeout=30)

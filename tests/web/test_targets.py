@@ -7,8 +7,9 @@ from typing import Any
 
 from melfa.service import RobotService
 from melfa.web.targets import LAB, MINE, Targets, UnknownTarget
+from tests.waiting import wait_until
 from tests.web.conftest import Web, assert_error
-from tests.web.test_robot import ok, wait_for
+from tests.web.test_robot import ok
 from tests.web.test_ws import until
 
 PROGRAM = "SERVO ON\nMOV P1\nDLY 30\nEND\n"
@@ -35,13 +36,13 @@ def test_a_student_runs_on_their_simulator_while_the_lab_robot_is_held(web: Web)
     ok(ann.post("/api/robot/servo", json={"on": True}, params=MINE_Q))
     ok(ann.post("/api/robot/project", json={"program": PROGRAM, "points": POINTS}, params=MINE_Q))
     ok(ann.post("/api/robot/run", params=MINE_Q))
-    wait_for(lambda: ok(ann.get("/api/robot/state", params=MINE_Q))["running"] is True)
+    wait_until(lambda: ok(ann.get("/api/robot/state", params=MINE_Q))["running"] is True)
     assert ok(bob.get("/api/robot/state"))["running"] is not True  # the lab robot did not run
     assert ok(bob.get("/api/lease"))["holder"]["user"] == "bob"  # nor was its lease touched
     # bob's simulator is his own: ann's run is not on it.
     assert ok(bob.get("/api/robot/state", params=MINE_Q))["running"] is not True
     ok(ann.post("/api/robot/stop", params=MINE_Q))
-    wait_for(lambda: ok(ann.get("/api/robot/state", params=MINE_Q))["running"] is False)
+    wait_until(lambda: ok(ann.get("/api/robot/state", params=MINE_Q))["running"] is False)
 
 
 def test_the_socket_streams_the_chosen_target(web: Web) -> None:
