@@ -153,6 +153,10 @@ def test_new_rename_and_a_taken_name(open_session: Any, server: Server) -> None:
     expect(dialog).to_be_hidden()
     expect(page.locator("#ws-current-name")).to_have_text("Exam practice")
     assert s.eval("() => window.melfa.editor.text") == ""  # a new one starts empty
+    page.reload()  # … and stays empty: the welcome project is for the default one only
+    s.wait_ready()
+    expect(page.locator("#ws-current-name")).to_have_text("Exam practice")
+    assert s.eval("() => window.melfa.editor.text") == ""
 
     page.click("#ws-switch")
     page.click("#ws-rename")
@@ -210,12 +214,14 @@ def test_switching_with_an_unsaved_edit_keeps_it(open_session: Any, server: Serv
     page.keyboard.press("Control+A")
     page.keyboard.type("' typed in the group's workspace\nEND\n")
     assert s.eval("() => window.melfa.workspace.dirty")  # the autosave has not run
+    s.eval("() => window.melfa.debug.toggleBreakpoint(1)")  # kept per workspace
     page.click("#ws-switch")  # straight away
     page.locator("#ws-menu .ws-item", has_text="My programs").click()
     expect(page.locator("#ws-current-name")).to_have_text("My programs")
     typed = "' typed in the group's workspace\nEND\n"
     assert s.eval(STORED, group_id)["program"] == typed
     assert "typed in the group" not in s.eval("() => window.melfa.editor.text")
+    assert s.eval("() => window.melfa.debug.breakRows") == []
     # History follows the current workspace: the group's edit is not in this one's.
     page.click("#history-button")
     expect(page.locator("#history-list")).to_be_visible()
@@ -226,6 +232,7 @@ def test_switching_with_an_unsaved_edit_keeps_it(open_session: Any, server: Serv
     page.locator("#ws-menu .ws-item", has_text="Lab-C").click()
     expect(page.locator("#ws-current-name")).to_have_text("Lab-C")
     assert s.eval("() => window.melfa.editor.text") == typed
+    assert s.eval("() => window.melfa.debug.breakRows") == [1]
     expect(page.locator("#history-list li").first).to_contain_text("wsswitch")
 
 

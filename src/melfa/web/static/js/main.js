@@ -96,7 +96,8 @@ async function main() {
   try {
     app.switcher = new WorkspaceSwitcher(workspace, app.user);
     await workspace.open();
-    welcomed = await welcome(workspace, editor);
+    // The welcome project greets an empty default workspace, never one made empty on purpose.
+    if (workspace.id === workspace.defaultId) welcomed = await welcome(workspace, editor);
   } catch (err) {
     showError("Could not open your workspace", err);
   }
