@@ -106,7 +106,7 @@ export class Guide {
       watch: {
         title: "Watch it move",
         anchor: () => document.querySelector(".view-stage"),
-        side: ["left", "bottom"],
+        side: ["left-low", "left", "bottom"], // beside the view, low: the running line above stays clear
         also: () => [document.querySelector("#editor .melfa-runline"), ...(real ? [$("estop")] : [])],
         body: () => [
           el("p", {}, "The arm on the right follows the robot. In the editor the line running now is marked in blue; the label above the arm names it too."),
@@ -141,6 +141,7 @@ export class Guide {
       !problem ? "" : el("div", { class: "guide-problem", role: "alert" }, el("strong", {}, problem.title), el("p", {}, problem.text), el("p", {}, problem.todo)),
     );
     this.next.hidden = !spec.next;
+    this.skip.hidden = name === "done"; // the last step only finishes
     this.next.textContent = spec.next || "";
     this.box.hidden = false;
     this.box.dataset.step = name;
@@ -195,7 +196,9 @@ export class Guide {
 
   onState(m) {
     if (!this.step) return;
-    const running = !!(m.running || m.program_running);
+    // Only the student's own run moves the guide on (on the lab robot someone else may run).
+    const mine = this.app.targets?.isPrivate || m.lease_holder === this.app.user;
+    const running = !!(m.running || m.program_running) && mine;
     if (running && ["load", "run", "servo"].includes(this.step)) {
       this.sawRunning = true;
       this.show("watch");
@@ -219,7 +222,7 @@ export class Guide {
     this.title = el("h2", { id: "guide-title" });
     this.body = el("div", { class: "guide-body", id: "guide-body" });
     this.next = el("button", { type: "button", class: "btn btn-sm btn-primary", id: "guide-next", onclick: () => this.onNext() });
-    const skip = el("button", { type: "button", class: "btn btn-sm", id: "guide-skip", title: "Close the guide (Esc). Your user menu opens it again.", onclick: () => this.close("skipped") }, "Skip guide");
+    const skip = this.skip = el("button", { type: "button", class: "btn btn-sm", id: "guide-skip", title: "Close the guide (Esc). Your user menu opens it again.", onclick: () => this.close("skipped") }, "Skip guide");
     this.box = el("section", { class: "guide", id: "guide", role: "dialog", "aria-modal": "false", "aria-labelledby": "guide-title", "aria-describedby": "guide-body", tabindex: "-1", hidden: true },
       el("div", { class: "guide-head" }, this.counter),
       this.title, this.body,
@@ -237,10 +240,13 @@ export class Guide {
     const spec = this.steps()[this.step];
     const anchor = spec.anchor();
     const targets = [anchor, ...(spec.also?.() || [])].filter((n) => n && n.offsetParent !== null);
-    this.rings.replaceChildren(...targets.map((n) => {
+    // The same ring elements move (new ones would restart their pulse every time).
+    while (this.rings.children.length > targets.length) this.rings.lastElementChild.remove();
+    while (this.rings.children.length < targets.length) this.rings.append(el("div", { class: "guide-ring" }));
+    targets.forEach((n, i) => {
       const r = n.getBoundingClientRect();
-      return el("div", { class: "guide-ring", style: `left:${r.left - 4}px;top:${r.top - 4}px;width:${r.width + 8}px;height:${r.height + 8}px` });
-    }));
+      Object.assign(this.rings.children[i].style, { left: `${r.left - 4}px`, top: `${r.top - 4}px`, width: `${r.width + 8}px`, height: `${r.height + 8}px` });
+    });
     const box = this.box;
     const w = box.offsetWidth;
     const h = box.offsetHeight;
@@ -259,6 +265,7 @@ export class Guide {
       top: [clampX(a.left + a.width / 2 - w / 2), a.top - GAP - h],
       right: [a.right + GAP, clampY(a.top + a.height / 2 - h / 2)],
       left: [a.left - GAP - w, clampY(a.top + a.height / 2 - h / 2)],
+      "left-low": [a.left - GAP - w, clampY(a.bottom - h)],
     };
     const fits = ([x, y]) => x >= MARGIN && y >= MARGIN && x + w <= vw - MARGIN && y + h <= vh - MARGIN;
     const order = [...(spec.side || []), "bottom", "right", "left", "top"];
@@ -267,7 +274,7 @@ export class Guide {
     Object.assign(box.style, { left: `${Math.round(x)}px`, top: `${Math.round(y)}px` });
     box.dataset.side = side;
     // The arrow points at the anchor's middle along the callout's edge.
-    const along = side === "bottom" || side === "top" ? a.left + a.width / 2 - x : a.top + a.height / 2 - y;
+    const along = side === "bottom" || side === "top" ? a.left + a.width / 2 - x : side === "left-low" ? h - 28 : a.top + a.height / 2 - y;
     box.style.setProperty("--arrow", `${Math.round(Math.max(16, Math.min((side === "bottom" || side === "top" ? w : h) - 16, along)))}px`);
   }
 }
