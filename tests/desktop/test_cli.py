@@ -46,6 +46,18 @@ def test_a_bad_server_address_is_a_usage_error() -> None:
     assert "Traceback" not in result.stderr
 
 
+def test_without_a_display_the_command_says_so() -> None:
+    code = (
+        "import os, sys\nfor v in ('DISPLAY', 'WAYLAND_DISPLAY', 'QT_QPA_PLATFORM'):\n"
+        "    os.environ.pop(v, None)\n"
+        "from melfa.cli import main\nsys.argv = ['melfa', 'desktop']\nmain()"
+    )
+    result = run_python(code)
+    assert result.returncode == 2
+    assert "there is no display here" in result.stderr
+    assert "Traceback" not in result.stderr
+
+
 def test_help_names_the_options() -> None:
     result = run_python(
         "import sys\nfrom melfa.cli import main\nsys.argv = ['melfa', 'desktop', '--help']\nmain()"

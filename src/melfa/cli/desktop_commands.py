@@ -7,6 +7,8 @@ command runs, so `import melfa.cli` stays Qt-free, and a missing PySide6 is one 
 from __future__ import annotations
 
 import importlib.util
+import os
+import sys
 from typing import Annotated
 
 import typer
@@ -27,6 +29,13 @@ def qt_available() -> bool:
         return importlib.util.find_spec("PySide6.QtWidgets") is not None
     except (ImportError, ValueError):
         return False
+
+
+def no_display() -> bool:
+    """On Linux, True when there is no display to open a window on (Qt would abort)."""
+    if not sys.platform.startswith("linux"):
+        return False
+    return not any(os.environ.get(v) for v in ("DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"))
 
 
 @app.command()
@@ -51,6 +60,12 @@ def desktop(
         _err.print(
             "[bold red]error:[/] the desktop client needs PySide6, which is not installed.\n"
             f"Install it with: [bold]{escape(INSTALL_HINT)}[/]"
+        )
+        raise typer.Exit(EXIT_USAGE)
+    if no_display():
+        _err.print(
+            "[bold red]error:[/] melfa desktop opens a window, and there is no display here "
+            "(DISPLAY is not set). Run it in a desktop session, or over `ssh -X`."
         )
         raise typer.Exit(EXIT_USAGE)
     try:

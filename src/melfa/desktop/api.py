@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 from http.cookies import SimpleCookie
 from typing import Any
 
-from melfa.desktop.messages import RobotState
+from melfa.desktop.messages import RobotState, parse_fix
+from melfa.protocol.advice import Fix
 
 SESSION_COOKIE = "melfa_session"
 """The server's HttpOnly session cookie (docs/api.md, Auth)."""
@@ -133,6 +134,17 @@ class ApiError(Exception):
         self.message = message
         self.where = dict(where) if where else None
         self.detail = dict(detail) if detail else None
+
+    @property
+    def fix(self) -> Fix | None:
+        """The one action that fixes it (``detail.fix``), offered as a button."""
+        return parse_fix((self.detail or {}).get("fix"))
+
+    @property
+    def error_code(self) -> str:
+        """The controller's number as the manual lists it (``L2000``), or ""."""
+        code = (self.detail or {}).get("code")
+        return code if isinstance(code, str) else ""
 
     @property
     def diagnostics(self) -> tuple[Diagnostic, ...]:

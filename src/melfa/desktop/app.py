@@ -10,7 +10,8 @@ from PySide6.QtWidgets import QApplication, QDialog
 from melfa.desktop.dialogs import QtDialogs
 from melfa.desktop.login import LoginDialog
 from melfa.desktop.presenter import Presenter
-from melfa.desktop.window import STYLE, MainWindow
+from melfa.desktop.style import STYLE
+from melfa.desktop.window import MainWindow
 
 BASE_POINT_SIZE = 10.5
 """Readable on a lab PC's 1080p screen from a step back."""

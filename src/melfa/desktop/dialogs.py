@@ -8,11 +8,15 @@ what the user would have been told (and choose files) without a modal loop.
 from __future__ import annotations
 
 import enum
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Protocol
 
+from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QFileDialog, QMessageBox, QWidget
+
+from melfa.protocol.advice import FIX_LABELS, Fix
 
 MAX_LISTED = 25
 """A dialog lists at most this many diagnostics; the check panel has them all."""
@@ -26,12 +30,18 @@ class NoticeKind(enum.Enum):
 
 @dataclass(frozen=True)
 class Notice:
-    """What a message box says: a title, one sentence, and optional lines (diagnostics)."""
+    """What a message box says: a title, one sentence, optional lines (diagnostics), and the
+    one action that fixes it (a button labelled as in `melfa.protocol.advice.FIX_LABELS`)."""
 
     kind: NoticeKind
     title: str
     text: str
     lines: tuple[str, ...] = ()
+    fix: Fix | None = None
+
+    @property
+    def fix_label(self) -> str | None:
+        return FIX_LABELS[self.fix] if self.fix is not None else None
 
     @property
     def listing(self) -> str:
@@ -47,7 +57,12 @@ class Notice:
 
 
 class Dialogs(Protocol):
-    def show(self, notice: Notice, parent: QWidget | None) -> None: ...
+    def show(
+        self, notice: Notice, parent: QWidget | None, on_fix: Callable[[], object] | None = None
+    ) -> None:
+        """Show ``notice`` without blocking the window (STOP stays clickable); ``on_fix``
+        runs when the user chooses the notice's fix."""
+        ...
 
     def open_file(self, title: str, filters: str, parent: QWidget | None) -> Path | None: ...
 
@@ -57,17 +72,28 @@ class QtDialogs:
 
     def __init__(self) -> None:
         self.folder = ""
+        self.open_boxes: list[QMessageBox] = []
+        """Notices on screen (kept referenced while they are shown)."""
 
-    def show(self, notice: Notice, parent: QWidget | None) -> None:
+    def show(
+        self, notice: Notice, parent: QWidget | None, on_fix: Callable[[], object] | None = None
+    ) -> None:
         icon = {
             NoticeKind.ERROR: QMessageBox.Icon.Critical,
             NoticeKind.WARNING: QMessageBox.Icon.Warning,
             NoticeKind.INFO: QMessageBox.Icon.Information,
         }[notice.kind]
         box = QMessageBox(icon, notice.title, notice.text, QMessageBox.StandardButton.Ok, parent)
+        box.setWindowModality(Qt.WindowModality.NonModal)  # STOP stays clickable behind it
+        box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
         if notice.lines:
             box.setInformativeText(notice.listing)
-        box.exec()
+        if notice.fix_label and on_fix is not None:
+            fix = box.addButton(notice.fix_label, QMessageBox.ButtonRole.AcceptRole)
+            box.setDefaultButton(fix)
+            fix.clicked.connect(lambda: on_fix())
+        self.open_boxes = [b for b in self.open_boxes if b.isVisible()] + [box]
+        box.show()
 
     def open_file(self, title: str, filters: str, parent: QWidget | None) -> Path | None:
         name, _ = QFileDialog.getOpenFileName(parent, title, self.folder, filters)

@@ -12,6 +12,8 @@ import enum
 from dataclasses import dataclass
 from pathlib import Path
 
+from melfa.lang.encoding import decode_text
+
 MAX_FILE_BYTES = 2 * 1024 * 1024
 """The server refuses bigger imports (413 `too-large`); refuse them before reading."""
 
@@ -65,21 +67,6 @@ def check_extension(path: Path, kind: FileKind) -> None:
         )
 
 
-def decode_text(data: bytes) -> str:
-    """UTF-8 (BOM allowed), else Windows-1252, as the server reads imports; LF line ends.
-
-    >>> decode_text(b"10 MOV P1\\r\\n20 END\\r\\n")
-    '10 MOV P1\\n20 END\\n'
-    >>> decode_text("caf\\xe9".encode("cp1252"))
-    'café'
-    """
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        text = data.decode("cp1252", errors="replace")
-    return text.replace("\r\n", "\n").replace("\r", "\n")
-
-
 def read_file(path: Path, kind: FileKind) -> ChosenFile:
     """The file's text, or `FileRefused` (wrong extension, missing, too big, binary)."""
     check_extension(path, kind)
@@ -105,7 +92,6 @@ __all__ = [
     "FileKind",
     "FileRefused",
     "check_extension",
-    "decode_text",
     "has_extension",
     "read_file",
 ]

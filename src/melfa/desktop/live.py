@@ -70,6 +70,19 @@ class LiveFeed:
         if self._thread.is_alive():
             self._thread.join(timeout)
 
+    def send(self, message: Mapping[str, object]) -> bool:
+        """Send one JSON message from any thread (the sync client allows a send beside the
+        reading thread); False when no socket is open or it just closed."""
+        with self._lock:
+            sock = self._socket
+        if sock is None:
+            return False
+        try:
+            sock.send(json.dumps(message))
+        except (ConnectionClosed, OSError, RuntimeError):
+            return False
+        return True
+
     @property
     def running(self) -> bool:
         return self._thread.is_alive()

@@ -12,6 +12,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from melfa.protocol.advice import Fix, error_code
+
 JOINT_NAMES = ("J1", "J2", "J3", "J4", "J5", "J6")
 POSE_NAMES = ("X", "Y", "Z", "A", "B", "C")
 
@@ -40,8 +42,44 @@ class LinkStatus(enum.Enum):
 
 @dataclass(frozen=True)
 class Alarm:
+    """The controller's error: ``message`` is the student's sentence (`melfa.protocol.advice`),
+    ``code`` the manual's (``L2000``), ``fix`` the one action that clears it, if any."""
+
     number: int
     text: str
+    code: str = ""
+    message: str = ""
+    fix: Fix | None = None
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> Alarm:
+        """
+        >>> a = Alarm.from_json({"number": 2000, "text": "Servo off", "code": "L2000",
+        ...                      "message": "The servo is off.", "fix": "servo-on-retry"})
+        >>> a.said, a.fix
+        ('L2000 The servo is off.', <Fix.SERVO_ON_RETRY: 'servo-on-retry'>)
+        """
+        number = _opt_int(data.get("number")) or 0
+        return cls(
+            number=number,
+            text=str(data.get("text") or ""),
+            code=str(data.get("code") or error_code(number)),
+            message=str(data.get("message") or data.get("text") or ""),
+            fix=parse_fix(data.get("fix")),
+        )
+
+    @property
+    def said(self) -> str:
+        """The code and the sentence, as every view shows an alarm."""
+        return f"{self.code} {self.message}".strip()
+
+
+def parse_fix(value: object) -> Fix | None:
+    """The server's ``fix`` word (`melfa.protocol.advice.Fix`), or None (unknown: no button)."""
+    try:
+        return Fix(value)
+    except ValueError:
+        return None
 
 
 def _six(value: object) -> tuple[float, ...] | None:
@@ -79,6 +117,11 @@ class RobotState:
     alarm: Alarm | None
     busy: str | None
     lease_holder: str | None
+    activity: str = ""
+    """The service's one word for what the robot does (`idle`, `jogging`, `running`, …)."""
+    activity_detail: str = ""
+    jogging: bool = False
+    lease_state: str | None = None
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> RobotState:
@@ -102,14 +145,16 @@ class RobotState:
             program=str(data.get("program") or ""),
             line=_opt_int(data.get("line")),
             override=_opt_int(data.get("override")),
-            alarm=(
-                Alarm(int(alarm.get("number", 0)), str(alarm.get("text", "")))
-                if isinstance(alarm, Mapping)
-                else None
-            ),
+            alarm=Alarm.from_json(alarm) if isinstance(alarm, Mapping) else None,
             busy=data.get("busy") if isinstance(data.get("busy"), str) else None,
             lease_holder=(
                 data.get("lease_holder") if isinstance(data.get("lease_holder"), str) else None
+            ),
+            activity=str(data.get("activity") or ""),
+            activity_detail=str(data.get("activity_detail") or ""),
+            jogging=data.get("jogging") is True,
+            lease_state=(
+                data.get("lease_state") if isinstance(data.get("lease_state"), str) else None
             ),
         )
 
@@ -132,7 +177,8 @@ class LinkChanged:
 
 @dataclass(frozen=True)
 class CommandFinished:
-    """A ``result`` message: any client's command finished (``actor`` may be someone else)."""
+    """A ``result`` message: any client's command finished (``actor`` may be someone else).
+    ``error`` is already in the student's words (docs/api.md "Student-facing errors")."""
 
     command: str
     ok: bool
@@ -142,13 +188,51 @@ class CommandFinished:
 
 
 @dataclass(frozen=True)
+class JogChanged:
+    """A ``jog`` message: a hold-to-move jog began or ended, and why it ended."""
+
+    actor: str | None
+    active: bool
+    reason: str
+
+
+@dataclass(frozen=True)
+class Acked:
+    """An ``ack``: the server did what the message with ``id`` asked. ``jogging`` is False
+    when a heartbeat found the jog already ended."""
+
+    id: int | None
+    op: str
+    jogging: bool | None
+
+
+@dataclass(frozen=True)
+class Refused:
+    """An ``error`` reply to a client message: the API's one error shape."""
+
+    id: int | None
+    code: str
+    message: str
+    fix: Fix | None
+
+
+@dataclass(frozen=True)
 class UploadProgress:
     command: str
     sent: int
     total: int
 
 
-LiveMessage = Hello | RobotState | LinkChanged | CommandFinished | UploadProgress
+LiveMessage = (
+    Hello
+    | RobotState
+    | LinkChanged
+    | CommandFinished
+    | UploadProgress
+    | JogChanged
+    | Acked
+    | Refused
+)
 
 
 def _actor(value: object) -> str | None:
@@ -186,6 +270,25 @@ def parse_message(data: object) -> LiveMessage | None:
             sent=_opt_int(data.get("sent")) or 0,
             total=_opt_int(data.get("total")) or 0,
         )
+    if kind == "jog":
+        return JogChanged(
+            actor=_actor(data.get("actor")),
+            active=data.get("active") is True,
+            reason=str(data.get("reason") or ""),
+        )
+    if kind == "ack":
+        jogging = data.get("jogging")
+        return Acked(_opt_int(data.get("id")), str(data.get("op") or ""), _opt_bool(jogging))
+    if kind == "error":
+        error = data.get("error")
+        error = error if isinstance(error, Mapping) else {}
+        detail = error.get("detail")
+        return Refused(
+            id=_opt_int(data.get("id")),
+            code=str(error.get("code") or ""),
+            message=str(error.get("message") or "the server refused"),
+            fix=parse_fix(detail.get("fix")) if isinstance(detail, Mapping) else None,
+        )
     if kind == "hello":
         return Hello(
             user=str(data.get("user") or ""),
@@ -199,13 +302,17 @@ def parse_message(data: object) -> LiveMessage | None:
 __all__ = [
     "JOINT_NAMES",
     "POSE_NAMES",
+    "Acked",
     "Alarm",
     "CommandFinished",
     "Hello",
+    "JogChanged",
     "LinkChanged",
     "LinkStatus",
     "LiveMessage",
+    "Refused",
     "RobotState",
     "UploadProgress",
+    "parse_fix",
     "parse_message",
 ]

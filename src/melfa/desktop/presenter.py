@@ -13,12 +13,13 @@ signals, so it can be tested with any view and stays free of Qt's threading rule
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable
+import logging
+from collections.abc import Callable, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from datetime import datetime
 from functools import partial
 from pathlib import Path
-from typing import Protocol, TypeVar
+from typing import TypeVar
 
 from PySide6.QtCore import QObject, QTimer
 
@@ -32,94 +33,45 @@ from melfa.desktop.api import (
 )
 from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import ChosenFile, FileKind, FileRefused, read_file
+from melfa.desktop.hold import JogHold, JogKey
 from melfa.desktop.live import FeedStatus, LiveFeed
 from melfa.desktop.messages import (
+    Acked,
     CommandFinished,
     Hello,
+    JogChanged,
     LinkChanged,
     LinkStatus,
     LiveMessage,
+    Refused,
     RobotState,
     UploadProgress,
 )
+from melfa.desktop.view import NoView, View
+from melfa.desktop.words import (
+    LINK_WORDS,
+    Loaded,
+    count,
+    describe_failure,
+    diagnostic_lines,
+    jog_end_words,
+    jog_label,
+    sentence,
+    upload_progress,
+)
+from melfa.protocol.advice import Fix, action_label
+
+_log = logging.getLogger(__name__)
+FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
+"""The one-click fixes this client can do (adding a point needs the IDE's points editor)."""
 
 T = TypeVar("T")
-
-
-class View(Protocol):
-    """What the presenter asks the window to show (always on the GUI thread)."""
-
-    def show_state(self, state: RobotState) -> None: ...
-    def show_link(self, status: LinkStatus, detail: str) -> None: ...
-    def show_feed(self, status: FeedStatus, detail: str) -> None: ...
-    def show_busy(self, what: str) -> None: ...
-    def show_files(self) -> None: ...
-    def show_check(self, result: CheckResult) -> None: ...
-    def show_notice(self, notice: Notice) -> None: ...
-    def append_log(self, line: str) -> None: ...
-    def show_status(self, text: str) -> None: ...
-
-
-class NoView:
-    """Shows nothing: the presenter before a window is attached."""
-
-    def show_state(self, state: RobotState) -> None:
-        pass
-
-    def show_link(self, status: LinkStatus, detail: str) -> None:
-        pass
-
-    def show_feed(self, status: FeedStatus, detail: str) -> None:
-        pass
-
-    def show_busy(self, what: str) -> None:
-        pass
-
-    def show_files(self) -> None:
-        pass
-
-    def show_check(self, result: CheckResult) -> None:
-        pass
-
-    def show_notice(self, notice: Notice) -> None:
-        pass
-
-    def append_log(self, line: str) -> None:
-        pass
-
-    def show_status(self, text: str) -> None:
-        pass
-
-
-def diagnostic_lines(result: CheckResult, errors_only: bool = True) -> tuple[str, ...]:
-    """``line:col  message`` for the dialog, program first, then points."""
-    out: list[str] = []
-    for where, diags in (("", result.program), ("points ", result.points)):
-        for d in diags:
-            if errors_only and d.severity.value != "error":
-                continue
-            out.append(f"{where}{d.line}:{d.column}  {d.message}")
-    return tuple(out)
-
-
-def describe_failure(exc: BaseException) -> tuple[str, tuple[str, ...]]:
-    """A sentence for people (and diagnostic lines) for a failed call, naming whose fault."""
-    if isinstance(exc, ApiError):
-        lines = tuple(f"{d.line}:{d.column}  {d.message}" for d in exc.diagnostics)
-        if exc.status == 503:
-            return f"The robot link is down: {exc.message}", lines
-        if exc.status >= 500:
-            return f"The server failed: {exc.message}", lines
-        return exc.message[:1].upper() + exc.message[1:], lines
-    if isinstance(exc, ServerUnreachable):
-        return f"Cannot reach the server at {exc.url}: {exc.reason}.", ()
-    return f"Unexpected failure in the client: {type(exc).__name__}: {exc}", ()
 
 
 class Presenter:
     """One signed-in client's actions and the live state the window shows.
 
-    Create it on the GUI thread (its anchor object lives there)."""
+    Create it on the GUI thread (its anchor object and jog timer live there)."""
 
     def __init__(self, client: ApiClient) -> None:
         self.client = client
@@ -128,6 +80,8 @@ class Presenter:
         self.points: ChosenFile | None = None
         self.state: RobotState | None = None
         self.last_upload: UploadReport | None = None
+        self.loaded: Loaded | None = None
+        """What this client loaded (the file's name, its step -> line map)."""
         self.link = LinkStatus.UNKNOWN
         self.feed_status = FeedStatus.CLOSED
         self.busy = ""
@@ -135,11 +89,16 @@ class Presenter:
         self._commands = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-cmd")
         self._stopper = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-stop")
         self._feed: LiveFeed | None = None
+        self.hold = JogHold(self._send_live)
         self._closed = False
 
     @property
     def closed(self) -> bool:
         return self._closed
+
+    @property
+    def me(self) -> str:
+        return self.client.user.username if self.client.user else ""
 
     def attach(self, view: View) -> None:
         self.view = view
@@ -158,8 +117,18 @@ class Presenter:
     def _log(self, text: str) -> None:
         self.view.append_log(f"{datetime.now():%H:%M:%S}  {text}")
 
-    def _tell(self, kind: NoticeKind, title: str, text: str, lines: tuple[str, ...] = ()) -> None:
-        self.view.show_notice(Notice(kind, title, text, lines))
+    def _tell(
+        self,
+        kind: NoticeKind,
+        title: str,
+        text: str,
+        lines: tuple[str, ...] = (),
+        fix: Fix | None = None,
+        retry: Callable[[], object] | None = None,
+    ) -> None:
+        """Show a notice; with a ``fix`` the user can choose it (and then ``retry``)."""
+        on_fix = partial(self.apply_fix, fix, retry) if fix is not None else None
+        self.view.show_notice(Notice(kind, title, text, lines, fix), on_fix)
 
     def _set_busy(self, what: str) -> None:
         self.busy = what
@@ -171,8 +140,10 @@ class Presenter:
         work: Callable[[], T],
         done: Callable[[T], None],
         failed_title: str,
+        retry: Callable[[], object] | None = None,
     ) -> bool:
-        """Run ``work`` on the command worker; ``done`` or a failure dialog on the GUI thread."""
+        """Run ``work`` on the command worker; ``done`` or a failure dialog on the GUI thread
+        (offering the API's one-click fix, then ``retry``, where there is one)."""
         if self._closed:
             return False
         if self.busy:
@@ -184,7 +155,7 @@ class Presenter:
             try:
                 result = work()
             except Exception as exc:
-                self._later(partial(self._failed, failed_title, exc))
+                self._later(partial(self._failed, failed_title, exc, retry))
             else:
                 self._later(partial(self._finished, done, result))
 
@@ -195,12 +166,30 @@ class Presenter:
         self._set_busy("")
         done(result)
 
-    def _failed(self, title: str, exc: BaseException) -> None:
+    def _failed(
+        self, title: str, exc: BaseException, retry: Callable[[], object] | None = None
+    ) -> None:
         self._set_busy("")
+        self.view.show_progress(None)
+        if not isinstance(exc, ApiError | ServerUnreachable):
+            _log.error("unexpected failure in melfa desktop", exc_info=exc)
         text, lines = describe_failure(exc)
         self._log(f"{title}: {text}")
-        self.view.show_status(f"{title}.")
-        self._tell(NoticeKind.ERROR, title, text, lines)
+        self.view.show_status(f"{title}: {text}")
+        fix = exc.fix if isinstance(exc, ApiError) else None
+        fix = fix if fix in FIXES_OFFERED else None
+        self._tell(NoticeKind.ERROR, title, text, lines, fix, retry)
+
+    def apply_fix(self, fix: Fix, retry: Callable[[], object] | None = None) -> None:
+        """Do the one-click fix the server offered (`melfa.protocol.advice.Fix`)."""
+        if fix is Fix.SERVO_ON_RETRY:
+            self._servo_on_and_retry(retry)
+        elif fix is Fix.RESET_ALARM:
+            self.reset_alarm()
+        elif fix is Fix.LOAD_PROJECT:
+            self.load()
+        elif fix is Fix.STOP:
+            self.stop()
 
     # --- live feed -----------------------------------------------------------------------
 
@@ -208,6 +197,7 @@ class Presenter:
         """Drive ``target`` (``lab`` or ``mine``) from now on: the live feed follows it."""
         if target == self.client.target:
             return
+        self.jog_release()
         self.client.target = target
         self._log(f"Now driving {TARGET_LABELS.get(target, target)}")
         if self._feed is not None:
@@ -226,32 +216,69 @@ class Presenter:
         )
         self._feed.start()
 
+    def _send_live(self, message: Mapping[str, object]) -> bool:
+        return self._feed is not None and self._feed.send(message)
+
     def _on_live(self, message: LiveMessage) -> None:
         if isinstance(message, RobotState):
             self._on_state(message)
         elif isinstance(message, LinkChanged):
+            if message.status is not self.link:
+                self._log(LINK_WORDS[message.status])
             self._set_link(message.status, message.detail)
-            self._log(
-                f"Robot link {message.status.value}" + f": {message.detail}" * bool(message.detail)
-            )
         elif isinstance(message, Hello):
             self._set_link(message.link, "")
-            self._log(f"Live feed open as {message.user} ({message.role}); robot {message.robot}")
         elif isinstance(message, CommandFinished):
-            if message.ok:
-                # "run" answers when the program has started, not when it has finished.
-                what = "started" if message.command == "run" else "done"
-                self._log(f"{message.command} {what} (by {message.actor or 'the service'})")
-            else:
-                number = f" [{message.error_number}]" if message.error_number else ""
-                self._log(f"{message.command} failed{number}: {message.error}")
+            # This client logs its own commands when their answer comes; others' here.
+            if message.actor != self.me:
+                who = message.actor or "the server"
+                result = "done" if message.ok else sentence(message.error)
+                if message.command == "run" and message.ok:
+                    result = "started"
+                self._log(f"{action_label(message.command)} by {who}: {result}")
         elif isinstance(message, UploadProgress) and message.total:
-            self.view.show_status(f"Uploading: {message.sent} of {message.total} lines")
+            text, percent = upload_progress(message.sent, message.total)
+            self.view.show_status(text)
+            self.view.show_progress(percent)
+        elif isinstance(message, JogChanged):
+            self._on_jog_changed(message)
+        elif isinstance(message, Acked):
+            if message.op == "jog_heartbeat" and message.jogging is False and self.hold.active:
+                self._jog_ended("the server ended it")
+        elif isinstance(message, Refused):
+            self._on_refused(message)
+
+    def _on_jog_changed(self, message: JogChanged) -> None:
+        if message.active or not self.hold.active or message.actor not in (self.me, None):
+            return
+        if message.reason in ("released", "") or message.reason.startswith("jog refused"):
+            return  # our own release, or a refusal the error reply explains
+        self._jog_ended(jog_end_words(message.reason))
+
+    def _jog_ended(self, why: str) -> None:
+        self.hold.ended()
+        self.view.show_jog(None)
+        self._log(f"Jog stopped: {why}")
+        self.view.show_status(f"Jog stopped: {why}.")
+
+    def _on_refused(self, message: Refused) -> None:
+        if message.id is None or message.id != self.hold.start_id:
+            return
+        self.hold.ended()
+        self.view.show_jog(None)
+        text = sentence(message.message)
+        self._log(f"Jog refused: {text}")
+        self.view.show_status(f"Jog refused: {text}")
+        fix = message.fix if message.fix in FIXES_OFFERED else None
+        # With the servo fix, the servo comes on; the student presses the key again to move.
+        self._tell(NoticeKind.ERROR, "Could not jog", text, fix=fix)
 
     def _on_state(self, state: RobotState) -> None:
         self.state = state
         if state.link is not LinkStatus.UNKNOWN and state.link is not self.link:
             self._set_link(state.link, "")
+        if not state.busy:
+            self.view.show_progress(None)
         self.view.show_state(state)
 
     def _set_link(self, status: LinkStatus, detail: str) -> None:
@@ -261,15 +288,18 @@ class Presenter:
     def _on_feed(self, status: FeedStatus, detail: str) -> None:
         self.feed_status = status
         self.view.show_feed(status, detail)
+        if status is not FeedStatus.CONNECTED and self.hold.active:
+            self._jog_ended("the live connection dropped")
         if status is FeedStatus.REFUSED:
-            self._log(f"Live feed refused: {detail}")
+            self._log("Live updates stopped: the server refused them")
             self._tell(
                 NoticeKind.ERROR,
                 "Live updates stopped",
-                f"The server refused the live feed ({detail}). Sign in again.",
+                "The server no longer accepts this session (signed out or expired). "
+                "Close the window and sign in again.",
             )
         elif status is FeedStatus.DISCONNECTED:
-            self.view.show_status(f"Live feed lost ({detail}); reconnecting…")
+            self.view.show_status("Live updates lost; reconnecting…")
 
     # --- files ---------------------------------------------------------------------------
 
@@ -331,10 +361,12 @@ class Presenter:
         self.view.show_check(result)
         errors = len(result.program_errors) + len(result.points_errors)
         others = len(result.program) + len(result.points) - errors
-        self.view.show_status(f"Check: {errors} error(s), {others} other finding(s).")
+        self.view.show_status(
+            f"Checked: {count(errors, 'error')}, {count(others, 'other finding')}."
+        )
 
     def load(self) -> bool:
-        """Check, then load program and points into slot 1; errors refuse with a dialog."""
+        """Check, then load program and points into the robot; errors refuse with a dialog."""
         files = self._reread()
         if files is None:
             return False
@@ -348,88 +380,121 @@ class Presenter:
                 return result
             return self.client.load_project(program.text, points_text)
 
-        self._log(f"Loading {program.path.name}" + (f" with {points.path.name}" if points else ""))
         return self._submit(
-            "Loading", work, partial(self._on_loaded, program, points), "Load refused"
+            "Loading", work, partial(self._on_loaded, program, points), "Load refused", self.load
         )
 
     def _on_loaded(
         self, program: ChosenFile, points: ChosenFile | None, outcome: CheckResult | UploadReport
     ) -> None:
+        self.view.show_progress(None)
         if isinstance(outcome, CheckResult):
             bad = (
                 program.path.name
                 if outcome.program_errors
                 else (points.path.name if points else "")
             )
-            count = len(outcome.program_errors) + len(outcome.points_errors)
-            text = f"{bad} has {count} error{'s' * (count != 1)}; nothing was sent to the robot."
+            errors = len(outcome.program_errors) + len(outcome.points_errors)
+            text = f"{bad} has {count(errors, 'error')}; nothing was sent to the robot."
             self._log(f"Load refused: {text}")
-            self.view.show_status("Load refused: the program has errors.")
+            self.view.show_status(f"Load refused: {text}")
             self._tell(NoticeKind.ERROR, "Program has errors", text, diagnostic_lines(outcome))
             return
-        self._log(
-            f"Loaded {program.path.name}: {outcome.items} items, {outcome.bytes_sent} bytes"
-            f" in {outcome.seconds:.2f} s"
-        )
-        self.view.show_status(f"Loaded {program.path.name} into slot 1.")
+        lines = len(program.text.splitlines())
+        what = program.path.name + (f" and {points.path.name}" if points else "")
+        took = f", {outcome.seconds:.1f} s" if outcome.seconds >= 0.05 else ""
+        self._log(f"Loaded {what} into the robot ({count(lines, 'line')}{took})")
+        self.view.show_status(f"Loaded {what}: ready to run.")
         self.last_upload = outcome
+        self.loaded = Loaded(program.path.name, dict(outcome.step_lines))
+        if self.state is not None:
+            self.view.show_state(self.state)  # the line of this file from now on
 
     def run(self) -> bool:
-        """Start the program loaded in slot 1."""
-        self._log("Run")
-        return self._submit("Starting", self.client.run, self._on_ran, "Run refused")
+        """Start the program loaded in the robot."""
+        return self._submit("Starting", self.client.run, self._on_ran, "Run refused", self.run)
 
     def _show_check(self, result: CheckResult) -> None:
         self.view.show_check(result)
 
-    def _status(self, text: str) -> None:
+    def _done(self, text: str) -> None:
+        """A command's answer: the status bar keeps it until the next one, the log too."""
+        self._log(text)
         self.view.show_status(text)
 
     def _on_ran(self, _: None) -> None:
-        self.view.show_status("Program started.")
+        name = self.loaded.name if self.loaded else "the loaded program"
+        self._done(f"Run: {name} started")
 
     def reset_alarm(self) -> bool:
         """Clear the controller's error (RSTALRM), e.g. after a refused instruction."""
-        self._log("Reset alarm")
         return self._submit(
             "Resetting the alarm",
             self.client.reset_alarm,
-            lambda _: self._status("Alarm reset."),
+            lambda _: self._done("Reset alarm: done"),
             "Reset refused",
         )
 
     def servo(self, on: bool) -> bool:
         """Switch the servo on or off."""
-        self._log(f"Servo {'on' if on else 'off'}")
+        word = "on" if on else "off"
         return self._submit(
-            "Switching the servo",
+            f"Switching the servo {word}",
             lambda: self.client.servo(on),
-            lambda _: self._status(f"Servo {'on' if on else 'off'}."),
+            lambda _: self._done(f"Servo {word}"),
             "Servo refused",
         )
 
+    def _servo_on_and_retry(self, retry: Callable[[], object] | None) -> bool:
+        """The "Turn on and retry" fix: the L2000 the refused move left says only that the servo
+        was off, which is being fixed, so it is cleared first (as the server does)."""
+
+        def work() -> None:
+            self.client.reset_alarm()
+            self.client.servo(True)
+
+        def done(_: None) -> None:
+            self._done("Servo on")
+            if retry is not None:
+                retry()
+
+        return self._submit("Switching the servo on", work, done, "Servo refused")
+
     def set_override(self, percent: int) -> bool:
         """Set the speed override (1–100 %)."""
-        self._log(f"Override {percent} %")
         return self._submit(
-            "Setting the override",
+            "Setting the speed",
             lambda: self.client.override(percent),
-            lambda value: self._status(f"Override {value} %."),
-            "Override refused",
+            lambda value: self._done(f"Speed override: {value} %"),
+            "Speed refused",
         )
 
     def jog(self, frame: str, axis: int, direction: int) -> bool:
-        """One jog step (the button names the axis and the sign)."""
-        names = ("J1", "J2", "J3", "J4", "J5", "J6") if frame == "joint" else "XYZABC"
-        label = f"{names[axis]}{'+' if direction > 0 else '-'}"
-        self._log(f"Jog {frame} {label}")
+        """One jog step (REST `jog-step`): the *One step* mode."""
+        label = jog_label(frame, axis, direction)
         return self._submit(
-            "Jogging",
+            "Jogging one step",
             lambda: self.client.jog_step(frame, axis, direction),
-            lambda _: self._status(f"Jogged {label} ({frame})."),
+            lambda _: self._done(f"Jog step {label}: done"),
             "Jog refused",
         )
+
+    def jog_press(self, frame: str, axis: int, direction: int) -> bool:
+        """A jog key went down: move while it is held (hold-to-move over the WebSocket)."""
+        key = JogKey(frame, axis, direction)
+        if self.hold.held == key:
+            return True
+        if self.feed_status is not FeedStatus.CONNECTED or not self.hold.press(key):
+            self.view.show_status("Jog needs the live connection; it is reconnecting.")
+            return False
+        self._log(f"Jog {jog_label(frame, axis, direction)} (held)")
+        self.view.show_jog(key)
+        return True
+
+    def jog_release(self) -> None:
+        """The jog key came up (or the window lost the keyboard): stop now."""
+        if self.hold.release():
+            self.view.show_jog(None)
 
     def exec_statement(self, text: str) -> bool:
         """Send one MELFA BASIC statement (EXEC)."""
@@ -437,18 +502,19 @@ class Presenter:
         if not statement:
             self.view.show_status("Type an instruction first, e.g. MOV P1 or HOPEN 1.")
             return False
-        self._log(f"Exec {statement}")
         return self._submit(
-            "Executing",
+            "Sending the instruction",
             lambda: self.client.exec_statement(statement),
-            lambda _: self._status(f"Done: {statement}"),
+            lambda _: self._done(f"Instruction {statement}: done"),
             "Instruction refused",
+            partial(self.exec_statement, statement),
         )
 
     def stop(self) -> None:
         """STOP: on its own worker, never queued behind a command; always allowed."""
         if self._closed:
             return
+        self.jog_release()
         self._log("STOP")
         self.view.show_status("STOP sent…")
 
@@ -458,7 +524,7 @@ class Presenter:
             except Exception as exc:
                 self._later(partial(self._failed_stop, exc))
             else:
-                self._later(partial(self._status, "Stopped."))
+                self._later(partial(self._done, "STOP: the robot stopped"))
 
         self._stopper.submit(job)
 
@@ -472,9 +538,10 @@ class Presenter:
         )
 
     def shutdown(self) -> None:
-        """Close the feed, drop queued work, sign out (best effort). Idempotent."""
+        """Stop any jog, close the feed, drop queued work, sign out (best effort). Idempotent."""
         if self._closed:
             return
+        self.jog_release()
         self._closed = True
         if self._feed is not None:
             self._feed.close()
@@ -484,4 +551,4 @@ class Presenter:
             self.client.logout()
 
 
-__all__ = ["NoView", "Presenter", "View", "describe_failure", "diagnostic_lines"]
+__all__ = ["FIXES_OFFERED", "Presenter"]

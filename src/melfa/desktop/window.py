@@ -1,5 +1,6 @@
-"""The main window: files and commands on the left, the live robot on the right, the
-activity log below, and a STOP button that is always there and always enabled.
+"""The main window: files, instruction and activity log on the left; the robot's state, the
+servo, speed and jog pad, and the live position on the right; a STOP button that is always
+there and always enabled. Laid out to fit a 1366×700 laptop screen without scrolling.
 
 Widgets only: every action goes to the `Presenter`, every dialog through `Dialogs`.
 """
@@ -9,11 +10,19 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from PySide6.QtCore import Qt
-from PySide6.QtGui import QCloseEvent, QFont, QFontDatabase, QKeySequence, QShortcut
+from PySide6.QtGui import (
+    QCloseEvent,
+    QColor,
+    QFont,
+    QFontDatabase,
+    QKeySequence,
+    QShortcut,
+    QTextCursor,
+    QTextFormat,
+)
 from PySide6.QtWidgets import (
     QAbstractItemView,
     QComboBox,
-    QFormLayout,
     QFrame,
     QGridLayout,
     QGroupBox,
@@ -23,11 +32,12 @@ from PySide6.QtWidgets import (
     QLineEdit,
     QMainWindow,
     QPlainTextEdit,
+    QProgressBar,
     QPushButton,
-    QScrollArea,
     QSizePolicy,
     QSpinBox,
     QTabWidget,
+    QTextEdit,
     QTreeWidget,
     QTreeWidgetItem,
     QVBoxLayout,
@@ -37,97 +47,28 @@ from PySide6.QtWidgets import (
 from melfa.desktop.api import PRIVATE_TARGET, TARGET_LABELS, CheckResult, Severity
 from melfa.desktop.dialogs import Dialogs, Notice
 from melfa.desktop.files import FileKind
+from melfa.desktop.hold import JogKey
+from melfa.desktop.jogpad import JogPad
 from melfa.desktop.live import FeedStatus
 from melfa.desktop.messages import JOINT_NAMES, POSE_NAMES, LinkStatus, RobotState
-from melfa.desktop.presenter import Presenter
+from melfa.desktop.presenter import FIXES_OFFERED, Presenter
+from melfa.desktop.style import LINK_LEVEL, STYLE, ValueLabel, fmt_number, on_off, set_level
+from melfa.desktop.words import LINK_WORDS, activity_text, count, file_line, jog_label
+from melfa.protocol.advice import FIX_LABELS
 
-LINK_STYLE = {
-    LinkStatus.CONNECTED: ("ok", "Connected"),
-    LinkStatus.CONNECTING: ("warn", "Connecting…"),
-    LinkStatus.RECONNECTING: ("warn", "Reconnecting…"),
-    LinkStatus.LOST: ("bad", "Link lost"),
-    LinkStatus.CLOSED: ("bad", "Link closed"),
-    LinkStatus.UNKNOWN: ("idle", "Unknown"),
-}
 FILE_FILTERS = {
     FileKind.PROGRAM: "MELFA BASIC IV programs (*.MB4 *.mb4);;All files (*)",
     FileKind.POINTS: "Points files (*.POS *.pos);;All files (*)",
 }
 LOG_LINES = 500
-
-STYLE = """
-QMainWindow, QDialog { background: #f4f5f7; }
-QGroupBox {
-    background: #ffffff; border: 1px solid #d6d9de; border-radius: 6px;
-    margin-top: 14px; padding: 12px 10px 10px 10px; font-weight: 600;
+FEED_WORDS = {
+    FeedStatus.CONNECTING: "Live updates: connecting…",
+    FeedStatus.CONNECTED: "Live updates: on",
+    FeedStatus.DISCONNECTED: "Live updates: reconnecting…",
+    FeedStatus.REFUSED: "Live updates: refused (sign in again)",
+    FeedStatus.CLOSED: "Live updates: off",
 }
-QGroupBox::title { subcontrol-origin: margin; left: 10px; padding: 0 4px; color: #2b3440; }
-QLabel { font-weight: normal; }
-QLabel#heading { font-size: 15pt; font-weight: 600; color: #1f2630; }
-QLabel#muted, QLabel#unit { color: #6b7480; }
-QLabel#error { color: #b71c1c; font-weight: 600; }
-QFrame#header { background: #263238; border-radius: 6px; }
-QFrame#header QLabel { color: #eceff1; }
-QLabel#title { font-size: 16pt; font-weight: 700; color: #ffffff; }
-QLabel#pill { border-radius: 11px; padding: 3px 12px; font-weight: 600; }
-QLabel#pill[level="ok"] { background: #2e7d32; color: white; }
-QLabel#pill[level="warn"] { background: #f9a825; color: #1f2630; }
-QLabel#pill[level="bad"] { background: #c62828; color: white; }
-QLabel#pill[level="idle"] { background: #78909c; color: white; }
-QLabel#value {
-    background: #f7f9fb; border: 1px solid #dfe3e8; border-radius: 4px;
-    padding: 3px 8px; color: #111820;
-}
-QLabel#value[level="running"] { color: #1b5e20; font-weight: 700; background: #e8f5e9; }
-QLabel#value[level="alarm"] { color: #b71c1c; font-weight: 700; background: #ffebee; }
-QTabWidget::pane { border: 1px solid #d6d9de; border-radius: 4px; top: -1px; background: white; }
-QTabBar::tab {
-    padding: 5px 14px; border: 1px solid #d6d9de; border-bottom: none;
-    border-top-left-radius: 4px; border-top-right-radius: 4px; background: #eef1f4;
-}
-QTabBar::tab:selected { background: white; font-weight: 600; }
-QPushButton {
-    padding: 6px 14px; border: 1px solid #b8bec6; border-radius: 4px; background: #ffffff;
-}
-QPushButton:hover { background: #eef1f4; }
-QPushButton:disabled { color: #9aa1a9; background: #f1f2f4; }
-QPushButton#primary { background: #1565c0; color: white; border-color: #0d47a1; font-weight: 600; }
-QPushButton#primary:hover { background: #1976d2; }
-QPushButton#primary:disabled { background: #90a4bf; border-color: #90a4bf; }
-QPushButton#stop {
-    background: #d32f2f; color: white; border: 2px solid #8e0000; border-radius: 8px;
-    font-size: 20pt; font-weight: 800; letter-spacing: 2px;
-}
-QPushButton#stop:hover { background: #e53935; }
-QPushButton#stop:pressed { background: #b71c1c; }
-QLineEdit { padding: 4px 6px; border: 1px solid #b8bec6; border-radius: 4px; background: white; }
-QLineEdit[readOnly="true"] { background: #f7f9fb; }
-QTreeWidget, QPlainTextEdit { border: 1px solid #d6d9de; border-radius: 4px; background: white; }
-QStatusBar { background: #e9ecef; }
-"""
-
-
-def _fmt(value: float | None, digits: int = 2) -> str:
-    return "—" if value is None else f"{value:,.{digits}f}".replace(",", " ")
-
-
-def _yes_no(value: bool | None, yes: str = "On", no: str = "Off") -> str:
-    return "—" if value is None else (yes if value else no)
-
-
-class ValueLabel(QLabel):
-    """A framed read-only value in a fixed-width font."""
-
-    def __init__(self, text: str = "—", mono: bool = False) -> None:
-        super().__init__(text)
-        self.setObjectName("value")
-        self.setTextInteractionFlags(Qt.TextInteractionFlag.TextSelectableByMouse)
-        if mono:
-            font = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont)
-            font.setPointSizeF(max(font.pointSizeF(), 12.0))
-            self.setFont(font)
-            self.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-            self.setMinimumWidth(110)
+ACTIVITY_LEVEL = {"alarm": "alarm", "offline": "alarm", "running": "running", "idle": ""}
 
 
 class MainWindow(QMainWindow):
@@ -145,43 +86,44 @@ class MainWindow(QMainWindow):
         user = client.user.username if client.user else "?"
         self.setWindowTitle(f"melfa desktop — {user} @ {client.server}")
         self.setStyleSheet(STYLE)
-        self.resize(1080, 720)
+        self.resize(1366, 700)
 
         central = QWidget()
         root = QVBoxLayout(central)
-        root.setContentsMargins(12, 12, 12, 6)
-        root.setSpacing(10)
+        root.setContentsMargins(10, 8, 10, 4)
+        root.setSpacing(6)
         root.addWidget(self._header(user, client.server, client.user.role if client.user else ""))
 
         body = QHBoxLayout()
-        body.setSpacing(12)
+        body.setSpacing(10)
         left = QVBoxLayout()
-        left.addWidget(self._program_box(), 3)
+        left.setSpacing(4)
+        left.addWidget(self._program_box(), 1)
         left.addWidget(self._exec_box())
-        # The right column scrolls when the screen is short (a 1366×700 laptop).
-        right_panel = QWidget()
-        right = QVBoxLayout(right_panel)
-        right.setContentsMargins(0, 0, 4, 0)
+        left.addWidget(self._log_box())
+        right = QVBoxLayout()
+        right.setSpacing(4)
         right.addWidget(self._robot_box())
         right.addWidget(self._control_box())
         right.addWidget(self._position_box())
         right.addStretch(1)
-        scroll = QScrollArea()
-        scroll.setWidget(right_panel)
-        scroll.setWidgetResizable(True)
-        scroll.setFrameShape(QFrame.Shape.NoFrame)
-        scroll.setHorizontalScrollBarPolicy(Qt.ScrollBarPolicy.ScrollBarAlwaysOff)
-        body.addLayout(left, 11)
-        body.addWidget(scroll, 9)
+        body.addLayout(left, 10)
+        body.addLayout(right, 11)
         root.addLayout(body, 1)
-        root.addWidget(self._log_box())
         self.setCentralWidget(central)
 
-        self.feed_label = QLabel("Live feed: starting")
+        self.progress = QProgressBar()
+        self.progress.setRange(0, 100)
+        self.progress.setMaximumWidth(220)
+        self.progress.setFormat("Sending %p %")
+        self.progress.setVisible(False)
+        self.feed_label = QLabel(FEED_WORDS[FeedStatus.CONNECTING])
+        self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.feed_label)
         self.statusBar().showMessage(f"Signed in as {user}.")
 
         QShortcut(QKeySequence("Escape"), self, presenter.stop)  # STOP from anywhere
+        QShortcut(QKeySequence("Ctrl+Q"), self, self.close)  # sign out and quit
         self._bind()
         self.show_files()
         self.show_busy("")
@@ -192,8 +134,9 @@ class MainWindow(QMainWindow):
         header = QFrame()
         header.setObjectName("header")
         layout = QHBoxLayout(header)
-        layout.setContentsMargins(16, 10, 10, 10)
+        layout.setContentsMargins(14, 4, 6, 4)
         titles = QVBoxLayout()
+        titles.setSpacing(0)
         title = QLabel("MELFA RV-6S")
         title.setObjectName("title")
         sub = QLabel(f"{user} ({role}) on {server}")
@@ -209,19 +152,17 @@ class MainWindow(QMainWindow):
         self.target_box.setCurrentIndex(self.target_box.findData(self.presenter.client.target))
         self.target_box.currentIndexChanged.connect(self._target_chosen)
         layout.addWidget(self.target_box)
-        layout.addSpacing(18)
-        link_caption = QLabel("Robot link")
+        layout.addSpacing(14)
         self.link_pill = QLabel()
         self.link_pill.setObjectName("pill")
         self.link_pill.setAccessibleName("Robot link status")
-        layout.addWidget(link_caption)
         layout.addWidget(self.link_pill)
-        layout.addSpacing(18)
+        layout.addSpacing(14)
         self.stop_button = QPushButton("STOP")
         self.stop_button.setObjectName("stop")
         self.stop_button.setToolTip("Stop the robot now (Esc). Always available.")
         self.stop_button.setAccessibleName("Stop the robot")
-        self.stop_button.setMinimumSize(190, 64)
+        self.stop_button.setMinimumSize(170, 50)
         self.stop_button.setCursor(Qt.CursorShape.PointingHandCursor)
         layout.addWidget(self.stop_button)
         self.show_link(LinkStatus.UNKNOWN, "")
@@ -238,8 +179,8 @@ class MainWindow(QMainWindow):
     def _file_row(
         self, grid: QGridLayout, row: int, kind: FileKind
     ) -> tuple[QLineEdit, QPushButton]:
-        label = QLabel(
-            f"Program ({kind.value}):" if kind is FileKind.PROGRAM else f"Points ({kind.value}):"
+        label = QLabel(  # Alt+P / Alt+O reach the Choose… buttons from the keyboard
+            f"&Program ({kind.value}):" if kind is FileKind.PROGRAM else f"P&oints ({kind.value}):"
         )
         edit = QLineEdit()
         edit.setReadOnly(True)
@@ -256,6 +197,7 @@ class MainWindow(QMainWindow):
     def _program_box(self) -> QGroupBox:
         box = QGroupBox("Program and points")
         layout = QVBoxLayout(box)
+        layout.setSpacing(4)
         grid = QGridLayout()
         grid.setColumnStretch(1, 1)
         self.program_edit, self.program_button = self._file_row(grid, 0, FileKind.PROGRAM)
@@ -263,14 +205,14 @@ class MainWindow(QMainWindow):
         layout.addLayout(grid)
 
         buttons = QHBoxLayout()
-        self.check_button = QPushButton("Check")
+        self.check_button = QPushButton("Chec&k")
         self.check_button.setToolTip("Check the program against the points (sends nothing)")
-        self.load_button = QPushButton("Load into robot")
+        self.load_button = QPushButton("&Load into robot")
         self.load_button.setObjectName("primary")
-        self.load_button.setToolTip("Check, then load program and points into slot 1")
-        self.run_button = QPushButton("▶  Run program")
+        self.load_button.setToolTip("Check, then load the program and its points into the robot")
+        self.run_button = QPushButton("▶  &Run program")
         self.run_button.setObjectName("primary")
-        self.run_button.setToolTip("Run the program loaded in slot 1")
+        self.run_button.setToolTip("Run the program loaded into the robot")
         buttons.addWidget(self.check_button)
         buttons.addStretch(1)
         buttons.addWidget(self.load_button)
@@ -318,7 +260,7 @@ class MainWindow(QMainWindow):
         self.exec_edit = QLineEdit()
         self.exec_edit.setPlaceholderText("A MELFA BASIC statement, e.g. MOV P1 or HOPEN 1")
         self.exec_edit.setAccessibleName("Instruction")
-        self.exec_button = QPushButton("Send")
+        self.exec_button = QPushButton("Se&nd")
         self.exec_button.setObjectName("primary")
         layout.addWidget(self.exec_edit, 1)
         layout.addWidget(self.exec_button)
@@ -326,121 +268,110 @@ class MainWindow(QMainWindow):
 
     def _robot_box(self) -> QGroupBox:
         box = QGroupBox("Robot")
-        form = QFormLayout(box)
-        form.setLabelAlignment(Qt.AlignmentFlag.AlignRight)
-        self.status_values: dict[str, ValueLabel] = {}
-        for key, caption in (
-            ("state", "Program state"),
-            ("program", "Program"),
-            ("line", "Line"),
-            ("servo", "Servo"),
-            ("override", "Override"),
-            ("lease", "Operator"),
-            ("alarm", "Alarm"),
-        ):
-            label = ValueLabel()
-            self.status_values[key] = label
-            if key == "alarm":
-                label.setWordWrap(True)
-                row = QHBoxLayout()
-                row.addWidget(label, 1)
-                self.reset_alarm_button = QPushButton("Reset alarm")
-                self.reset_alarm_button.setToolTip("Clear the controller's error (RSTALRM)")
-                row.addWidget(self.reset_alarm_button)
-                form.addRow(f"{caption}:", row)
-            else:
-                form.addRow(f"{caption}:", label)
+        grid = QGridLayout(box)
+        grid.setHorizontalSpacing(8)
+        grid.setVerticalSpacing(4)
+        grid.setColumnStretch(1, 1)
+        grid.setColumnStretch(3, 1)
+        self.status_values: dict[str, ValueLabel] = {
+            key: ValueLabel() for key in ("activity", "servo", "override", "lease", "alarm")
+        }
+        v = self.status_values
+        v["activity"].setAccessibleName("What the robot does now")
+        v["alarm"].setWordWrap(True)
+        v["alarm"].setMinimumHeight(26)
+        v["lease"].setWordWrap(True)
+
+        def caption(text: str) -> QLabel:
+            label = QLabel(text)
+            label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
+            return label
+
+        grid.addWidget(caption("Now:"), 0, 0)
+        grid.addWidget(v["activity"], 0, 1, 1, 3)
+        grid.addWidget(caption("Servo:"), 1, 0)
+        grid.addWidget(v["servo"], 1, 1)
+        grid.addWidget(caption("Speed:"), 1, 2)
+        grid.addWidget(v["override"], 1, 3)
+        grid.addWidget(caption("Control:"), 2, 0)
+        grid.addWidget(v["lease"], 2, 1, 1, 3)
+        grid.addWidget(caption("Alarm:"), 3, 0)
+        alarm_row = QHBoxLayout()
+        alarm_row.addWidget(v["alarm"], 1)
+        self.alarm_fix_button = QPushButton("Reset alarm")
+        self.alarm_fix_button.setObjectName("fix")
+        self.alarm_fix_button.setVisible(False)
+        alarm_row.addWidget(self.alarm_fix_button)
+        grid.addLayout(alarm_row, 3, 1, 1, 3)
         return box
 
     def _control_box(self) -> QGroupBox:
-        """Servo, speed override and step jog: what the thesis's client lacked."""
+        """Servo, speed override and the hold-to-move jog pad."""
         box = QGroupBox("Servo, speed and jog")
-        grid = QGridLayout(box)
-        grid.setHorizontalSpacing(6)
+        layout = QVBoxLayout(box)
+        layout.setSpacing(4)
+        row = QHBoxLayout()
         self.servo_on_button = QPushButton("Servo on")
         self.servo_off_button = QPushButton("Servo off")
-        grid.addWidget(QLabel("Servo:"), 0, 0)
-        grid.addWidget(self.servo_on_button, 0, 1)
-        grid.addWidget(self.servo_off_button, 0, 2)
+        row.addWidget(QLabel("Servo:"))
+        row.addWidget(self.servo_on_button)
+        row.addWidget(self.servo_off_button)
+        row.addSpacing(16)
         self.override_spin = QSpinBox()
         self.override_spin.setRange(1, 100)
         self.override_spin.setValue(30)
         self.override_spin.setSuffix(" %")
-        self.override_button = QPushButton("Apply")
-        grid.addWidget(QLabel("Override:"), 1, 0)
-        grid.addWidget(self.override_spin, 1, 1)
-        grid.addWidget(self.override_button, 1, 2)
-        self.jog_frame = QComboBox()
-        for text, value in (("Base XYZ", "xyz"), ("Tool", "tool"), ("Joints", "joint")):
-            self.jog_frame.addItem(text, value)
-        grid.addWidget(QLabel("Jog frame:"), 2, 0)
-        grid.addWidget(self.jog_frame, 2, 1, 1, 2)
-        self.jog_buttons: dict[tuple[int, int], QPushButton] = {}
-        row = QHBoxLayout()
-        for axis in range(3):
-            for direction in (-1, 1):
-                button = QPushButton()
-                button.setMinimumWidth(44)
-                self.jog_buttons[(axis, direction)] = button
-                row.addWidget(button)
-        grid.addLayout(row, 3, 0, 1, 3)
-        self._label_jog()
+        self.override_spin.setAccessibleName("Speed override")
+        self.override_button = QPushButton("Set speed")
+        row.addWidget(QLabel("Speed:"))
+        row.addWidget(self.override_spin)
+        row.addWidget(self.override_button)
+        row.addStretch(1)
+        layout.addLayout(row)
+        p = self.presenter
+        self.jog_pad = JogPad(p.jog_press, p.jog_release, p.jog)
+        layout.addWidget(self.jog_pad)
         return box
-
-    def _label_jog(self) -> None:
-        joint = self.jog_frame.currentData() == "joint"
-        for (axis, direction), button in self.jog_buttons.items():
-            name = f"J{axis + 1}" if joint else "XYZ"[axis]
-            button.setText(f"{name}{'+' if direction > 0 else '−'}")
-            button.setToolTip(f"One step {name} {'+' if direction > 0 else '-'}")
 
     def _position_box(self) -> QGroupBox:
         box = QGroupBox("Current position")
         grid = QGridLayout(box)
-        grid.setHorizontalSpacing(8)
-        grid.setVerticalSpacing(6)
-        caption_pose = QLabel("Tool pose")
-        caption_joints = QLabel("Joints")
-        for caption in (caption_pose, caption_joints):
-            caption.setObjectName("muted")
-        grid.addWidget(caption_pose, 0, 0, 1, 3)
-        grid.addWidget(caption_joints, 0, 4, 1, 3)
+        grid.setHorizontalSpacing(4)
+        grid.setVerticalSpacing(2)
         self.pose_values: list[ValueLabel] = []
         self.joint_values: list[ValueLabel] = []
-        for i, (pose_name, joint_name) in enumerate(zip(POSE_NAMES, JOINT_NAMES, strict=True)):
-            row = i + 1
-            pose_value = ValueLabel(mono=True)
-            pose_value.setAccessibleName(f"Pose {pose_name}")
-            joint_value = ValueLabel(mono=True)
-            joint_value.setAccessibleName(f"Joint {joint_name}")
-            self.pose_values.append(pose_value)
-            self.joint_values.append(joint_value)
-            unit = QLabel("mm" if i < 3 else "°")
-            unit.setObjectName("unit")
-            junit = QLabel("°")
-            junit.setObjectName("unit")
-            grid.addWidget(QLabel(f"<b>{pose_name}</b>"), row, 0)
-            grid.addWidget(pose_value, row, 1)
-            grid.addWidget(unit, row, 2)
-            grid.addWidget(QLabel(f"<b>{joint_name}</b>"), row, 4)
-            grid.addWidget(joint_value, row, 5)
-            grid.addWidget(junit, row, 6)
-        grid.setColumnMinimumWidth(3, 18)
-        grid.setColumnStretch(1, 1)
-        grid.setColumnStretch(5, 1)
+        for row, (caption, names, values) in enumerate(
+            (
+                ("Hand (mm, °)", POSE_NAMES, self.pose_values),
+                ("Joints (°)", JOINT_NAMES, self.joint_values),
+            )
+        ):
+            label = QLabel(caption)
+            label.setObjectName("muted")
+            grid.addWidget(label, 2 * row + 1, 0)
+            for i, name in enumerate(names):
+                head = QLabel(f"<b>{name}</b>")
+                head.setAlignment(Qt.AlignmentFlag.AlignCenter)
+                grid.addWidget(head, 2 * row, i + 1)
+                value = ValueLabel(mono=True)
+                value.setAccessibleName(f"{caption.split()[0]} {name}")
+                values.append(value)
+                grid.addWidget(value, 2 * row + 1, i + 1)
+                grid.setColumnStretch(i + 1, 1)
         self.flags_label = QLabel("Flags: —")
         self.flags_label.setObjectName("muted")
-        grid.addWidget(self.flags_label, 7, 0, 1, 7)
+        grid.addWidget(self.flags_label, 4, 0, 1, 7)
         return box
 
     def _log_box(self) -> QGroupBox:
-        box = QGroupBox("Activity")
+        box = QGroupBox("Activity of this session")
         layout = QVBoxLayout(box)
+        layout.setContentsMargins(6, 4, 6, 4)
         self.log = QPlainTextEdit()
         self.log.setReadOnly(True)
         self.log.setMaximumBlockCount(LOG_LINES)
-        self.log.setFont(QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont))
-        self.log.setFixedHeight(80)
+        self.log.setAccessibleName("Activity log: time, action, result")
+        self.log.setFixedHeight(96)
         self.log.setSizePolicy(QSizePolicy.Policy.Expanding, QSizePolicy.Policy.Fixed)
         layout.addWidget(self.log)
         return box
@@ -455,18 +386,21 @@ class MainWindow(QMainWindow):
         self.check_button.clicked.connect(p.check)
         self.load_button.clicked.connect(p.load)
         self.run_button.clicked.connect(p.run)
-        self.reset_alarm_button.clicked.connect(p.reset_alarm)
+        # Running: show the program, where the running line is marked.
+        self.run_button.clicked.connect(lambda: self.tabs.setCurrentWidget(self.program_view))
+        self.alarm_fix_button.clicked.connect(self._fix_alarm)
         self.exec_button.clicked.connect(self._send_exec)
         self.exec_edit.returnPressed.connect(self._send_exec)
         self.servo_on_button.clicked.connect(lambda: p.servo(True))
         self.servo_off_button.clicked.connect(lambda: p.servo(False))
         self.override_button.clicked.connect(lambda: p.set_override(self.override_spin.value()))
-        self.jog_frame.currentIndexChanged.connect(self._label_jog)
-        for (axis, direction), button in self.jog_buttons.items():
-            button.clicked.connect(
-                lambda _=False, a=axis, d=direction: p.jog(self.jog_frame.currentData(), a, d)
-            )
+        self.installEventFilter(self.jog_pad)  # a deactivated window stops the jog
         p.attach(self)
+
+    def _fix_alarm(self) -> None:
+        state = self.presenter.state
+        if state is not None and state.alarm is not None and state.alarm.fix is not None:
+            self.presenter.apply_fix(state.alarm.fix)
 
     def choose(self, kind: FileKind) -> None:
         title = "Choose a program" if kind is FileKind.PROGRAM else "Choose a points file"
@@ -478,8 +412,8 @@ class MainWindow(QMainWindow):
         if self.presenter.exec_statement(self.exec_edit.text()):
             self.exec_edit.selectAll()
 
-    def show_notice(self, notice: Notice) -> None:
-        self.dialogs.show(notice, self)
+    def show_notice(self, notice: Notice, on_fix: Callable[[], object] | None = None) -> None:
+        self.dialogs.show(notice, self, on_fix)
 
     def show_files(self) -> None:
         p = self.presenter
@@ -492,10 +426,10 @@ class MainWindow(QMainWindow):
                 edit.setToolTip("")
                 view.clear()
                 continue
-            lines = chosen.text.count("\n") + (not chosen.text.endswith("\n"))
-            edit.setText(f"{chosen.path.name}   ({lines} lines, in {chosen.path.parent})")
+            lines = len(chosen.text.splitlines())
+            edit.setText(f"{chosen.path.name}  ·  {count(lines, 'line')}")
             edit.setCursorPosition(0)
-            edit.setToolTip(str(chosen.path))
+            edit.setToolTip(str(chosen.path))  # the whole path on hover, never clipped
             if view.toPlainText() != chosen.text:
                 view.setPlainText(chosen.text)
                 self.tabs.setCurrentWidget(view)  # show what was just chosen
@@ -509,18 +443,35 @@ class MainWindow(QMainWindow):
             self.points_button,
             self.run_button,
             self.exec_button,
-            self.reset_alarm_button,
+            self.alarm_fix_button,
             self.servo_on_button,
             self.servo_off_button,
             self.override_button,
-            *self.jog_buttons.values(),
         ):
             button.setEnabled(idle)
+        self.jog_pad.set_buttons_enabled(idle)
         self.check_button.setEnabled(idle and has_program)
         self.load_button.setEnabled(idle and has_program)
         self.stop_button.setEnabled(True)  # never disabled
         if what:
             self.statusBar().showMessage(f"{what}…")
+
+    def show_progress(self, percent: int | None) -> None:
+        self.progress.setVisible(percent is not None)
+        if percent is not None:
+            self.progress.setValue(percent)
+
+    def show_jog(self, held: JogKey | None) -> None:
+        for (slot, direction), button in self.jog_pad.buttons.items():
+            down = held is not None and (
+                self.jog_pad.axis_of(slot) == held.axis and direction == held.direction
+            )
+            set_level(button, "held" if down else "")
+            button.setDown(down)
+        if held is not None:
+            self.statusBar().showMessage(
+                f"Jogging {jog_label(held.frame, held.axis, held.direction)}: let go to stop."
+            )
 
     def show_check(self, result: CheckResult) -> None:
         self.diagnostics.clear()
@@ -545,56 +496,72 @@ class MainWindow(QMainWindow):
         self.check_label.setText(
             "Check results: no findings"
             if not total
-            else f"Check results: {errors} error(s), {total - errors} warning(s)/note(s)"
+            else f"Check results: {count(errors, 'error')}, "
+            f"{count(total - errors, 'warning or note')}"
         )
 
     def show_link(self, status: LinkStatus, detail: str) -> None:
-        level, text = LINK_STYLE[status]
-        self.link_pill.setText(text)
-        self.link_pill.setToolTip(detail or text)
-        self.link_pill.setProperty("level", level)
-        self.link_pill.style().unpolish(self.link_pill)
-        self.link_pill.style().polish(self.link_pill)
+        self.link_pill.setText(LINK_WORDS[status])
+        self.link_pill.setToolTip(detail or LINK_WORDS[status])
+        set_level(self.link_pill, LINK_LEVEL[status])
 
     def show_feed(self, status: FeedStatus, detail: str) -> None:
-        self.feed_label.setText(f"Live feed: {status.value}")
+        self.feed_label.setText(FEED_WORDS[status])
         self.feed_label.setToolTip(detail)
 
     def show_state(self, state: RobotState) -> None:
         for labels, values in ((self.pose_values, state.pose), (self.joint_values, state.joints)):
             for i, label in enumerate(labels):
-                label.setText(_fmt(values[i]) if values and i < len(values) else "—")
+                label.setText(fmt_number(values[i]) if values and i < len(values) else "—")
         flags = state.flags
         self.flags_label.setText(
-            f"Flags: ({flags[0]}, {flags[1]})" if flags and len(flags) >= 2 else "Flags: —"
+            f"Flags (FL1, FL2): ({flags[0]}, {flags[1]})"
+            if flags and len(flags) >= 2
+            else "Flags: —"
         )
         v = self.status_values
-        if state.running is None:
-            v["state"].setText("—")
-        else:
-            v["state"].setText("Running" if state.running else "Stopped")
-        if state.busy:
-            v["state"].setText(f"Busy: {state.busy}")
-        level = "running" if state.running else ("alarm" if state.alarm else "")
-        if v["state"].property("level") != level:
-            v["state"].setProperty("level", level)
-            v["state"].style().unpolish(v["state"])
-            v["state"].style().polish(v["state"])
-        v["program"].setText(state.program or "—")
-        # The line of the student's file (the server maps the controller's step numbers).
-        upload = self.presenter.last_upload
-        source = upload.step_lines.get(state.line) if upload and state.line else None
-        if state.line is None or not state.line:
-            v["line"].setText("—")
-        elif source is not None:
-            v["line"].setText(f"{source} (step {state.line})")
-        else:
-            v["line"].setText(f"step {state.line}")
-        v["servo"].setText(_yes_no(state.servo))
+        loaded = self.presenter.loaded
+        v["activity"].setText(activity_text(state, loaded))
+        activity = state.activity or ("running" if state.running else "idle")
+        set_level(v["activity"], ACTIVITY_LEVEL.get(activity, "busy"))
+        v["servo"].setText(on_off(state.servo))
         v["override"].setText("—" if state.override is None else f"{state.override} %")
-        v["alarm"].setText(f"{state.alarm.number}: {state.alarm.text}" if state.alarm else "None")
-        v["alarm"].setToolTip(v["alarm"].text())  # never clipped: the whole text on hover
-        v["lease"].setText(state.lease_holder or "Nobody")
+        if state.override is not None and not self.override_spin.hasFocus():
+            self.override_spin.setValue(state.override)  # what the robot has, until edited
+        holder = state.lease_holder
+        if holder is None:
+            v["lease"].setText("Free: your first command takes it")
+        elif holder == self.presenter.me:
+            v["lease"].setText("You")
+        else:
+            v["lease"].setText(holder + (f" — {state.lease_state}" if state.lease_state else ""))
+        alarm = state.alarm
+        v["alarm"].setText(alarm.said if alarm else "None")
+        v["alarm"].setToolTip(alarm.said if alarm else "")
+        set_level(v["alarm"], "alarm" if alarm else "")
+        fix = alarm.fix if alarm and alarm.fix in FIXES_OFFERED else None
+        self.alarm_fix_button.setVisible(fix is not None)
+        if fix is not None:
+            self.alarm_fix_button.setText(FIX_LABELS[fix])
+        self._mark_line(state)
+
+    def _mark_line(self, state: RobotState) -> None:
+        """Highlight the running (or paused) line in the program, when it is the loaded file."""
+        p = self.presenter
+        shows = state.activity in ("running", "paused") or bool(state.running and state.line)
+        line = file_line(state.line, p.loaded) if shows else None
+        same_file = p.loaded is not None and p.program is not None
+        same_file = same_file and p.program.path.name == p.loaded.name  # type: ignore[union-attr]
+        selections: list[QTextEdit.ExtraSelection] = []
+        if line is not None and same_file:
+            block = self.program_view.document().findBlockByNumber(line - 1)
+            if block.isValid():
+                mark = QTextEdit.ExtraSelection()
+                mark.format.setBackground(QColor("#fff59d"))
+                mark.format.setProperty(QTextFormat.Property.FullWidthSelection, True)
+                mark.cursor = QTextCursor(block)
+                selections.append(mark)
+        self.program_view.setExtraSelections(selections)
 
     def append_log(self, line: str) -> None:
         self.log.appendPlainText(line)

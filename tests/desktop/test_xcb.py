@@ -1,0 +1,292 @@
+"""The real client on a real X display: `melfa desktop` (Qt's xcb platform) on Debian's Xvfb
+at 1366×700, driven by real key events from xdotool, against the served virtual robot.
+
+A user's whole first run, by keyboard: the password typed into the sign-in dialog, the
+program and points chosen in Qt's real file dialogs, Load, Run (the running line of the
+file on screen), STOP with Esc, then a jog with W held down (xdotool keydown … keyup): the
+arm moves while the key is held and stops when it is let go; Esc stops a jog whose key is
+still down. A second session of the same user watches the robot through the API, so each
+step is proven on the robot, not on the screen. The screenshot in docs/desktop.png is this
+window (MELFA_DESKTOP_SCREENSHOT=docs/desktop.png saves it there).
+
+Xvfb and xdotool are Debian packages `scripts/setup` installs when run as root (CI does);
+without them these tests skip and say so.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import pytest
+
+from melfa.desktop.api import ApiClient
+from tests.desktop.conftest import EXAMPLES, Server
+
+XVFB = shutil.which("Xvfb")
+XDOTOOL = shutil.which("xdotool")
+pytestmark = [
+    pytest.mark.skipif(
+        XVFB is None or XDOTOOL is None,
+        reason="needs Debian's xvfb and xdotool (scripts/setup installs them as root)",
+    ),
+]
+pytest.importorskip("PySide6.QtWidgets", reason="the desktop extra (PySide6) is not installed")
+
+WIDTH, HEIGHT = 1366, 700
+LOOP = "100 SERVO ON\n110 OVRD 30\n120 *LOOP\n130 MOV Pa\n140 MOV Pb\n150 GOTO *LOOP\n"
+"""Numbered from 100, so the running steps (130, 140) prove this program was loaded."""
+
+
+def wait_for(condition: Callable[[], object], what: str, timeout: float = 30.0) -> None:
+    """Poll ``condition`` (a generous bound, not a timing test)."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.05)
+
+
+@pytest.fixture(scope="module")
+def display() -> Iterator[dict[str, str]]:
+    """A fresh Xvfb screen of 1366×700 at 96 dpi; the environment that uses it."""
+    read_fd, write_fd = os.pipe()
+    assert XVFB is not None
+    proc = subprocess.Popen(
+        [XVFB, "-displayfd", str(write_fd), "-screen", "0", f"{WIDTH}x{HEIGHT}x24", "-dpi", "96"],
+        pass_fds=(write_fd,),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    os.close(write_fd)
+    with os.fdopen(read_fd) as pipe:
+        number = pipe.readline().strip()  # Xvfb writes the display it took once it listens
+    if not number:
+        proc.kill()
+        pytest.fail("Xvfb did not start")
+    env = {k: v for k, v in os.environ.items() if k not in ("QT_QPA_PLATFORM", "WAYLAND_DISPLAY")}
+    env.update(DISPLAY=f":{number}", QT_QPA_PLATFORM="xcb")
+    try:
+        yield env
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+class Desktop:
+    """The `melfa desktop` process and the keyboard xdotool types on."""
+
+    def __init__(self, env: dict[str, str], proc: subprocess.Popen[bytes], log: Path) -> None:
+        self.env = env
+        self.proc = proc
+        self.log = log
+
+    def xdo(self, *args: str) -> str:
+        assert XDOTOOL is not None
+        done = subprocess.run(
+            [XDOTOOL, *args], env=self.env, capture_output=True, text=True, timeout=30
+        )
+        return done.stdout.strip()
+
+    def windows(self, name: str) -> list[str]:
+        return self.xdo("search", "--onlyvisible", "--name", name).split()
+
+    def focus(self, name: str, timeout: float = 30.0) -> str:
+        """The window whose title matches ``name``, once shown; it gets the keyboard."""
+
+        def shown() -> bool:
+            assert self.proc.poll() is None, self.log.read_text()
+            return bool(self.windows(name))
+
+        wait_for(shown, f"a window named {name!r}", timeout)
+        window = self.windows(name)[-1]
+        self.xdo("windowfocus", "--sync", window)
+        return window
+
+    def key(self, *keys: str) -> None:
+        self.xdo("key", "--clearmodifiers", *keys)
+
+    def type(self, text: str) -> None:
+        self.xdo("type", "--delay", "15", text)
+
+    def choose_file(self, shortcut: str, title: str, name: str) -> None:
+        """Alt+P / Alt+O, then the file's name typed into Qt's file dialog and Enter."""
+        self.focus("melfa desktop")
+        self.key(shortcut)
+        self.focus(title)
+        self.type(name)
+        for _ in range(3):  # a first Enter may only accept the completer's suggestion
+            self.key("Return")
+            try:
+                wait_for(lambda: not self.windows(title), f"{title} to close", 3)
+                return
+            except AssertionError:
+                continue
+        raise AssertionError(f"the file dialog {title!r} did not take {name}")
+
+
+@pytest.fixture(scope="module")
+def desktop(
+    display: dict[str, str], server: Server, tmp_path_factory: pytest.TempPathFactory
+) -> Iterator[Desktop]:
+    """`melfa desktop --server … --user admin`, started in a folder with the files."""
+    folder = tmp_path_factory.mktemp("xcb-files")
+    shutil.copy(EXAMPLES / "sample.POS", folder / "sample.POS")
+    (folder / "loop.MB4").write_text(LOOP)
+    log = folder / "desktop.log"
+    with log.open("wb") as out:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "melfa", "desktop", "--server", server.url, "--user", "admin"],
+            cwd=folder,  # the file dialog opens here
+            env=display,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+        )
+    desk = Desktop(display, proc, log)
+    try:
+        yield desk
+    finally:
+        if proc.poll() is None:
+            proc.terminate()
+            proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def observer(server: Server) -> ApiClient:
+    """The same user's second session: proof that each step reached the robot."""
+    client = ApiClient(server.url)
+    client.login("admin", server.password)
+    return client
+
+
+def audited(observer: ApiClient, action: str) -> list[dict[str, object]]:
+    reply = observer._call("GET", f"/api/audit?action={action}&limit=20")
+    return list(reply["entries"])
+
+
+def still(observer: ApiClient) -> bool:
+    state = observer.state()
+    idle = state.activity in ("idle", "paused")
+    return not state.moving and not state.running and not state.jogging and idle
+
+
+def grab_screen(env: dict[str, str], target: Path) -> None:
+    """The X screen as the user sees it, read back from the X server by Qt (xcb)."""
+    code = (
+        "import sys\nfrom PySide6.QtGui import QGuiApplication\n"
+        "app = QGuiApplication(sys.argv[:1])\n"
+        "assert app.primaryScreen().grabWindow(0).save(sys.argv[1])\n"
+    )
+    subprocess.run([sys.executable, "-c", code, str(target)], env=env, check=True, timeout=60)
+
+
+def sign_in_by_typing_the_password(desktop: Desktop, server: Server) -> None:
+    desktop.focus("Sign in")
+    desktop.type(server.password)  # the dialog starts in the password box (--user given)
+    desktop.key("Return")
+    window = desktop.focus("melfa desktop")
+    geometry = desktop.xdo("getwindowgeometry", window)
+    assert f"Geometry: {WIDTH}x{HEIGHT}" in geometry  # fills a 1366×700 screen, no larger
+    assert not desktop.windows("Sign in")
+
+
+def choose_load_and_run_by_keyboard(desktop: Desktop, observer: ApiClient, shot: Path) -> None:
+    loads_before = len(audited(observer, "robot.load_project"))
+    desktop.choose_file("alt+p", "Choose a program", "loop.MB4")
+    desktop.choose_file("alt+o", "Choose a points file", "sample.POS")
+    desktop.focus("melfa desktop")
+    desktop.key("alt+l")  # Load into robot
+
+    def loaded() -> bool:
+        entries = audited(observer, "robot.load_project")
+        return len(entries) > loads_before and entries[0]["result"] == "ok"
+
+    wait_for(loaded, "the load to be audited as done", 120)
+    desktop.key("alt+r")  # Run program
+    wait_for(lambda: observer.state().running is True, "the program to run")
+    wait_for(lambda: observer.state().line in (130, 140), "the loop's moves")
+    # The screenshot (docs/desktop.png): mid-run, the running line of loop.MB4 on screen.
+    wait_for(lambda: observer.state().line == 140, "the move to Pb")
+    grab_screen(desktop.env, shot)
+    assert shot.stat().st_size > 20_000
+
+
+def escape_is_stop(desktop: Desktop, observer: ApiClient) -> None:
+    assert observer.state().running is True
+    desktop.focus("melfa desktop")
+    desktop.key("Escape")
+    wait_for(lambda: observer.state().running is False, "STOP to stop the program")
+    wait_for(lambda: still(observer), "the arm to stand still")
+
+
+def pose(observer: ApiClient) -> tuple[float, ...]:
+    value = observer.state().pose
+    assert value is not None
+    return value
+
+
+def stays_put(observer: ApiClient) -> None:
+    """Still, and the pose unchanged over several fresh snapshots (0.2 mm: the computed and
+    the controller's rounded pose differ by ~0.06 mm; a jog moves far more). Snapshots
+    taken after the release first: one from before it may not show the arm moving yet."""
+    seq = observer.state().seq
+    wait_for(lambda: observer.state().seq >= seq + 5 and still(observer), "a still arm")
+    before, seq = pose(observer), observer.state().seq
+    wait_for(lambda: observer.state().seq >= seq + 5, "fresh snapshots")
+    after = pose(observer)
+    assert max(abs(a - b) for a, b in zip(before, after, strict=True)) < 0.2, (before, after)
+
+
+def a_held_w_key_jogs_only_while_held(desktop: Desktop, observer: ApiClient) -> None:
+    desktop.focus("melfa desktop")
+    desktop.key("alt+j")  # the jog pad takes the keyboard
+    start = pose(observer)
+    desktop.xdo("keydown", "w")
+    try:
+        wait_for(lambda: observer.state().jogging, "the jog to start while W is held")
+        wait_for(lambda: pose(observer)[0] > start[0] + 5, "X to grow while W is held")
+        assert observer.state().jogging  # still held: still jogging (auto-repeat ignored)
+    finally:
+        desktop.xdo("keyup", "w")
+    wait_for(lambda: not observer.state().jogging, "the jog to end when W is let go")
+    stays_put(observer)
+    assert pose(observer)[0] > start[0] + 5
+
+
+def escape_stops_a_jog_whose_key_is_still_down(desktop: Desktop, observer: ApiClient) -> None:
+    desktop.focus("melfa desktop")
+    desktop.key("alt+j")
+    desktop.xdo("keydown", "s")
+    try:
+        wait_for(lambda: observer.state().jogging, "the jog to start while S is held")
+        desktop.key("Escape")  # STOP, with S still down
+        wait_for(lambda: not observer.state().jogging, "STOP to end the jog")
+        stays_put(observer)
+    finally:
+        desktop.xdo("keyup", "s")
+
+
+def test_a_first_run_by_keyboard_on_a_real_display(
+    desktop: Desktop, server: Server, observer: ApiClient, tmp_path: Path
+) -> None:
+    """One user's session in order (each step needs the one before it)."""
+    if observer.state().alarm is not None:  # left by another test: arrange a clean start
+        observer.reset_alarm()
+    wait_for(lambda: still(observer), "the robot to be still")
+    sign_in_by_typing_the_password(desktop, server)
+    shot = Path(os.environ.get("MELFA_DESKTOP_SCREENSHOT") or tmp_path / "desktop.png")
+    choose_load_and_run_by_keyboard(desktop, observer, shot)
+    escape_is_stop(desktop, observer)
+    a_held_w_key_jogs_only_while_held(desktop, observer)
+    escape_stops_a_jog_whose_key_is_still_down(desktop, observer)
+    # Ctrl+Q signs out and quits cleanly.
+    desktop.focus("melfa desktop")
+    desktop.key("ctrl+q")
+    assert desktop.proc.wait(timeout=30) == 0
+    log = desktop.log.read_text(errors="replace")
+    assert "Traceback" not in log, log
