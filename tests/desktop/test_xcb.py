@@ -19,7 +19,6 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -27,6 +26,7 @@ import pytest
 
 from melfa.desktop.api import ApiClient
 from tests.desktop.conftest import EXAMPLES, Server
+from tests.waiting import wait_until
 
 XVFB = shutil.which("Xvfb")
 XDOTOOL = shutil.which("xdotool")
@@ -44,12 +44,8 @@ LOOP = "100 SERVO ON\n110 OVRD 30\n120 *LOOP\n130 MOV Pa\n140 MOV Pb\n150 GOTO *
 
 
 def wait_for(condition: Callable[[], object], what: str, timeout: float = 30.0) -> None:
-    """Poll ``condition`` (a generous bound, not a timing test)."""
-    deadline = time.monotonic() + timeout
-    while not condition():
-        if time.monotonic() > deadline:
-            raise AssertionError(f"timed out waiting for {what}")
-        time.sleep(0.05)
+    """`tests.waiting.wait_until` with the thing awaited first (it reads better here)."""
+    wait_until(condition, timeout, what)
 
 
 @pytest.fixture(scope="module")
