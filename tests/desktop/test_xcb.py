@@ -117,9 +117,11 @@ class Desktop:
         self.focus(title)
         self.type(name)
         for _ in range(3):  # a first Enter may only accept the completer's suggestion
+            if not self.windows(title):
+                return
             self.key("Return")
             try:
-                wait_for(lambda: not self.windows(title), f"{title} to close", 3)
+                wait_for(lambda: not self.windows(title), f"{title} to close", 10)
                 return
             except AssertionError:
                 continue
@@ -274,12 +276,19 @@ def test_a_first_run_by_keyboard_on_a_real_display(
     if observer.state().alarm is not None:  # left by another test: arrange a clean start
         observer.reset_alarm()
     wait_for(lambda: still(observer), "the robot to be still")
-    sign_in_by_typing_the_password(desktop, server)
     shot = Path(os.environ.get("MELFA_DESKTOP_SCREENSHOT") or tmp_path / "desktop.png")
-    choose_load_and_run_by_keyboard(desktop, observer, shot)
-    escape_is_stop(desktop, observer)
-    a_held_w_key_jogs_only_while_held(desktop, observer)
-    escape_stops_a_jog_whose_key_is_still_down(desktop, observer)
+    try:
+        sign_in_by_typing_the_password(desktop, server)
+        choose_load_and_run_by_keyboard(desktop, observer, shot)
+        escape_is_stop(desktop, observer)
+        a_held_w_key_jogs_only_while_held(desktop, observer)
+        escape_stops_a_jog_whose_key_is_still_down(desktop, observer)
+    except AssertionError as exc:  # what the screen showed, for whoever reads the failure
+        seen = tmp_path / "failed.png"
+        if desktop.proc.poll() is None:
+            grab_screen(desktop.env, seen)
+        log = desktop.log.read_text(errors="replace")[-2000:]
+        raise AssertionError(f"{exc} (screen: {seen}; client output: {log!r})") from exc
     # Ctrl+Q signs out and quits cleanly.
     desktop.focus("melfa desktop")
     desktop.key("ctrl+q")
