@@ -80,7 +80,8 @@ _BINARY: dict[str, tuple[int, A.BinaryOp]] = {
     # 11: unary + -
     "^": (12, A.BinaryOp.POW),
 }
-_new_tuple = tuple.__new__  # builds a Span from a slice without NamedTuple.__new__
+# Builds a Span from a tuple without NamedTuple.__new__ (half the cost; a Span per node).
+_new_tuple = tuple.__new__
 _PREC_NOT_OPERAND = 5
 MAX_EXPR_DEPTH = 64  # nested operators/parentheses; far beyond a 127-character step
 _PREC_UNARY_OPERAND = 12
@@ -197,6 +198,13 @@ class _LineParser:
         self.labels = labels  # labels jumped to anywhere in the file (for bare-word hints)
         self.depth = 0  # expression nesting, bounded so deep input cannot exhaust the stack
 
+    def reset(self, toks: list[Token]) -> None:
+        """Ready for another line (cheaper than a new parser per line)."""
+        self.toks = toks
+        self.i = 0
+        self.issues = []
+        self.depth = 0
+
     # ------------------------------------------------------------------ token helpers
 
     def peek(self, k: int = 0) -> Token:
@@ -229,7 +237,7 @@ class _LineParser:
         last = self.toks[self.i - 1] if self.i > 0 else start
         if last.column < start.column:
             last = start
-        return A.Span(start.line, start.column, last.line, last.end_column)
+        return _new_tuple(A.Span, (start.line, start.column, last.line, last.end_column))
 
     @staticmethod
     def tok_span(tok: Token) -> A.Span:
@@ -335,7 +343,9 @@ class _LineParser:
             operand = self.expr(_PREC_NOT_OPERAND)
             left = A.Unary(A.UnaryOp.NOT, operand, self.last_span(tok))
         else:
-            left = self.postfix(self.primary())
+            left = self.primary()
+            if self.toks[self.i].kind is K.DOT_ELEMENT:  # `P1.X` (most values have no dot)
+                left = self.postfix(left)
         binary = _BINARY
         while True:
             tok = self.toks[self.i]
@@ -356,7 +366,7 @@ class _LineParser:
                 op2,
                 left,
                 right,
-                A.Span(start.line, start.column, end.end_line, end.end_column),
+                _new_tuple(A.Span, (start.line, start.column, end.end_line, end.end_column)),
                 tok.text.upper(),
             )
         self.depth -= 1
@@ -380,7 +390,9 @@ class _LineParser:
                     replacement=f".{guess}" if guess else None,
                 ) from None
             s = base.span
-            base = A.Element(base, element, A.Span(s.line, s.column, tok.line, tok.end_column))
+            base = A.Element(
+                base, element, _new_tuple(A.Span, (s.line, s.column, tok.line, tok.end_column))
+            )
         return base
 
     def args(self, close_context: str) -> tuple[A.Expr, ...]:
@@ -398,25 +410,30 @@ class _LineParser:
             return tuple(items)
 
     def primary(self) -> A.Expr:
+        # A value's token is never the end of the line, so its span is fields 2..5 of it.
         tok = self.toks[self.i]
         kind = tok.kind
         if kind is K.INTEGER or kind is K.LINE_NUMBER:
             self.i += 1
-            return A.Number(_to_int(tok.text), A.NumberKind.INTEGER, tok.text, self.tok_span(tok))
+            return A.Number(
+                _to_int(tok.text), A.NumberKind.INTEGER, tok.text, _new_tuple(A.Span, tok[2:6])
+            )
         if kind is K.REAL:
             self.i += 1
-            return A.Number(float(tok.text), A.NumberKind.REAL, tok.text, self.tok_span(tok))
+            return A.Number(
+                float(tok.text), A.NumberKind.REAL, tok.text, _new_tuple(A.Span, tok[2:6])
+            )
         if kind is K.HEX or kind is K.BIN:
             self.i += 1
             nk = A.NumberKind.HEX if kind is K.HEX else A.NumberKind.BIN
             value = _to_int(tok.text[2:], 16 if kind is K.HEX else 2)
-            return A.Number(value, nk, tok.text, self.tok_span(tok))
+            return A.Number(value, nk, tok.text, _new_tuple(A.Span, tok[2:6]))
         if kind is K.STRING:
             self.i += 1
-            return A.String(tok.text[1:-1], self.tok_span(tok))
+            return A.String(tok.text[1:-1], _new_tuple(A.Span, tok[2:6]))
         if kind is K.IDENT:
             self.i += 1
-            name = A.Name(tok.text.upper(), self.tok_span(tok), tok.text)
+            name = A.Name(tok.text.upper(), _new_tuple(A.Span, tok[2:6]), tok.text)
             if self.toks[self.i].kind is K.LPAREN:
                 self.i += 1
                 args = self.args(f"to close {tok.text}(")
@@ -517,10 +534,10 @@ class _LineParser:
         tok = self.toks[self.i]
         if tok.kind is K.LABEL:
             self.i += 1
-            return A.LabelRef(tok.text[1:].upper(), self.tok_span(tok), tok.text[1:])
+            return A.LabelRef(tok.text[1:].upper(), _new_tuple(A.Span, tok[2:6]), tok.text[1:])
         if tok.kind is K.INTEGER:
             self.i += 1
-            return A.LineRef(_to_int(tok.text), self.tok_span(tok))
+            return A.LineRef(_to_int(tok.text), _new_tuple(A.Span, tok[2:6]))
         if tok.kind is K.IDENT:
             raise self.fail(
                 tok,
@@ -650,7 +667,7 @@ class _LineParser:
                 )
             raise self.fail(tok, f"Expected a variable, found {_describe(tok)}")
         self.i += 1
-        name = A.Name(tok.text.upper(), self.tok_span(tok), tok.text)
+        name = A.Name(tok.text.upper(), _new_tuple(A.Span, tok[2:6]), tok.text)
         target: A.AssignTarget = name
         if self.at_kind(K.LPAREN):
             self.advance()
@@ -716,6 +733,8 @@ class _LineParser:
     # movement ---------------------------------------------------------------------
 
     def move_tail(self) -> tuple[A.MoveType | None, A.Appended | None]:
+        if self.toks[self.i].kind in _END_KINDS:  # the usual case: nothing after the target
+            return None, None
         mtype = None
         if self.at_word("TYPE"):
             t = self.advance()
@@ -1401,7 +1420,7 @@ class _Labels:
 
 def parse_tokens(tokens: list[Token]) -> A.Program:
     """Build the tree from `tokenize` output (so callers that already lexed need not relex)."""
-    labels = _Labels(tokens)
+    parser = _LineParser([], _Labels(tokens))  # one for every line: see `_LineParser.reset`
     kinds = list(map(itemgetter(0), tokens))
     newline = K.NEWLINE
     lines: list[A.Line] = []
@@ -1413,30 +1432,30 @@ def parse_tokens(tokens: list[Token]) -> A.Program:
             j = kinds.index(newline, i)
         except ValueError:
             j = last
-        lines.append(_parse_line(tokens, i, j, labels))
+        lines.append(_parse_line(tokens, i, j, parser))
         if j == last:
             break
         i = j + 1
     return A.Program(tuple(lines))
 
 
-def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
+def _parse_line(tokens: list[Token], i: int, j: int, parser: _LineParser) -> A.Line:
     end_tok = tokens[j]
     lineno = end_tok.line
-    span = A.Span(lineno, 1, lineno, end_tok.column)
+    span = _new_tuple(A.Span, (lineno, 1, lineno, end_tok.column))
     number = label = label_text = comment = None
     number_span = label_span = None
     k = i
     if k < j and tokens[k].kind is K.LINE_NUMBER:
         tok = tokens[k]
         number = _to_int(tok.text)
-        number_span = A.Span(lineno, tok.column, lineno, tok.end_column)
+        number_span = _new_tuple(A.Span, (lineno, tok.column, lineno, tok.end_column))
         k += 1
     if k < j and tokens[k].kind is K.LABEL:
         tok = tokens[k]
         label_text = tok.text[1:]
         label = label_text.upper()
-        label_span = A.Span(lineno, tok.column, lineno, tok.end_column)
+        label_span = _new_tuple(A.Span, (lineno, tok.column, lineno, tok.end_column))
         k += 1
     stop = j
     if stop > k and tokens[stop - 1].kind is K.COMMENT:
@@ -1445,7 +1464,7 @@ def _parse_line(tokens: list[Token], i: int, j: int, labels: _Labels) -> A.Line:
         stop -= 1
     if stop == k:
         return A.Line(number, label, None, span, comment, (), number_span, label_span, label_text)
-    parser = _LineParser([*tokens[k:stop], end_tok], labels)
+    parser.reset([*tokens[k:stop], end_tok])
     statement = parser.statement()
     if not parser.at_end() and not isinstance(statement, A.InvalidStatement) and not parser.issues:
         extra = parser.peek()
