@@ -6,7 +6,8 @@ for programs students write (a few hundred lines). This generates 1,000- and 5,0
 programs of varied, realistic statements (moves with approach distances, position
 arithmetic, FOR/NEXT and WHILE loops, GOSUB subroutines with labels, IF/THEN jumps, hand
 and I/O commands, comments with accents), times `check()` (best of N runs) and prints lines
-per second, milliseconds per program and the ratio to the budget.
+per second, milliseconds per program and the ratio to the budget, then the time of each
+stage (lexer, parser, checker) on the 1,000-line program. The first line gives the load.
 
 `melfa check` runs in editors and pre-commit hooks on every save, so its start-up counts
 too: the best of N runs of ``python -m melfa check small.MB4`` against the best of N runs of
@@ -29,7 +30,9 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from melfa.lang.check import check
+from melfa.lang.check import check, check_ast
+from melfa.lang.lexer import tokenize
+from melfa.lang.parser import parse_tokens
 
 EDITOR_BUDGET_MS = 20.0
 STARTUP_AIM = 6.0
@@ -162,7 +165,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=7, help="runs per size (best is kept)")
     args = parser.parse_args()
-    print(f"check() — best of {args.repeat}; editor budget {EDITOR_BUDGET_MS:.0f} ms")
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
+    print(f"check() — best of {args.repeat}; editor budget {EDITOR_BUDGET_MS:.0f} ms; load {load}")
     print(f"{'lines':>7} {'ms/program':>11} {'lines/s':>10} {'x budget':>9} {'diagnostics':>12}")
     for size in (100, 1_000, 5_000):
         program = make_program(size)
@@ -174,6 +178,16 @@ def main() -> None:
             f"{size:>7} {ms:>11.2f} {size / seconds:>10,.0f} {ms / EDITOR_BUDGET_MS:>9.2f} "
             f"{len(diagnostics):>12}"
         )
+    program = make_program(1_000)
+    tokens = tokenize(program)
+    tree = parse_tokens(tokens)
+    stages = (
+        ("tokenize", functools.partial(tokenize, program)),
+        ("parse", functools.partial(parse_tokens, tokens)),
+        ("check_ast", functools.partial(check_ast, tree, POINTS)),
+    )
+    parts = ", ".join(f"{name} {best_of(run, args.repeat) * 1000:.2f}" for name, run in stages)
+    print(f"1,000 lines by stage, ms (garbage collector on, as outside check()): {parts}")
     check_s, bare_s = startup_ratio(max(args.repeat, 10))
     print(
         f"melfa check on a 3-line file: {check_s * 1000:.0f} ms; python -c pass: "
