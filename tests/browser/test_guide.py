@@ -5,32 +5,28 @@ serious with it open; on a real robot it says the arm will move and points at ST
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
-import socket
 import subprocess
 import sys
-import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from tests.browser.conftest import Server, Session, free_the_robot, serving
+from tests.browser.conftest import (
+    ADMIN_PASSWORD,
+    Server,
+    Session,
+    _free_port,
+    _stop,
+    axe_serious,
+    free_the_robot,
+    melfa_serve,
+)
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(240)
-
-AXE = Path(__file__).resolve().parents[2] / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
-
-
-def wait_until(predicate: Any, timeout: float = 15.0, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
 
 
 def step(page: Page) -> str:
@@ -159,28 +155,14 @@ def test_skip_stays_skipped_the_menu_reopens_and_a_refused_load_says_why(
 
 
 def test_axe_finds_nothing_serious_with_the_guide_open(open_session: Any, server: Server) -> None:
-    if not AXE.is_file():  # pragma: no cover - scripts/setup installs it
-        pytest.skip("axe-core is not installed: run scripts/build-frontend")
     server.add_user("ines")
     s: Session = open_session("ines", first_run=True)
     page = s.page
     expect(page.locator("#guide")).to_be_visible()
     page.wait_for_timeout(300)
     s.screenshot("first-run")
-    page.evaluate(AXE.read_text(encoding="utf-8") + "\n;0")
-    found = [
-        f"{v['id']} ({v['impact']}): {v['help']} — "
-        + "; ".join(n["target"][0] for n in v["nodes"][:3])
-        for v in page.evaluate("async () => (await axe.run(document)).violations")
-        if v["impact"] in ("serious", "critical")
-    ]
+    found = axe_serious(page)
     assert not found, "\n".join(found)
-
-
-def _port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 @pytest.fixture(scope="module")
@@ -188,24 +170,20 @@ def real(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     """`melfa serve --robot tcp://…`: a controller on a line, as the lab's arm is (the IDE
     cannot tell it from the real one, so it says "Real robot")."""
     data = tmp_path_factory.mktemp("melfa-real")
-    port = _port()
-    env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
-    with (data / "sim.log").open("w") as log:
-        sim = subprocess.Popen(
-            [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{port}"],
-            stdout=log,
-            stderr=subprocess.STDOUT,
-            env=env,
-        )
+    port = _free_port()
+    sim_log = data / "sim.log"
+    command = [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{port}"]
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}  # its "listening" line reaches the log now
+    with sim_log.open("w") as log:
+        sim = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env)
         try:
-            with serving(data, "--robot", f"tcp://127.0.0.1:{port}") as server:
+            wait_until(lambda: "listening on" in sim_log.read_text(), 60, "melfa sim to listen")
+            with melfa_serve(data, "--robot", f"tcp://127.0.0.1:{port}", timeout=60) as url:
+                server = Server(url, data, {"admin": ADMIN_PASSWORD})
+                server.add_user("alice")
                 yield server
         finally:
-            sim.send_signal(signal.SIGINT)
-            with contextlib.suppress(subprocess.TimeoutExpired):
-                sim.wait(timeout=15)
-            if sim.poll() is None:
-                sim.kill()
+            _stop(sim)
 
 
 def test_on_the_real_robot_the_guide_says_the_arm_moves_and_points_at_stop(

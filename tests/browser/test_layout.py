@@ -7,7 +7,6 @@ the window's right edge; STOP whole, large and inside the window."""
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 from typing import Any
 
@@ -15,6 +14,7 @@ import pytest
 from playwright.sync_api import Page, expect
 
 from tests.browser.conftest import Server, Session, free_the_robot
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(240)
 
@@ -33,13 +33,6 @@ CONTROLS = """
 """
 # Returns what is wrong, in words (an empty list when the layout holds).
 CHECK = (Path(__file__).parent / "layout_check.js").read_text(encoding="utf-8")
-
-
-def wait_until(predicate: Any, timeout: float = 15.0, what: str = "condition") -> None:
-    deadline = time.monotonic() + timeout
-    while not predicate():
-        assert time.monotonic() < deadline, f"timed out waiting for {what}"
-        time.sleep(0.05)
 
 
 def check_every_width(page: Page, state: str, tabs: tuple[str, ...]) -> list[str]:
