@@ -7,6 +7,7 @@ the window's right edge; STOP whole, large and inside the window."""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from typing import Any
 
@@ -104,3 +105,26 @@ def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
     found += check_every_width(page, "debugger", ("editor",))
     page.click("#target-switch [data-target=lab]")
     assert not found, "\n".join(found)
+
+
+def test_a_long_holder_name_gives_way_and_stop_stays(
+    open_session: Any, server: Server, stop_robot: None
+) -> None:
+    """An instructor at 1024 px (Take over shown) while a student with a long name holds
+    control: the name is shortened (whole in the tooltip), nothing else moves out."""
+    name = "maximiliana-longname"
+    if name not in server.passwords:
+        server.add_user(name)
+    holder: Session = open_session(name)
+    free_the_robot(holder.page, server)
+    holder.page.click("#lease-take")
+    admin: Session = open_session("admin")
+    page = admin.page
+    expect(page.locator("#lease-takeover")).to_be_visible()
+    expect(page.locator("#lease-text")).to_have_attribute("title", re.compile(name))
+    for width, height in WIDTHS[:2]:
+        page.set_viewport_size({"width": width, "height": height})
+        page.wait_for_timeout(250)
+        found = page.evaluate(CHECK, CONTROLS)
+        assert not found, (width, found)
+    holder.page.click("#lease-release")
