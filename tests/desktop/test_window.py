@@ -28,7 +28,7 @@ from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import FileKind
 from melfa.desktop.live import FeedStatus
 from melfa.desktop.login import LoginDialog
-from melfa.desktop.messages import LinkStatus
+from melfa.desktop.messages import LinkStatus, UploadProgress
 from melfa.desktop.presenter import Presenter
 from melfa.desktop.window import MainWindow
 from tests.desktop.conftest import EXAMPLES, Server
@@ -546,6 +546,52 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
     target = tmp_path / "desktop.png"
     assert image.save(str(target))
     assert target.stat().st_size > 10_000
+
+
+def test_load_and_run_from_a_workspace(ui: Ui, observer: ApiClient, files: Path) -> None:
+    """A program written in the IDE (a workspace on the server), chosen under *From:*."""
+    ui.take_notices()
+    wait_until(lambda: still(observer))
+    points = (files / "sample.POS").read_text()
+    made = observer._call(
+        "POST",
+        "/api/workspaces",
+        {"name": f"Desk lab {time.monotonic_ns()}", "program": NUMBERED_PROGRAM, "points": points},
+    )
+    name = made["name"]
+    ui.presenter.refresh_workspaces()  # as opening the list does
+    box = ui.window.source_box
+    wait_until(lambda: box.findData(made["id"]) > 0)
+    box.setCurrentIndex(box.findData(made["id"]))
+    ui.idle()
+    wait_until(lambda: ui.window.program_edit.text() == f"{name} (workspace)  ·  5 lines")
+    assert not ui.window.program_button.isEnabled()  # files are not the source now
+    assert ui.window.points_view.toPlainText() == points
+    ui.window.load_button.click()
+    ui.idle()
+    assert ui.take_notices() == []
+    assert f"Loaded {name} (workspace) into the robot (5 lines" in log_text(ui)
+    ui.window.run_button.click()
+    ui.idle()
+    now = ui.window.status_values["activity"]
+    wait_until(lambda: now.text() == f"Running line 4 of {name} (workspace)", timeout=60)
+    wait_until(lambda: still(observer), timeout=60)
+    box.setCurrentIndex(0)  # back to files: nothing chosen yet
+    assert ui.presenter.program is None and ui.window.program_button.isEnabled()
+
+
+def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> None:
+    ui.presenter._on_live(UploadProgress("load_project", 862, 1724))
+    assert ui.window.progress.isVisibleTo(ui.window) and ui.window.progress.value() == 50
+    assert ui.window.statusBar().currentMessage() == "Sending to the robot: 50 %"
+    state = ui.presenter.state
+    assert state is not None
+    ui.presenter._on_state(state)  # not uploading: the bar goes
+    assert not ui.window.progress.isVisibleTo(ui.window)
+    ui.window.servo_on_button.click()  # a command: this user holds control
+    ui.idle()
+    lease = ui.window.status_values["lease"]
+    wait_until(lambda: lease.text().startswith("You, since "))
 
 
 def test_main_signs_in_opens_the_window_and_exits_when_closed(

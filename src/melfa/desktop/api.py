@@ -107,6 +107,23 @@ class SignedIn:
 
 
 @dataclass(frozen=True)
+class WorkspaceInfo:
+    """One workspace the user may open (`GET /api/workspaces`)."""
+
+    id: int
+    name: str
+    shared: bool
+
+
+@dataclass(frozen=True)
+class WorkspaceTexts:
+    id: int
+    name: str
+    program: str
+    points: str
+
+
+@dataclass(frozen=True)
 class UploadReport:
     items: int
     requests: int
@@ -393,6 +410,28 @@ class ApiClient:
         """`POST /api/robot/exec`: one MELFA BASIC statement."""
         self._call("POST", "/api/robot/exec", {"statement": statement}, timeout=LONG_TIMEOUT_S)
 
+    def workspaces(self) -> tuple[WorkspaceInfo, ...]:
+        """`GET /api/workspaces`: the user's own, their group's, the default first."""
+        reply = self._call("GET", "/api/workspaces")
+        rows = [w for w in (reply or {}).get("workspaces") or [] if isinstance(w, Mapping)]
+        default = (reply or {}).get("default_id")
+        rows.sort(key=lambda w: w.get("id") != default)
+        return tuple(
+            WorkspaceInfo(int(w["id"]), str(w.get("name") or ""), bool(w.get("shared")))
+            for w in rows
+            if not w.get("archived")
+        )
+
+    def workspace(self, workspace_id: int) -> WorkspaceTexts:
+        """`GET /api/workspaces/{id}`: its name and its latest program and points."""
+        reply = self._call("GET", f"/api/workspaces/{workspace_id}")
+        return WorkspaceTexts(
+            workspace_id,
+            str(reply.get("name") or ""),
+            str(reply.get("program") or ""),
+            str(reply.get("points") or ""),
+        )
+
     def state(self) -> RobotState:
         """`GET /api/robot/state`: the latest snapshot (no round trip to the robot)."""
         reply = self._call("GET", "/api/robot/state")
@@ -411,6 +450,8 @@ __all__ = [
     "Severity",
     "SignedIn",
     "UploadReport",
+    "WorkspaceInfo",
+    "WorkspaceTexts",
     "normalize_server",
     "websocket_url",
 ]

@@ -39,9 +39,25 @@ class FileRefused(Exception):
 
 @dataclass(frozen=True)
 class ChosenFile:
+    """A program or points text and where it came from: a file on this computer, or a
+    workspace on the server (``workspace``, its name; ``path`` is then its export name)."""
+
     path: Path
     kind: FileKind
     text: str
+    workspace: str | None = None
+    workspace_id: int | None = None
+
+    @property
+    def name(self) -> str:
+        """What the window calls it: the file's name, or the workspace's.
+
+        >>> ChosenFile(Path("/tmp/pick.MB4"), FileKind.PROGRAM, "").name
+        'pick.MB4'
+        >>> ChosenFile(Path("Lab 1.MB4"), FileKind.PROGRAM, "", "Lab 1", 7).name
+        'Lab 1 (workspace)'
+        """
+        return f"{self.workspace} (workspace)" if self.workspace is not None else self.path.name
 
 
 def has_extension(path: str | Path, kind: FileKind) -> bool:
@@ -65,6 +81,21 @@ def check_extension(path: Path, kind: FileKind) -> None:
             kind,
             f"wrong extension ({suffix}): choose a {kind.value} {kind.label}",
         )
+
+
+def from_workspace(
+    workspace_id: int, name: str, program: str, points: str
+) -> tuple[ChosenFile, ChosenFile | None]:
+    """A server workspace's texts as chosen program and points (no points: None).
+
+    >>> p, q = from_workspace(7, "Lab 1", "MOV P1", "")
+    >>> p.name, p.path.name, q
+    ('Lab 1 (workspace)', 'Lab 1.MB4', None)
+    """
+    chosen = ChosenFile(Path(f"{name}.MB4"), FileKind.PROGRAM, program, name, workspace_id)
+    if not points.strip():
+        return chosen, None
+    return chosen, ChosenFile(Path(f"{name}.POS"), FileKind.POINTS, points, name, workspace_id)
 
 
 def read_file(path: Path, kind: FileKind) -> ChosenFile:
@@ -92,6 +123,7 @@ __all__ = [
     "FileKind",
     "FileRefused",
     "check_extension",
+    "from_workspace",
     "has_extension",
     "read_file",
 ]

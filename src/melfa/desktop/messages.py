@@ -10,6 +10,7 @@ from __future__ import annotations
 import enum
 from collections.abc import Mapping
 from dataclasses import dataclass
+from datetime import datetime
 from typing import Any
 
 from melfa.protocol.advice import Fix, error_code
@@ -82,6 +83,19 @@ def parse_fix(value: object) -> Fix | None:
         return None
 
 
+def _opt_time(value: object) -> datetime | None:
+    """
+    >>> _opt_time("2026-11-24T09:02:00+00:00").minute, _opt_time("soon"), _opt_time(None)
+    (2, None, None)
+    """
+    if not isinstance(value, str):
+        return None
+    try:
+        return datetime.fromisoformat(value)
+    except ValueError:
+        return None
+
+
 def _six(value: object) -> tuple[float, ...] | None:
     if not isinstance(value, list | tuple) or not value:
         return None
@@ -122,6 +136,7 @@ class RobotState:
     activity_detail: str = ""
     jogging: bool = False
     lease_state: str | None = None
+    lease_since: datetime | None = None
 
     @classmethod
     def from_json(cls, data: Mapping[str, Any]) -> RobotState:
@@ -156,6 +171,7 @@ class RobotState:
             lease_state=(
                 data.get("lease_state") if isinstance(data.get("lease_state"), str) else None
             ),
+            lease_since=_opt_time(data.get("lease_since")),
         )
 
 

@@ -30,9 +30,10 @@ from melfa.desktop.api import (
     CheckResult,
     ServerUnreachable,
     UploadReport,
+    WorkspaceInfo,
 )
 from melfa.desktop.dialogs import Notice, NoticeKind
-from melfa.desktop.files import ChosenFile, FileKind, FileRefused, read_file
+from melfa.desktop.files import ChosenFile, FileKind, FileRefused, from_workspace, read_file
 from melfa.desktop.hold import JogHold, JogKey
 from melfa.desktop.live import FeedStatus, LiveFeed
 from melfa.desktop.messages import (
@@ -88,8 +89,11 @@ class Presenter:
         self._anchor = QObject()
         self._commands = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-cmd")
         self._stopper = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-stop")
+        self._reads = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-read")
         self._feed: LiveFeed | None = None
         self.hold = JogHold(self._send_live)
+        self.workspaces: tuple[WorkspaceInfo, ...] = ()
+        """The server's workspaces this user may load from (the IDE's), besides files."""
         self._closed = False
 
     @property
@@ -206,8 +210,9 @@ class Presenter:
             self.start()
 
     def start(self) -> None:
-        """Show the latest state now, then follow the WebSocket."""
+        """Show the latest state and the workspaces now, then follow the WebSocket."""
         self._submit("Reading the state", self.client.state, self._on_state, "Could not read")
+        self.refresh_workspaces()
         self._feed = LiveFeed(
             self.client.websocket_url,
             self.client.cookie_header(),
@@ -215,6 +220,25 @@ class Presenter:
             lambda status, detail: self._later(partial(self._on_feed, status, detail)),
         )
         self._feed.start()
+
+    def refresh_workspaces(self) -> None:
+        """List the workspaces again (off the GUI thread; not queued behind a command)."""
+        if self._closed:
+            return
+
+        def job() -> None:
+            try:
+                found = self.client.workspaces()
+            except (ApiError, ServerUnreachable):
+                return  # an older server, or gone: files only (the feed says if it is gone)
+            self._later(partial(self._on_workspaces, found))
+
+        self._reads.submit(job)  # never on STOP's worker: a slow reply must not delay STOP
+
+    def _on_workspaces(self, found: tuple[WorkspaceInfo, ...]) -> None:
+        if found != self.workspaces:
+            self.workspaces = found
+            self.view.show_workspaces(found)
 
     def _send_live(self, message: Mapping[str, object]) -> bool:
         return self._feed is not None and self._feed.send(message)
@@ -318,6 +342,41 @@ class Presenter:
         self.view.show_status(f"Chose {kind.label} {path.name}.")
         return True
 
+    def choose_workspace(self, workspace_id: int | None) -> bool:
+        """Load from a workspace of the server (the IDE's texts) instead of files; None goes
+        back to files on this computer."""
+        if workspace_id is None:
+            if self.program is not None and self.program.workspace is not None:
+                self.program = self.points = None
+                self.view.show_files()
+            return True
+        return self._submit(
+            "Opening the workspace",
+            lambda: self._workspace_texts(workspace_id),
+            self._on_workspace,
+            "Could not open the workspace",
+        )
+
+    def _workspace_texts(self, workspace_id: int) -> tuple[ChosenFile, ChosenFile | None]:
+        """Worker side: the workspace's latest program and points as chosen texts."""
+        texts = self.client.workspace(workspace_id)
+        return from_workspace(texts.id, texts.name, texts.program, texts.points)
+
+    def _on_workspace(self, chosen: tuple[ChosenFile, ChosenFile | None]) -> None:
+        self.program, self.points = chosen
+        self.view.show_files()
+        self.view.show_status(f"Chose {chosen[0].name}.")
+
+    def _fresh(
+        self, files: tuple[ChosenFile, ChosenFile | None]
+    ) -> tuple[ChosenFile, ChosenFile | None]:
+        """Worker side: a workspace's texts as they are on the server now (saved in the IDE
+        since? load that); files were re-read on the GUI thread already."""
+        program = files[0]
+        if program.workspace_id is None:
+            return files
+        return self._workspace_texts(program.workspace_id)
+
     def _refuse_file(self, exc: FileRefused) -> None:
         title = (
             "Wrong extension" if "extension" in exc.reason else f"Cannot use this {exc.kind.label}"
@@ -332,6 +391,8 @@ class Presenter:
                 NoticeKind.WARNING, "No program", "Choose a program file (.MB4) to load first."
             )
             return None
+        if self.program.workspace_id is not None:
+            return self.program, self.points  # fetched again on the worker (`_fresh`)
         try:
             program = read_file(self.program.path, FileKind.PROGRAM)
             points = None if self.points is None else read_file(self.points.path, FileKind.POINTS)
@@ -344,18 +405,23 @@ class Presenter:
     # --- commands ------------------------------------------------------------------------
 
     def check(self) -> bool:
-        """Check the chosen files (`/api/check`) and show the diagnostics; sends nothing."""
+        """Check the chosen texts (`/api/check`) and show the diagnostics; sends nothing."""
         files = self._reread()
         if files is None:
             return False
-        program, points = files
-        points_text = points.text if points else ""
-        return self._submit(
-            "Checking",
-            lambda: self.client.check(program.text, points_text),
-            self._on_checked,
-            "Check failed",
-        )
+
+        def work() -> CheckResult:
+            program, points = self._fresh(files)
+            self._later(partial(self._took, program, points))
+            return self.client.check(program.text, points.text if points else "")
+
+        return self._submit("Checking", work, self._on_checked, "Check failed")
+
+    def _took(self, program: ChosenFile, points: ChosenFile | None) -> None:
+        """The texts a check or load used (a workspace's may have changed): show them."""
+        if (program, points) != (self.program, self.points):
+            self.program, self.points = program, points
+            self.view.show_files()
 
     def _on_checked(self, result: CheckResult) -> None:
         self.view.show_check(result)
@@ -370,30 +436,26 @@ class Presenter:
         files = self._reread()
         if files is None:
             return False
-        program, points = files
-        points_text = points.text if points else ""
 
-        def work() -> CheckResult | UploadReport:
+        def work() -> tuple[ChosenFile, ChosenFile | None, CheckResult | UploadReport]:
+            program, points = self._fresh(files)
+            self._later(partial(self._took, program, points))
+            points_text = points.text if points else ""
             result = self.client.check(program.text, points_text)
             self._later(partial(self._show_check, result))
             if not result.ok:
-                return result
-            return self.client.load_project(program.text, points_text)
+                return program, points, result
+            return program, points, self.client.load_project(program.text, points_text)
 
-        return self._submit(
-            "Loading", work, partial(self._on_loaded, program, points), "Load refused", self.load
-        )
+        return self._submit("Loading", work, self._on_loaded, "Load refused", self.load)
 
     def _on_loaded(
-        self, program: ChosenFile, points: ChosenFile | None, outcome: CheckResult | UploadReport
+        self, loaded: tuple[ChosenFile, ChosenFile | None, CheckResult | UploadReport]
     ) -> None:
+        program, points, outcome = loaded
         self.view.show_progress(None)
         if isinstance(outcome, CheckResult):
-            bad = (
-                program.path.name
-                if outcome.program_errors
-                else (points.path.name if points else "")
-            )
+            bad = program.name if outcome.program_errors else (points.name if points else "")
             errors = len(outcome.program_errors) + len(outcome.points_errors)
             text = f"{bad} has {count(errors, 'error')}; nothing was sent to the robot."
             self._log(f"Load refused: {text}")
@@ -401,12 +463,15 @@ class Presenter:
             self._tell(NoticeKind.ERROR, "Program has errors", text, diagnostic_lines(outcome))
             return
         lines = len(program.text.splitlines())
-        what = program.path.name + (f" and {points.path.name}" if points else "")
+        if program.workspace is not None:
+            what = program.name
+        else:
+            what = program.name + (f" and {points.name}" if points else "")
         took = f", {outcome.seconds:.1f} s" if outcome.seconds >= 0.05 else ""
         self._log(f"Loaded {what} into the robot ({count(lines, 'line')}{took})")
         self.view.show_status(f"Loaded {what}: ready to run.")
         self.last_upload = outcome
-        self.loaded = Loaded(program.path.name, dict(outcome.step_lines))
+        self.loaded = Loaded(program.name, dict(outcome.step_lines))
         if self.state is not None:
             self.view.show_state(self.state)  # the line of this file from now on
 
@@ -547,6 +612,7 @@ class Presenter:
             self._feed.close()
         self._commands.shutdown(wait=False, cancel_futures=True)
         self._stopper.shutdown(wait=False, cancel_futures=True)
+        self._reads.shutdown(wait=False, cancel_futures=True)
         with contextlib.suppress(ApiError, ServerUnreachable):
             self.client.logout()
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Protocol
 
-from melfa.desktop.api import CheckResult
+from melfa.desktop.api import CheckResult, WorkspaceInfo
 from melfa.desktop.dialogs import Notice
 from melfa.desktop.hold import JogKey
 from melfa.desktop.live import FeedStatus
@@ -27,6 +27,7 @@ class View(Protocol):
     def show_status(self, text: str) -> None: ...
     def show_progress(self, percent: int | None) -> None: ...
     def show_jog(self, held: JogKey | None) -> None: ...
+    def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None: ...
 
 
 class NoView:
@@ -63,6 +64,9 @@ class NoView:
         pass
 
     def show_jog(self, held: JogKey | None) -> None:
+        pass
+
+    def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None:
         pass
 
 

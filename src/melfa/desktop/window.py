@@ -44,16 +44,30 @@ from PySide6.QtWidgets import (
     QWidget,
 )
 
-from melfa.desktop.api import PRIVATE_TARGET, TARGET_LABELS, CheckResult, Severity
+from melfa.desktop.api import (
+    PRIVATE_TARGET,
+    TARGET_LABELS,
+    CheckResult,
+    Severity,
+    WorkspaceInfo,
+)
 from melfa.desktop.dialogs import Dialogs, Notice
 from melfa.desktop.files import FileKind
 from melfa.desktop.hold import JogKey
 from melfa.desktop.jogpad import JogPad
 from melfa.desktop.live import FeedStatus
-from melfa.desktop.messages import JOINT_NAMES, POSE_NAMES, LinkStatus, RobotState
+from melfa.desktop.messages import LinkStatus, RobotState
+from melfa.desktop.position import PositionBox
 from melfa.desktop.presenter import FIXES_OFFERED, Presenter
-from melfa.desktop.style import LINK_LEVEL, STYLE, ValueLabel, fmt_number, on_off, set_level
-from melfa.desktop.words import LINK_WORDS, activity_text, count, file_line, jog_label
+from melfa.desktop.style import LINK_LEVEL, STYLE, ValueLabel, on_off, set_level
+from melfa.desktop.words import (
+    LINK_WORDS,
+    activity_text,
+    control_text,
+    count,
+    file_line,
+    jog_label,
+)
 from melfa.protocol.advice import FIX_LABELS
 
 FILE_FILTERS = {
@@ -61,6 +75,7 @@ FILE_FILTERS = {
     FileKind.POINTS: "Points files (*.POS *.pos);;All files (*)",
 }
 LOG_LINES = 500
+FILES_SOURCE = "Files on this computer"
 FEED_WORDS = {
     FeedStatus.CONNECTING: "Live updates: connecting…",
     FeedStatus.CONNECTED: "Live updates: on",
@@ -69,6 +84,18 @@ FEED_WORDS = {
     FeedStatus.CLOSED: "Live updates: off",
 }
 ACTIVITY_LEVEL = {"alarm": "alarm", "offline": "alarm", "running": "running", "idle": ""}
+
+
+class RefreshingCombo(QComboBox):
+    """A combo box that asks for a fresh list each time it opens (new workspaces appear)."""
+
+    def __init__(self, refresh: Callable[[], object]) -> None:
+        super().__init__()
+        self._refresh = refresh
+
+    def showPopup(self) -> None:  # noqa: N802 (Qt's name)
+        self._refresh()
+        super().showPopup()
 
 
 class MainWindow(QMainWindow):
@@ -105,7 +132,9 @@ class MainWindow(QMainWindow):
         right.setSpacing(4)
         right.addWidget(self._robot_box())
         right.addWidget(self._control_box())
-        right.addWidget(self._position_box())
+        self.position = PositionBox()
+        self.pose_values, self.joint_values = self.position.pose_values, self.position.joint_values
+        right.addWidget(self.position)
         right.addStretch(1)
         body.addLayout(left, 10)
         body.addLayout(right, 11)
@@ -200,8 +229,16 @@ class MainWindow(QMainWindow):
         layout.setSpacing(4)
         grid = QGridLayout()
         grid.setColumnStretch(1, 1)
-        self.program_edit, self.program_button = self._file_row(grid, 0, FileKind.PROGRAM)
-        self.points_edit, self.points_button = self._file_row(grid, 1, FileKind.POINTS)
+        self.source_box = RefreshingCombo(self.presenter.refresh_workspaces)
+        self.source_box.setAccessibleName("Load from files or from a workspace")
+        self.source_box.setToolTip("Files on this computer, or a workspace you wrote in the IDE")
+        self.source_box.addItem(FILES_SOURCE, None)
+        source_label = QLabel("&From:")
+        source_label.setBuddy(self.source_box)
+        grid.addWidget(source_label, 0, 0)
+        grid.addWidget(self.source_box, 0, 1, 1, 2)
+        self.program_edit, self.program_button = self._file_row(grid, 1, FileKind.PROGRAM)
+        self.points_edit, self.points_button = self._file_row(grid, 2, FileKind.POINTS)
         layout.addLayout(grid)
 
         buttons = QHBoxLayout()
@@ -333,36 +370,6 @@ class MainWindow(QMainWindow):
         layout.addWidget(self.jog_pad)
         return box
 
-    def _position_box(self) -> QGroupBox:
-        box = QGroupBox("Current position")
-        grid = QGridLayout(box)
-        grid.setHorizontalSpacing(4)
-        grid.setVerticalSpacing(2)
-        self.pose_values: list[ValueLabel] = []
-        self.joint_values: list[ValueLabel] = []
-        for row, (caption, names, values) in enumerate(
-            (
-                ("Hand (mm, °)", POSE_NAMES, self.pose_values),
-                ("Joints (°)", JOINT_NAMES, self.joint_values),
-            )
-        ):
-            label = QLabel(caption)
-            label.setObjectName("muted")
-            grid.addWidget(label, 2 * row + 1, 0)
-            for i, name in enumerate(names):
-                head = QLabel(f"<b>{name}</b>")
-                head.setAlignment(Qt.AlignmentFlag.AlignCenter)
-                grid.addWidget(head, 2 * row, i + 1)
-                value = ValueLabel(mono=True)
-                value.setAccessibleName(f"{caption.split()[0]} {name}")
-                values.append(value)
-                grid.addWidget(value, 2 * row + 1, i + 1)
-                grid.setColumnStretch(i + 1, 1)
-        self.flags_label = QLabel("Flags: —")
-        self.flags_label.setObjectName("muted")
-        grid.addWidget(self.flags_label, 4, 0, 1, 7)
-        return box
-
     def _log_box(self) -> QGroupBox:
         box = QGroupBox("Activity of this session")
         layout = QVBoxLayout(box)
@@ -389,6 +396,7 @@ class MainWindow(QMainWindow):
         # Running: show the program, where the running line is marked.
         self.run_button.clicked.connect(lambda: self.tabs.setCurrentWidget(self.program_view))
         self.alarm_fix_button.clicked.connect(self._fix_alarm)
+        self.source_box.currentIndexChanged.connect(self._source_chosen)
         self.exec_button.clicked.connect(self._send_exec)
         self.exec_edit.returnPressed.connect(self._send_exec)
         self.servo_on_button.clicked.connect(lambda: p.servo(True))
@@ -427,17 +435,36 @@ class MainWindow(QMainWindow):
                 view.clear()
                 continue
             lines = len(chosen.text.splitlines())
-            edit.setText(f"{chosen.path.name}  ·  {count(lines, 'line')}")
+            edit.setText(f"{chosen.name}  ·  {count(lines, 'line')}")
             edit.setCursorPosition(0)
-            edit.setToolTip(str(chosen.path))  # the whole path on hover, never clipped
+            # The whole path on hover, never clipped.
+            edit.setToolTip(str(chosen.path) if chosen.workspace is None else chosen.name)
             if view.toPlainText() != chosen.text:
                 view.setPlainText(chosen.text)
                 self.tabs.setCurrentWidget(view)  # show what was just chosen
         self.show_busy(p.busy)
 
+    def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None:
+        box = self.source_box
+        chosen = box.currentData()
+        box.blockSignals(True)  # a new list is not a new choice
+        box.clear()
+        box.addItem(FILES_SOURCE, None)
+        for workspace in workspaces:
+            shared = " (shared)" if workspace.shared else ""
+            box.addItem(f"Workspace: {workspace.name}{shared}", workspace.id)
+        box.setCurrentIndex(max(0, box.findData(chosen)) if chosen is not None else 0)
+        box.blockSignals(False)
+
+    def _source_chosen(self) -> None:
+        data = self.source_box.currentData()
+        self.presenter.choose_workspace(int(data) if data is not None else None)
+        self.show_busy(self.presenter.busy)
+
     def show_busy(self, what: str) -> None:
         idle = not what
         has_program = self.presenter.program is not None
+        from_files = self.source_box.currentData() is None
         for button in (
             self.program_button,
             self.points_button,
@@ -450,6 +477,9 @@ class MainWindow(QMainWindow):
         ):
             button.setEnabled(idle)
         self.jog_pad.set_buttons_enabled(idle)
+        self.program_button.setEnabled(idle and from_files)
+        self.points_button.setEnabled(idle and from_files)
+        self.source_box.setEnabled(idle)
         self.check_button.setEnabled(idle and has_program)
         self.load_button.setEnabled(idle and has_program)
         self.stop_button.setEnabled(True)  # never disabled
@@ -510,15 +540,7 @@ class MainWindow(QMainWindow):
         self.feed_label.setToolTip(detail)
 
     def show_state(self, state: RobotState) -> None:
-        for labels, values in ((self.pose_values, state.pose), (self.joint_values, state.joints)):
-            for i, label in enumerate(labels):
-                label.setText(fmt_number(values[i]) if values and i < len(values) else "—")
-        flags = state.flags
-        self.flags_label.setText(
-            f"Flags (FL1, FL2): ({flags[0]}, {flags[1]})"
-            if flags and len(flags) >= 2
-            else "Flags: —"
-        )
+        self.position.show_state(state)
         v = self.status_values
         loaded = self.presenter.loaded
         v["activity"].setText(activity_text(state, loaded))
@@ -528,13 +550,7 @@ class MainWindow(QMainWindow):
         v["override"].setText("—" if state.override is None else f"{state.override} %")
         if state.override is not None and not self.override_spin.hasFocus():
             self.override_spin.setValue(state.override)  # what the robot has, until edited
-        holder = state.lease_holder
-        if holder is None:
-            v["lease"].setText("Free: your first command takes it")
-        elif holder == self.presenter.me:
-            v["lease"].setText("You")
-        else:
-            v["lease"].setText(holder + (f" — {state.lease_state}" if state.lease_state else ""))
+        v["lease"].setText(control_text(state, self.presenter.me))
         alarm = state.alarm
         v["alarm"].setText(alarm.said if alarm else "None")
         v["alarm"].setToolTip(alarm.said if alarm else "")

@@ -156,6 +156,28 @@ def jog_end_words(reason: str) -> str:
     return "the server ended it"
 
 
+def control_text(state: RobotState, me: str) -> str:
+    """Who holds control (the lease), since when, and the state of their connection.
+
+    >>> control_text(RobotState.from_json({}), "ann")
+    'Free: your first command takes it'
+    >>> control_text(RobotState.from_json({"lease_holder": "ann"}), "ann")
+    'You'
+    >>> control_text(RobotState.from_json({"lease_holder": "bob",
+    ...                                    "lease_state": "no connection"}), "ann")
+    'bob — no connection'
+    """
+    holder = state.lease_holder
+    if holder is None:
+        return "Free: your first command takes it"
+    text = "You" if holder == me else holder
+    if state.lease_since is not None:
+        text += f", since {state.lease_since.astimezone():%H:%M}"
+    if holder != me and state.lease_state:
+        text += f" — {state.lease_state}"
+    return text
+
+
 LINK_WORDS = {
     LinkStatus.CONNECTED: "Robot connected",
     LinkStatus.CONNECTING: "Connecting to the robot…",
@@ -216,6 +238,7 @@ __all__ = [
     "LINK_WORDS",
     "Loaded",
     "activity_text",
+    "control_text",
     "count",
     "describe_failure",
     "diagnostic_lines",
