@@ -42,7 +42,9 @@ export class WorkspaceSwitcher {
     const said = describeWorkspace(ws, this.user);
     this.label.textContent = said.name;
     this.note.hidden = !said.shared && !said.note;
-    this.note.textContent = said.note;
+    // "shared" stays when the bar is narrow; " with group X" gives way (workspaces.css).
+    const [first, ...rest] = said.note.split(" ");
+    this.note.replaceChildren(first, el("span", { class: "ws-note-rest" }, rest.length ? " " + rest.join(" ") : ""));
     this.box.classList.toggle("shared", said.shared);
     this.button.title = said.shared
       ? `Everyone in group ${ws.owner} edits this program: changes are saved for all of you. Click to switch workspace.`
