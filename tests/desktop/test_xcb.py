@@ -3,11 +3,12 @@ at 1366×700, driven by real key events from xdotool, against the served virtual
 
 A user's whole first run, by keyboard: the password typed into the sign-in dialog, the
 program and points chosen in Qt's real file dialogs, Load, Run (the running line of the
-file on screen), STOP with Esc, then a jog with W held down (xdotool keydown … keyup): the
-arm moves while the key is held and stops when it is let go; Esc stops a jog whose key is
-still down. A second session of the same user watches the robot through the API, so each
-step is proven on the robot, not on the screen. The screenshot in docs/desktop.png is this
-window (MELFA_DESKTOP_SCREENSHOT=docs/desktop.png saves it there).
+file on screen), a refused instruction whose notice stays open while STOP is clicked behind
+it, then a jog with W held down (xdotool keydown … keyup): the arm moves while the key is
+held and stops when it is let go; Esc stops a jog whose key is still down. A second
+session of the same user watches the robot through the API, so each step is proven on the
+robot, not on the screen. The screenshot in docs/desktop.png is this window
+(MELFA_DESKTOP_SCREENSHOT=docs/desktop.png saves it there).
 
 Xvfb and xdotool are Debian packages `scripts/setup` installs when run as root (CI does);
 without them these tests skip and say so.
@@ -214,12 +215,23 @@ def choose_load_and_run_by_keyboard(desktop: Desktop, observer: ApiClient, shot:
     assert shot.stat().st_size > 20_000
 
 
-def escape_is_stop(desktop: Desktop, observer: ApiClient) -> None:
+def stop_works_behind_a_notice(desktop: Desktop, observer: ApiClient) -> None:
+    """A refusal's notice does not block the window: STOP is clicked with the mouse while
+    it is open (the program runs on), and the program stops."""
     assert observer.state().running is True
     desktop.focus("melfa desktop")
-    desktop.key("Escape")
+    desktop.key("alt+i")
+    desktop.type("MOV P1")
+    desktop.key("Return")  # refused while the program runs: a notice opens
+    desktop.focus("Instruction refused")
+    assert observer.state().running is True
+    # STOP is the header's right-most button (the window fills the screen from 0, 0).
+    desktop.xdo("mousemove", "--sync", str(WIDTH - 90), "36", "click", "1")
     wait_for(lambda: observer.state().running is False, "STOP to stop the program")
     wait_for(lambda: still(observer), "the arm to stand still")
+    desktop.focus("Instruction refused")
+    desktop.key("Return")  # OK closes the notice
+    wait_for(lambda: not desktop.windows("Instruction refused"), "the notice to close")
 
 
 def pose(observer: ApiClient) -> tuple[float, ...]:
@@ -280,7 +292,7 @@ def test_a_first_run_by_keyboard_on_a_real_display(
     try:
         sign_in_by_typing_the_password(desktop, server)
         choose_load_and_run_by_keyboard(desktop, observer, shot)
-        escape_is_stop(desktop, observer)
+        stop_works_behind_a_notice(desktop, observer)
         a_held_w_key_jogs_only_while_held(desktop, observer)
         escape_stops_a_jog_whose_key_is_still_down(desktop, observer)
     except AssertionError as exc:  # what the screen showed, for whoever reads the failure

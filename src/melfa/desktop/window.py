@@ -299,6 +299,9 @@ class MainWindow(QMainWindow):
         self.exec_edit.setAccessibleName("Instruction")
         self.exec_button = QPushButton("Se&nd")
         self.exec_button.setObjectName("primary")
+        label = QLabel("&Instruction:")  # Alt+I
+        label.setBuddy(self.exec_edit)
+        layout.addWidget(label)
         layout.addWidget(self.exec_edit, 1)
         layout.addWidget(self.exec_button)
         return box
