@@ -113,9 +113,14 @@ class Desktop:
 
     def choose_file(self, shortcut: str, title: str, name: str) -> None:
         """Alt+P / Alt+O, then the file's name typed into Qt's file dialog and Enter."""
-        self.focus("melfa desktop")
-        self.key(shortcut)
-        self.focus(title)
+        for _ in range(3):  # the window may not have the keyboard yet when it first shows
+            self.focus("melfa desktop")
+            self.key(shortcut)
+            try:
+                self.focus(title, timeout=10)
+                break
+            except AssertionError:
+                continue
         self.type(name)
         for _ in range(3):  # a first Enter may only accept the completer's suggestion
             if not self.windows(title):

@@ -147,6 +147,7 @@ class MainWindow(QMainWindow):
         self.progress.setFormat("Sending %p %")
         self.progress.setVisible(False)
         self.feed_label = QLabel(FEED_WORDS[FeedStatus.CONNECTING])
+        self._busy_text = ""
         self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.feed_label)
         self.statusBar().showMessage(f"Signed in as {user}.")
@@ -467,10 +468,7 @@ class MainWindow(QMainWindow):
     def show_busy(self, what: str) -> None:
         idle = not what
         has_program = self.presenter.program is not None
-        from_files = self.source_box.currentData() is None
         for button in (
-            self.program_button,
-            self.points_button,
             self.run_button,
             self.exec_button,
             self.alarm_fix_button,
@@ -480,14 +478,20 @@ class MainWindow(QMainWindow):
         ):
             button.setEnabled(idle)
         self.jog_pad.set_buttons_enabled(idle)
-        self.program_button.setEnabled(idle and from_files)
-        self.points_button.setEnabled(idle and from_files)
+        # Choosing a file is local: allowed while a command runs (it uses its own copy).
+        from_files = self.source_box.currentData() is None
+        self.program_button.setEnabled(from_files)
+        self.points_button.setEnabled(from_files)
         self.source_box.setEnabled(idle)
         self.check_button.setEnabled(idle and has_program)
         self.load_button.setEnabled(idle and has_program)
         self.stop_button.setEnabled(True)  # never disabled
+        bar = self.statusBar()
         if what:
-            self.statusBar().showMessage(f"{what}…")
+            self._busy_text = f"{what}…"
+            bar.showMessage(self._busy_text)
+        elif bar.currentMessage() == self._busy_text:
+            bar.clearMessage()  # done, and nothing said about it: never a stale "…ing"
 
     def show_progress(self, percent: int | None) -> None:
         self.progress.setVisible(percent is not None)
