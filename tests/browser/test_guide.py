@@ -133,11 +133,15 @@ def test_skip_stays_skipped_the_menu_reopens_and_a_refused_load_says_why(
     # Still the welcome program (which alone would open it), and still skipped.
     assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
     expect(page.locator("#guide")).to_be_hidden()
-    # The user menu opens it again, from the first step.
+    # The user menu opens it again, from the first step; an emptied workspace gets the
+    # welcome program back (there is nothing to lose).
+    s.set_points("")
+    s.set_program("")
     page.click("#user-button")
     page.get_by_role("menuitem", name="Show the first-run guide").click()
     expect(page.locator("#guide")).to_be_visible()
     assert step(page) == "program"
+    assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
     # Someone else has control: the load is refused and the guide says why and what to do.
     free_the_robot(page, server)
     other: Session = open_session("carol")

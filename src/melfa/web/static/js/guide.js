@@ -10,7 +10,7 @@
 // region). Finished or skipped, it does not come back on its own for that user (kept in
 // this browser, per user); the user menu's "Show the first-run guide" opens it again.
 
-import { welcomeProject } from "./first.js";
+import { welcome, welcomeProject } from "./first.js";
 import { $, el, errorText } from "./ui.js";
 
 const REMEMBER = (user) => `melfa.guide.${user}`;
@@ -48,8 +48,10 @@ export class Guide {
     return true;
   }
 
-  start() {
+  /** From the first step; an empty workspace gets the welcome project first (nothing to lose). */
+  async start() {
     this.sawRunning = false;
+    await welcome(this.app.workspace, this.app.editor).catch(() => false);
     this.show("program", { focus: true });
   }
 
