@@ -25,7 +25,10 @@ REVISIONS = "(id) => fetch(`/api/workspaces/${id}/revisions`).then((r) => r.json
 
 def _fresh(open_session: Any, server: Server, name: str, group: str | None = None) -> Session:
     server.add_user(name, group=group)
-    return open_session(name)
+    session: Session = open_session(name)
+    # The page has settled: the welcome project is in (the guide comes after it).
+    session.page.wait_for_function("() => window.melfa.guide")
+    return session
 
 
 def _shot(s: Session, name: str) -> None:
@@ -34,10 +37,11 @@ def _shot(s: Session, name: str) -> None:
     s.screenshot(name)
 
 
-def _menu_items(s: Session) -> list[str]:
+def _expect_menu(s: Session, names: list[str]) -> None:
+    """Open the switcher's menu: it lists exactly `names` (the list may still be arriving)."""
     s.page.click("#ws-switch")
     expect(s.page.locator("#ws-menu")).to_be_visible()
-    return [t.strip() for t in s.page.locator("#ws-menu .ws-item-name").all_inner_texts()]
+    expect(s.page.locator("#ws-menu .ws-item:not(.archived) .ws-item-name")).to_have_text(names)
 
 
 def test_open_beside_over_unsaved_work_makes_a_new_workspace(
@@ -72,7 +76,7 @@ def test_open_beside_over_unsaved_work_makes_a_new_workspace(
     assert s.eval(STORED, old_id)["program"] == MINE
 
     # Reachable through the switcher; switching back shows the old program.
-    assert _menu_items(s) == ["My programs", "PYRAMID"]
+    _expect_menu(s, ["My programs", "PYRAMID"])
     assert "null" not in s.page.inner_text("#ws-menu")
     expect(page.locator('#ws-menu [aria-checked="true"]')).to_contain_text("PYRAMID")
     _shot(s, "workspaces")
@@ -114,7 +118,7 @@ def test_replace_keeps_the_old_program_as_a_revision_and_cancel_changes_nothing(
     assert s.eval("() => window.melfa.editor.text").startswith(FILE_TEXT)
     assert s.eval("() => window.melfa.workspace.id") == ws_id
     expect(page.locator("#ws-current-name")).to_have_text("My programs")
-    assert _menu_items(s) == ["My programs"]  # no workspace was made
+    _expect_menu(s, ["My programs"])  # no workspace was made
     page.keyboard.press("Escape")
     # The program it replaced is a revision of its own (saved before the file came in,
     # by the autosave or by Replace itself, whichever came first): History shows it.
@@ -178,7 +182,7 @@ def test_new_rename_and_a_taken_name(open_session: Any, server: Server) -> None:
     page.keyboard.press("Enter")
     expect(dialog).to_be_hidden()
     expect(page.locator("#ws-current-name")).to_have_text("Final pyramid")
-    assert _menu_items(s) == ["My programs", "Final pyramid"]
+    _expect_menu(s, ["My programs", "Final pyramid"])
     page.keyboard.press("Escape")
     expect(page.locator("#ws-menu")).to_be_hidden()
     expect(page.locator("#ws-switch")).to_be_focused()
@@ -250,7 +254,7 @@ def test_archive_hides_a_workspace_and_brings_it_back(open_session: Any, server:
     page.once("dialog", lambda d: d.accept())
     page.click("#ws-archive")
     expect(page.locator("#ws-current-name")).to_have_text("My programs")
-    assert _menu_items(s) == ["My programs"]
+    _expect_menu(s, ["My programs"])
     expect(page.locator("#ws-archive")).to_have_count(0)  # the first one stays
     page.click("#ws-show-archived")
     back = page.locator("#ws-menu .ws-item.archived", has_text="Old try")
@@ -259,4 +263,4 @@ def test_archive_hides_a_workspace_and_brings_it_back(open_session: Any, server:
     expect(page.locator("#ws-current-name")).to_have_text("Old try")
     assert s.eval("() => window.melfa.workspace.id") == old_id
     assert s.eval("() => window.melfa.editor.text") == "MOV P1\nEND\n"
-    assert _menu_items(s) == ["My programs", "Old try"]
+    _expect_menu(s, ["My programs", "Old try"])

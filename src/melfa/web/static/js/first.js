@@ -30,8 +30,10 @@ export function welcomeProject() {
 /** An empty workspace starts with the welcome project (the guide then walks through it). */
 export async function welcome(workspace, editor) {
   if (workspace.program.trim() || workspace.points.trim()) return false;
+  const id = workspace.id;
   const [program, points] = await welcomeProject();
-  if (!program) return false;
+  // Typed (or switched workspace) while the project was fetched: nothing is replaced.
+  if (!program || workspace.id !== id || workspace.program.trim() || workspace.points.trim()) return false;
   workspace.replace({ program, points }, "welcome");
   editor.check();
   return true;
