@@ -90,3 +90,16 @@ def test_non_default_after_default_is_refused() -> None:
         class Bad(Record):
             a: int = 0
             b: int
+
+
+def test_a_subclass_of_a_record_already_used_gets_its_own_init() -> None:
+    class Base(Record):
+        a: int
+
+    assert Base(1).a == 1  # Base's __init__ is compiled now
+
+    class Sub(Base):
+        b: int = 2
+
+    assert Sub(1, 3).b == 3 and Sub(1) == Sub(a=1, b=2)
+    assert Base(5) == Base(a=5)

@@ -59,6 +59,7 @@ from melfa.robot.status import Alarm
 
 
 def _read_text(path: Path, what: str) -> tuple[str, object]:
+    # Lazily (start-up): only the commands that send files need the file reader and checker.
     from melfa.cli.lang_commands import FileKind, UsageError, read_source
 
     kind = FileKind.POINTS if what == "points" else FileKind.PROGRAM
@@ -97,6 +98,7 @@ def upload(
     target: Target,
 ) -> None:
     """See the help text above."""
+    # Lazily (start-up): the other robot commands need neither the checker nor the uploader.
     from melfa.cli.lang_commands import check_files, print_text
     from melfa.lang.diagnostics import Severity
     from melfa.robot.upload import UploadPreparationError, prepare_upload

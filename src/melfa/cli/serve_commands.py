@@ -136,6 +136,7 @@ def serve(
     ] = None,
 ) -> None:
     """Serve the web IDE and its API (docs at /docs)."""
+    # Lazily (start-up): `melfa --help` imports this module; the web stack loads to serve only.
     import uvicorn
 
     from melfa.web import WebSettings, create_app

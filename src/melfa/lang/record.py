@@ -109,6 +109,8 @@ class Record:
         cls.__record_defaults__ = specs
         cls.__record_frozen__ = frozen
         setattr(cls, "__match_args__", tuple(names))  # noqa: B010  (not declared on Record)
+        if "__init__" not in cls.__dict__:  # not the compiled one of a parent, if used already
+            cls.__init__ = Record.__init__  # type: ignore[method-assign]
         if not frozen:
             cls.__setattr__ = object.__setattr__  # type: ignore[method-assign,assignment]
             cls.__delattr__ = object.__delattr__  # type: ignore[method-assign]

@@ -24,7 +24,7 @@ def open_robot_link(
     """Open what ``spec`` names; `melfa.link.LinkError` with a clear message if it cannot."""
     if not is_sim_spec(spec):
         return open_link(spec, settings, trace=trace, trace_sink=trace_sink, pace=pace)
-    from melfa.sim import open_sim_link
+    from melfa.sim import open_sim_link  # lazily: the simulator loads for --robot sim only
 
     link = open_sim_link(settings=settings or LinkSettings())
     return wrap_link(link, trace=trace, trace_sink=trace_sink, pace=pace)
