@@ -581,7 +581,9 @@ def test_load_and_run_from_a_workspace(ui: Ui, observer: ApiClient, files: Path)
 
 
 def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> None:
-    ui.presenter._on_live(UploadProgress("load_project", 862, 1724))
+    ui.presenter._on_live(UploadProgress("load_project", 300, 1724, "someone-else"))
+    assert not ui.window.progress.isVisibleTo(ui.window)  # not ours: no bar
+    ui.presenter._on_live(UploadProgress("load_project", 862, 1724, "admin"))
     assert ui.window.progress.isVisibleTo(ui.window) and ui.window.progress.value() == 50
     assert ui.window.statusBar().currentMessage() == "Sending to the robot: 50 %"
     state = ui.presenter.state

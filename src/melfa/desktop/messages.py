@@ -234,9 +234,12 @@ class Refused:
 
 @dataclass(frozen=True)
 class UploadProgress:
+    """Bytes sent of an upload's total; ``actor`` is who uploads (None: the service)."""
+
     command: str
     sent: int
     total: int
+    actor: str | None = None
 
 
 LiveMessage = (
@@ -285,6 +288,7 @@ def parse_message(data: object) -> LiveMessage | None:
             command=str(data.get("command") or ""),
             sent=_opt_int(data.get("sent")) or 0,
             total=_opt_int(data.get("total")) or 0,
+            actor=_actor(data.get("actor")),
         )
     if kind == "jog":
         return JogChanged(

@@ -260,7 +260,7 @@ class Presenter:
                 if message.command == "run" and message.ok:
                     result = "started"
                 self._log(f"{action_label(message.command)} by {who}: {result}")
-        elif isinstance(message, UploadProgress) and message.total:
+        elif isinstance(message, UploadProgress) and message.total and message.actor == self.me:
             text, percent = upload_progress(message.sent, message.total)
             self.view.show_status(text)
             self.view.show_progress(percent)
