@@ -269,3 +269,33 @@ def test_close_fails_queued_commands_and_is_safe_twice() -> None:
         await service.close()
 
     run(main())
+
+
+def test_a_released_step_jog_stops_short_of_its_step() -> None:
+    """Where the controller refuses JOG, hold-to-move sends step moves; letting the key go
+    stops the step in progress (STOP) instead of letting it run its whole 10 mm."""
+    controller = RecordingController(SimConfig(jog_supported=False))
+
+    async def main() -> None:
+        service, _ = make_service(controller, polling=False)
+        async with service:
+            await service.servo(ANN, True)
+            before = controller.arm.pose.x
+            assert await service.jog_start(ANN, "xyz", "X", +1) is JogMethod.STEP
+            assert controller.moving
+            await service.jog_release(ANN)
+            assert controller.commands()[-1].endswith(";STOP")
+            for _ in range(20):  # the controller's time moves on with each request
+                await service.read_joints(ANN)
+            assert not controller.moving  # it decelerated and stopped
+            stopped = controller.arm.pose.x
+            for _ in range(20):
+                await service.read_joints(ANN)
+            assert controller.arm.pose.x == stopped
+            assert 0 < stopped - before < 0.5 * service.robot_settings.jog_step_mm
+            # The next press still jogs.
+            assert await service.jog_start(ANN, "xyz", "X", +1) is JogMethod.STEP
+            await service.jog_release(ANN)
+            assert controller.arm.pose.x > stopped
+
+    run(main())

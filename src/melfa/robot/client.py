@@ -424,7 +424,12 @@ class Robot:
             return JogMethod.STEP
 
     def jog_stop(self) -> None:
-        """End a jog now: JOG with empty masks (a step jog ends by itself)."""
+        """End a jog now: JOG with empty masks. A step jog's move is stopped with STOP:
+        left alone it would run to the end of its step (up to `jog_step_mm`) after the key
+        was let go, and the arm moves only while a key is held."""
+        if self.jog_method is JogMethod.STEP:
+            self.stop()
+            return
         with self._operation():
             if self.jog_method is JogMethod.JOG:
                 self._call(Jog(JogMode.JOINT).command)

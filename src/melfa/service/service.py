@@ -611,7 +611,7 @@ class RobotService:
             return False
         if not self._lease.holds(actor):
             if self._jog.owned_by(actor):
-                self._end_jog("lease lost", actor)
+                self._end_jog("lease lost", actor, send_stop=True)
             return False
         self._lease.touch(actor)  # keeps an idle-timeout lease alive
         ours, queue = self._jog.heartbeat(actor, self._clock())
