@@ -26,7 +26,7 @@ from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
-from melfa.protocol.advice import advice_for
+from melfa.protocol.advice import action_label, advice_for
 from melfa.service import (
     Actor,
     AuditEvent,
@@ -83,6 +83,8 @@ def message_of(event: Event) -> dict[str, Any] | None:
     if isinstance(event, LeaseChanged):
         out["holder"] = actor_dict(event.holder)
         out["previous"] = actor_dict(event.previous)
+    if isinstance(event, CommandResult | UploadProgress):
+        out["label"] = action_label(event.command)  # the command in a student's words
     if isinstance(event, CommandResult) and not event.ok:
         # Student words, never the sent request or a Python class name.
         if event.error_number is not None:

@@ -1,16 +1,11 @@
 // The session's robot actions (time, action, result), kept for this browser tab and opened
 // from the toolbar's "Robot log": what the student did and what the robot answered, in
-// words (the server's `result` events carry the student text, never a wire request).
+// words (the server's `result` events carry the action's label and the student text, never
+// a wire request).
 
 import { el } from "./ui.js";
 
 const KEY = "melfa.action-log";
-const NAMES = {
-  load_project: "Load project", upload_program: "Upload program", upload_points: "Upload points",
-  run: "Run", stop: "Stop", move_to: "Move to", servo: "Servo", override: "Override",
-  hand: "Hand", jog: "Jog", jog_step: "Jog step", reset_alarm: "Reset alarm",
-  reset_program: "Reset program", delete: "Delete program", exec: "Instruction",
-};
 
 export class ActionLog {
   constructor(app) {
@@ -18,7 +13,7 @@ export class ActionLog {
     try { this.entries = JSON.parse(sessionStorage.getItem(KEY) || "[]"); } catch { this.entries = []; }
     app.live.on("result", (m) => {
       if (m.actor?.user !== app.user) return;
-      this.add(NAMES[m.command] || m.command, m.ok ? "done" : m.error || "failed", m.ok);
+      this.add(m.label || "Robot command", m.ok ? "done" : m.error || "failed", m.ok);
     });
     const button = el("button", { type: "button", class: "btn btn-sm", id: "action-log-button", "aria-haspopup": "dialog",
       title: "What you asked the robot to do in this session, and what it answered", onclick: () => this.open() }, "Robot log");
