@@ -7,8 +7,6 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -21,7 +19,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, sync_playwright
 
-from tests.waiting import wait_until
+from tests.serving import melfa_serve as serving_melfa
 
 CHROMIUM = Path("/usr/bin/chromium")
 ARGS = [
@@ -47,12 +45,6 @@ SCREENSHOTS = (
 VIEWPORT = {"width": 1366, "height": 768}
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @dataclass(frozen=True)
 class Server:
     url: str
@@ -76,42 +68,11 @@ class Server:
         return password
 
 
-def _stop(proc: subprocess.Popen[bytes]) -> None:
-    proc.send_signal(signal.SIGINT)
-    try:
-        proc.wait(timeout=15)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
-
-
 @contextlib.contextmanager
 def melfa_serve(data: Path, *extra: str, timeout: float = 30.0) -> Iterator[str]:
-    """`melfa serve` on a free port with ``data`` and ``extra`` options, its output in
-    data/serve.log; yields its URL once /api/health says the robot link is connected, and
-    stops it (SIGINT) at the end. The one start-up of a served melfa for browser tests."""
-    port = _free_port()
-    env = {k: v for k, v in os.environ.items() if k != "MELFA_ROBOT"}
-    env["MELFA_ADMIN_PASSWORD"] = ADMIN_PASSWORD
-    log_path = data / "serve.log"
-    command = [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)]
-    url = f"http://127.0.0.1:{port}"
-    with log_path.open("w") as log:
-        proc = subprocess.Popen([*command, *extra], stdout=log, stderr=subprocess.STDOUT, env=env)
-
-        def connected() -> bool:
-            assert proc.poll() is None, log_path.read_text()
-            try:
-                with urllib.request.urlopen(url + "/api/health", timeout=2) as reply:
-                    return bool(json.loads(reply.read())["robot"]["link"] == "connected")
-            except OSError:
-                return False
-
-        try:
-            wait_until(connected, timeout, what=lambda: f"melfa serve: {log_path.read_text()}")
-            yield url
-        finally:
-            _stop(proc)
+    """`tests.serving.melfa_serve` with the browser tests' admin password."""
+    with serving_melfa(data, *extra, admin_password=ADMIN_PASSWORD, timeout=timeout) as url:
+        yield url
 
 
 @contextlib.contextmanager

@@ -18,12 +18,11 @@ from tests.browser.conftest import (
     ADMIN_PASSWORD,
     Server,
     Session,
-    _free_port,
-    _stop,
     axe_serious,
     free_the_robot,
     melfa_serve,
 )
+from tests.serving import free_port, stop_process
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(240)
@@ -174,7 +173,7 @@ def real(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     """`melfa serve --robot tcp://…`: a controller on a line, as the lab's arm is (the IDE
     cannot tell it from the real one, so it says "Real robot")."""
     data = tmp_path_factory.mktemp("melfa-real")
-    port = _free_port()
+    port = free_port()
     sim_log = data / "sim.log"
     command = [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{port}"]
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}  # its "listening" line reaches the log now
@@ -187,7 +186,7 @@ def real(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
                 server.add_user("alice")
                 yield server
         finally:
-            _stop(sim)
+            stop_process(sim)
 
 
 def test_on_the_real_robot_the_guide_says_the_arm_moves_and_points_at_stop(

@@ -17,10 +17,9 @@ from tests.browser.conftest import (
     ADMIN_PASSWORD,
     Server,
     Session,
-    _free_port,
-    _stop,
     melfa_serve,
 )
+from tests.serving import free_port, stop_process
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(180)
@@ -29,7 +28,7 @@ pytestmark = pytest.mark.timeout(180)
 @pytest.fixture(scope="module")
 def paced(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     data = tmp_path_factory.mktemp("melfa-paced")
-    sim_port = _free_port()
+    sim_port = free_port()
     sim_log = data / "sim.log"
     command = [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{sim_port}"]
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}  # its "listening" line reaches the log now
@@ -43,7 +42,7 @@ def paced(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
             with melfa_serve(data, "--robot", robot, timeout=60) as url:
                 yield Server(url, data, {"admin": ADMIN_PASSWORD})
         finally:
-            _stop(sim)
+            stop_process(sim)
 
 
 def test_jog_state_flows_while_the_key_is_held_on_a_9600_baud_link(

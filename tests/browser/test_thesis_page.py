@@ -28,7 +28,8 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Page
 
-from tests.browser.conftest import ROOT, _free_port, melfa_serve
+from tests.browser.conftest import ROOT, melfa_serve
+from tests.serving import free_port
 from tests.waiting import wait_until
 
 PAGE = Path(__file__).parent / "pages" / "thesis_client.html"
@@ -94,7 +95,7 @@ def melfa(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Melfa]:
     """`melfa serve --rosbridge-port … --rosbridge-mode thesis`, and a lab account with a
     token made by `melfa users token`."""
     data = tmp_path_factory.mktemp("melfa-thesis")
-    bridge = _free_port()
+    bridge = free_port()
     with melfa_serve(data, "--rosbridge-port", str(bridge), "--rosbridge-mode", "thesis") as web:
         cli(data, "add", "lab", "--generate")
         yield Melfa(web, bridge, cli(data, "token", "lab", "--label", "thesis page"))

@@ -11,7 +11,8 @@ from melfa.desktop.api import ApiClient, ApiError, ServerUnreachable
 from melfa.desktop.files import FileKind, FileRefused, read_file
 from melfa.desktop.live import FeedStatus, LiveFeed
 from melfa.desktop.messages import LinkStatus, LiveMessage, RobotState
-from tests.desktop.conftest import Server, free_port
+from tests.desktop.conftest import Server
+from tests.serving import free_port
 
 
 def test_sign_in_keeps_the_session_and_reads_state(server: Server) -> None:
