@@ -31,6 +31,7 @@ const app = {
   live: null,
   view: null,
   uploading: null, // {command_id, sent, total} while our load runs
+  loadingProject: false, // our Load project waits for its answer
   activityLock: false, // an explicit operation owns the activity line
   tracing: false, // drawing the path of a running program
   virtual: null, // the robot is a simulated one (the hello says so)
@@ -151,9 +152,12 @@ function wireLive(live) {
     }
   });
   live.on("progress", (m) => {
-    if (m.actor?.user !== app.user) return;
+    // Only while our load waits for its answer: the last progress event can arrive after
+    // it, and must not cover "Loaded…" with a progress bar that never ends.
+    if (m.actor?.user !== app.user || !app.loadingProject) return;
     app.uploading = m;
-    app.busy(`Uploading ${m.sent}/${m.total}`, m.total ? m.sent / m.total : 0);
+    const share = m.total ? m.sent / m.total : 0;
+    app.busy(`Loading project… ${Math.round(share * 100)} %`, share);
   });
   live.on("result", (m) => {
     if (m.actor?.user === app.user && m.command === "load_project") app.uploading = null;
@@ -398,13 +402,14 @@ function wireToolbar(workspace, editor) {
 async function loadProject(workspace, editor) {
   const button = $("act-load");
   button.disabled = true;
+  app.loadingProject = true;
   app.busy("Loading project…", 0);
   try {
     const program = workspace.program;
     const out = await api("POST", "/api/robot/project", { program, points: workspace.points, check: true });
     rememberLoaded(program, out.step_lines);
-    app.idle(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`);
-    setActivity(`Loaded: ${out.items} items in ${out.seconds.toFixed(1)} s`, { progress: 1 });
+    app.idle(`Project loaded in ${out.seconds.toFixed(1)} s`);
+    setActivity(`Project loaded in ${out.seconds.toFixed(1)} s`, { progress: 1 });
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
   } catch (err) {
@@ -417,6 +422,7 @@ async function loadProject(workspace, editor) {
     showError(err.code === "program-has-errors" ? "Not loaded: the program has errors" : err.code === "points-have-errors" ? "Not loaded: the points have errors" : "Could not load the project", err);
   } finally {
     button.disabled = false;
+    app.loadingProject = false;
     app.uploading = null;
   }
 }

@@ -33,7 +33,7 @@ export function toast(title, { kind = "info", text = "", items = [], timeout, co
   const node = el(
     "div",
     { class: `toast ${kind}`, role: kind === "error" ? "alert" : "status" },
-    el("div", {}, el("strong", {}, title, code ? el("span", { class: "code", title: "The controller's error code (see its manual)" }, code) : null),
+    el("div", {}, el("strong", {}, title, code ? " " : null, code ? el("span", { class: "code", title: "The controller's error code (see its manual)" }, code) : null),
       text ? el("span", {}, text) : null,
       items.length ? el("ul", {}, items.slice(0, 6).map((i) => el("li", {}, i))) : null,
       items.length > 6 ? el("span", { class: "muted" }, `… and ${items.length - 6} more`) : null,
