@@ -60,7 +60,8 @@ from melfa.desktop.words import (
     sentence,
     upload_progress,
 )
-from melfa.protocol.advice import Fix, action_label
+from melfa.protocol.advice import Fix
+from melfa.vocab.commands import command_label
 
 _log = logging.getLogger(__name__)
 FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
@@ -259,7 +260,7 @@ class Presenter:
                 result = "done" if message.ok else sentence(message.error)
                 if message.command == "run" and message.ok:
                     result = "started"
-                self._log(f"{action_label(message.command)} by {who}: {result}")
+                self._log(f"{command_label(message.command)} by {who}: {result}")
         elif isinstance(message, UploadProgress) and message.total and message.actor == self.me:
             text, percent = upload_progress(message.sent, message.total)
             self.view.show_status(text)

@@ -199,35 +199,6 @@ _TEXTS: dict[int, tuple[str, str, Fix | None]] = {
 }
 
 
-ACTION_LABELS: dict[str, str] = {
-    "load_project": "Load project",
-    "upload_program": "Upload program",
-    "upload_points": "Upload points",
-    "run": "Run",
-    "stop": "Stop",
-    "move_to": "Move to",
-    "servo": "Servo",
-    "override": "Speed override",
-    "hand": "Hand",
-    "jog": "Jog",
-    "jog_step": "Jog step",
-    "reset_alarm": "Reset alarm",
-    "reset_program": "Reset program",
-    "delete": "Delete program",
-    "exec": "Instruction",
-}
-"""The robot service's command names (the ``command`` of a ``result`` event) in a student's
-words, for the logs of the session's robot actions."""
-
-
-def action_label(command: str) -> str:
-    """
-    >>> action_label("load_project"), action_label("brand_new_command")
-    ('Load project', 'Brand new command')
-    """
-    return ACTION_LABELS.get(command) or command.replace("_", " ").capitalize()
-
-
 def error_code(number: int) -> str:
     """``L2000``: the level letter and four digits, as the manual lists it."""
     info = ERROR_MESSAGES.get(number)
@@ -251,11 +222,9 @@ def advice_for(number: int) -> Advice:
 
 
 __all__ = [
-    "ACTION_LABELS",
     "FIX_LABELS",
     "Advice",
     "Fix",
-    "action_label",
     "advice_for",
     "error_code",
 ]

@@ -26,7 +26,7 @@ from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
-from melfa.protocol.advice import action_label, advice_for
+from melfa.protocol.advice import advice_for
 from melfa.service import (
     Actor,
     AuditEvent,
@@ -44,6 +44,7 @@ from melfa.service import (
 )
 from melfa.service.debugging import DebugUpdate
 from melfa.store import is_access_token
+from melfa.vocab.commands import command_label
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import actor_dict, state_dict, target_dict
@@ -84,7 +85,7 @@ def message_of(event: Event) -> dict[str, Any] | None:
         out["holder"] = actor_dict(event.holder)
         out["previous"] = actor_dict(event.previous)
     if isinstance(event, CommandResult | UploadProgress):
-        out["label"] = action_label(event.command)  # the command in a student's words
+        out["label"] = command_label(event.command)  # the command in a student's words
     if isinstance(event, CommandResult) and not event.ok:
         # Student words, never the sent request or a Python class name.
         if event.error_number is not None:

@@ -1,0 +1,100 @@
+"""What a student can ask of the robot: one member per command of the robot service.
+
+The wire value is the name the service puts in audit entries and ``result`` events (and
+the audit log keeps); `Command.label` is the student's words for it (a log line, a toast:
+never the Python method name); `Command.moves` says whether it moves the arm (a moving
+command keeps the lease of a holder who left until the arm is still, and audit entries
+carry it).
+
+>>> Command.MOVE_TO.value, Command.MOVE_TO.label, Command.MOVE_TO.moves
+('move_to', 'Move to', True)
+>>> Command.SERVO.label, Command.SERVO.moves
+('Servo', False)
+>>> command_label("load_project"), command_label("brand_new_command")
+('Load project', 'Brand new command')
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+
+class Command(enum.StrEnum):
+    """A command of the robot service (stable wire value: what ``result`` events carry)."""
+
+    LOAD_PROJECT = "load_project"
+    UPLOAD_PROGRAM = "upload_program"
+    UPLOAD_POINTS = "upload_points"
+    DELETE = "delete"
+    RUN = "run"
+    STOP = "stop"
+    MOVE_TO = "move_to"
+    EXEC = "exec"
+    """One MELFA BASIC statement now (``EXEC``); it may move the arm."""
+    SERVO = "servo"
+    OVERRIDE = "override"
+    HAND = "hand"
+    JOG = "jog"
+    """Hold-to-move: the first JOG and each renewal."""
+    JOG_STOP = "jog_stop"
+    """The key was let go: JOG with empty masks."""
+    JOG_END = "jog_end"
+    """The audit entry of a jog that ended (released, stopped, heartbeat lost …)."""
+    JOG_STEP = "jog_step"
+    RESET_ALARM = "reset_alarm"
+    RESET_PROGRAM = "reset_program"
+    READ_JOINTS = "read_joints"
+    READ_POSE = "read_pose"
+
+    @property
+    def label(self) -> str:
+        """The student's words (``Move to``)."""
+        return _WORDS[self].label
+
+    @property
+    def moves(self) -> bool:
+        """Whether the command moves the arm."""
+        return _WORDS[self].moves
+
+
+@dataclass(frozen=True)
+class _Words:
+    label: str
+    moves: bool
+
+
+_WORDS: dict[Command, _Words] = {
+    Command.LOAD_PROJECT: _Words("Load project", False),
+    Command.UPLOAD_PROGRAM: _Words("Upload program", False),
+    Command.UPLOAD_POINTS: _Words("Upload points", False),
+    Command.DELETE: _Words("Delete program", False),
+    Command.RUN: _Words("Run", True),
+    Command.STOP: _Words("Stop", False),
+    Command.MOVE_TO: _Words("Move to", True),
+    Command.EXEC: _Words("Instruction", True),
+    Command.SERVO: _Words("Servo", False),
+    Command.OVERRIDE: _Words("Speed override", False),
+    Command.HAND: _Words("Hand", False),
+    Command.JOG: _Words("Jog", True),
+    Command.JOG_STOP: _Words("Jog stop", False),
+    Command.JOG_END: _Words("Jog end", False),
+    Command.JOG_STEP: _Words("Jog step", True),
+    Command.RESET_ALARM: _Words("Reset alarm", False),
+    Command.RESET_PROGRAM: _Words("Reset program", False),
+    Command.READ_JOINTS: _Words("Read joints", False),
+    Command.READ_POSE: _Words("Read position", False),
+}
+assert set(_WORDS) == set(Command), "every command has its words"
+
+
+def command_label(value: str) -> str:
+    """The label of a command's wire value; an unknown one (a newer server) in words made
+    from its name, never the bare identifier."""
+    try:
+        return Command(value).label
+    except ValueError:
+        return value.replace("_", " ").capitalize()
+
+
+__all__ = ["Command", "command_label"]
