@@ -92,7 +92,8 @@ class OpenBanner:
         task_max = None
         for text in reversed(fields[12:]):
             if text:
-                task_max = int(text) if text.isdigit() and len(text) < 4 else None
+                ascii_number = text.isascii() and text.isdigit() and len(text) < 4
+                task_max = int(text) if ascii_number else None  # not int("²")
                 break
         return cls(
             xyz_axes=_int(fields[0], "OPEN XYZ axes", 16),

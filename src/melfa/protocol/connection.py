@@ -98,6 +98,7 @@ class ClientConnection:
         self._fence_command = resync_command
         self._dropped: list[Reply] = []
         self._ready: deque[Event] = deque()
+        self._unchecked: list[Request] = []
 
     @property
     def state(self) -> ClientState:
@@ -118,11 +119,13 @@ class ClientConnection:
         """Requests sent and not yet answered, oldest first."""
         return tuple(self._outstanding)
 
-    def send(self, request: Request, *, window: int = 1) -> bytes:
+    def send(self, request: Request, *, window: int = 1, check_fit: bool = True) -> bytes:
         """Register ``request`` as sent and return its bytes.
 
         ``window`` > 1 allows that many requests in flight (opt-in pipelining of a batch such
-        as EMDAT chunks). STOP is always allowed through, even while broken.
+        as EMDAT chunks). STOP is always allowed through, even while broken. Without
+        ``check_fit`` the reply in its turn is taken whatever its shape (a probe of what the
+        controller answers, as ``melfa doctor`` sends; its caller reads it tolerantly).
         """
         overtaking = request.name in OVERTAKING_COMMANDS
         if not overtaking:
@@ -137,6 +140,8 @@ class ClientConnection:
                     f"{waiting[0].name!r} awaits its reply"
                 )
         self._outstanding.append(request)
+        if not check_fit:
+            self._unchecked.append(request)
         return request.to_bytes()
 
     def begin_resync(self, robot: int = 1) -> bytes:
@@ -190,12 +195,15 @@ class ClientConnection:
             self._break("a reply came with no request")
             raise RemoteProtocolError(f"unsolicited reply {_show(reply)}: replies are out of step")
         head = self._outstanding[0]
-        if fits(head, reply):
+        unchecked = any(r is head for r in self._unchecked)
+        if unchecked or fits(head, reply):
             self._outstanding.popleft()
+            self._forget(head)
             return Paired(head, reply)
         stops = [r for r in list(self._outstanding)[1:] if r.name in OVERTAKING_COMMANDS]
         if stops and fits(stops[0], reply):
             self._outstanding.popleft()
+            self._forget(head)
             self._outstanding.remove(stops[0])
             self._break(f"{head.name} got no reply of its own")
             self._ready.append(Paired(stops[0], reply))
@@ -214,10 +222,14 @@ class ClientConnection:
             self._broken = None
             self._dropped = []
             self._outstanding.clear()
+            self._unchecked.clear()
             return Resynced(dropped, orphans)
         self._dropped.append(reply)
         self._check_dropped()
         return None
+
+    def _forget(self, request: Request) -> None:
+        self._unchecked = [r for r in self._unchecked if r is not request]
 
     def _check_dropped(self) -> None:
         if len(self._dropped) > MAX_DROPPED:
@@ -237,16 +249,19 @@ class ClientConnection:
             self._broken = reason
             self._fence = None
             self._outstanding.clear()
+            self._unchecked.clear()
 
     def mark_broken(self, reason: str) -> None:
         """Declare the pairing lost (stray bytes seen while idle, a lost reply)."""
         self._broken = reason
         self._outstanding.clear()
+        self._unchecked.clear()
 
     def reset(self) -> None:
         """Start afresh on a fresh line (a new session after reconnecting)."""
         self._reader.clear()
         self._outstanding.clear()
+        self._unchecked.clear()
         self._broken = None
         self._fence = None
         self._dropped = []

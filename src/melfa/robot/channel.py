@@ -87,13 +87,16 @@ class Channel:
         """False while the pairing is lost (the next request resynchronises first)."""
         return self._conn.state not in (ClientState.BROKEN, ClientState.RESYNCING)
 
-    def request(self, request: Request, timeout: float | None = None) -> Reply:
-        """Send ``request`` and return its reply (or raise the link/protocol error)."""
+    def request(
+        self, request: Request, timeout: float | None = None, *, check_fit: bool = True
+    ) -> Reply:
+        """Send ``request`` and return its reply (or raise the link/protocol error).
+        ``check_fit=False`` takes the reply in its turn whatever its shape (probes)."""
         if request.name in OVERTAKING_COMMANDS:
             return self.stop(request, timeout)
         with self._send_lock:
             self._settle()
-            ticket = self._submit(request, timeout)
+            ticket = self._submit(request, timeout, check_fit=check_fit)
         return self._await(ticket)
 
     def stop(self, request: Request, timeout: float | None = None) -> Reply:
@@ -210,12 +213,15 @@ class Channel:
         timeout: float | None,
         window: int = 1,
         stops_seen: int | None = None,
+        *,
+        check_fit: bool = True,
     ) -> _Ticket:
         limit = self.link.settings.timeout if timeout is None else timeout
         with self._state_lock:
             if stops_seen is not None and self.stops_sent != stops_seen:
                 raise StopOvertook("a STOP was sent")
-            data = self._conn.send(request, window=window)  # LocalProtocolError if out of turn
+            # LocalProtocolError if out of turn
+            data = self._conn.send(request, window=window, check_fit=check_fit)
             if request.name in OVERTAKING_COMMANDS:
                 self.stops_sent += 1
             ticket = _Ticket(request, time.monotonic() + limit, self.received_replies)

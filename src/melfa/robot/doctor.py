@@ -17,13 +17,16 @@ import dataclasses
 import enum
 from dataclasses import dataclass, field
 
-from melfa.link import LinkError
+from melfa.link import LinkError, LinkTimeout
 from melfa.protocol import (
     ErrorLogEntry,
+    LocalProtocolError,
     ModeKey,
     Ok,
     Parameter,
+    Position,
     ProgramEntry,
+    Refused,
     RemoteProtocolError,
     Reply,
     Request,
@@ -32,6 +35,8 @@ from melfa.protocol import (
     error_text,
 )
 from melfa.protocol.answers import RunStatus
+from melfa.protocol.error_table import NO_RIGHTS, ORIGIN_NOT_SET
+from melfa.protocol.messages import encode_reply
 from melfa.robot.client import Robot
 from melfa.robot.edit import find_program, read_back
 from melfa.robot.errors import RobotError
@@ -42,6 +47,8 @@ SCRATCH_PROGRAM = "MDOCTOR"
 """Name of the scratch program ``--probe-upload`` writes and deletes."""
 LINE_PARAMETERS = ("CBAU232", "CPRTY232", "CSTOP232", "CTERM232", "CPRC232")
 """Serial settings of the controller [DOC S5], read with ``PAR<name>`` when it answers."""
+RAW_SHOWN = 120
+"""A raw reply is quoted in the report up to this many characters."""
 
 
 class Verdict(enum.Enum):
@@ -52,13 +59,14 @@ class Verdict(enum.Enum):
 
 @dataclass(frozen=True)
 class Finding:
-    """One line of the report."""
+    """One line of the report; ``raw`` is the reply exactly as it came (for a bug report)."""
 
     item: str
     verdict: Verdict
     detail: str
     blocks: bool = False
     """True when this keeps the robot from being used (TEACH mode, an active alarm)."""
+    raw: str = ""
 
 
 @dataclass
@@ -68,71 +76,169 @@ class Report:
     findings: list[Finding] = field(default_factory=list)
     settings: dict[str, object] = field(default_factory=dict)
     controller: str = ""
+    link_failure: str | None = None
+    """Why the probing ended early (the link failed or the session could not be opened)."""
 
     @property
     def blocked(self) -> bool:
         """Something keeps the robot from being used."""
         return any(f.blocks for f in self.findings)
 
-    def add(self, item: str, verdict: Verdict, detail: str, *, blocks: bool = False) -> None:
-        self.findings.append(Finding(item, verdict, detail, blocks))
+    def add(
+        self, item: str, verdict: Verdict, detail: str, *, blocks: bool = False, raw: str = ""
+    ) -> None:
+        self.findings.append(Finding(item, verdict, detail, blocks, raw))
+
+    def render(self) -> list[str]:
+        """The report as plain text lines (what the report file holds)."""
+        width = max((len(f.item) for f in self.findings), default=0)
+        lines = []
+        for f in self.findings:
+            mark = "  BLOCKS USE" if f.blocks else ""
+            raw = f"  [reply: {f.raw}]" if f.raw else ""
+            lines.append(f"{f.item:<{width}}  {f.verdict.value:<8}  {f.detail}{mark}{raw}")
+        if self.link_failure:
+            lines.append(f"probing ended early: {self.link_failure}")
+        lines.append(f"verdict: {self.verdict}")
+        return lines
+
+    @property
+    def verdict(self) -> str:
+        """One sentence: usable, blocked, or the link failed."""
+        if self.link_failure:
+            return "the link failed: see above"
+        if self.blocked:
+            return "not usable yet: fix what BLOCKS USE"
+        return "usable"
 
 
 class ReadOnlyViolation(RobotError):
     """Doctor was about to send something that changes the controller (a bug in doctor)."""
 
 
-def _ask(robot: Robot, command: str, *, allow_write: bool = False) -> Reply:
-    """Send ``command`` unless it could change anything (STOP aside)."""
+class LinkLost(Exception):
+    """The link failed under a probe (not a late or odd reply): probing cannot go on."""
+
+
+@dataclass(frozen=True)
+class Probe:
+    """What one request got: ``reply`` (None when none came or it was unreadable) and
+    ``raw``, the reply as received (or why there is none)."""
+
+    command: str
+    reply: Reply | None
+    raw: str
+
+    @property
+    def ok(self) -> Ok | None:
+        return self.reply if isinstance(self.reply, Ok) else None
+
+    @property
+    def refused(self) -> bool:
+        return self.reply is not None and not isinstance(self.reply, Ok)
+
+
+def _shown(text: str) -> str:
+    return text if len(text) <= RAW_SHOWN else text[: RAW_SHOWN - 1] + "…"
+
+
+def _raw_text(reply: Reply) -> str:
+    return _shown(encode_reply(reply).decode("latin-1").rstrip("\r"))
+
+
+def _probe(robot: Robot, command: str, *, allow_write: bool = False) -> Probe:
+    """Send ``command`` (unless it could change anything) and take whatever reply comes in
+    its turn, whatever its shape: a probe reports, it never dies on an answer."""
     if not allow_write and not changes_nothing(command) and command != "STOP":
         raise ReadOnlyViolation(f"doctor must not send {command!r}")
-    return robot._raw(command, rights=False)
+    request = Request(command, robot=robot.settings.robot, slot=robot.settings.slot)
+    try:
+        reply = robot.channel.request(request, check_fit=False)
+    except LinkTimeout as exc:
+        return Probe(command, None, _shown(f"no answer ({exc})"))
+    except (RemoteProtocolError, LocalProtocolError) as exc:
+        return Probe(command, None, _shown(f"unreadable ({exc})"))
+    except LinkError as exc:
+        raise LinkLost(f"{command}: {exc}") from None
+    robot._note(reply)
+    return Probe(command, reply, _raw_text(reply))
 
 
-def _refusal(reply: Reply) -> str:
+def _refusal(reply: Reply | None) -> str:
     code = getattr(reply, "code", None)
     number = getattr(reply, "error", 0)
     wire = code.wire if code is not None else f"{number:04d}"
     return f"{error_text(number)} (sent as {wire})"
 
 
+def _unanswered(report: Report, item: str, probe: Probe, what: str) -> None:
+    """A probe with no usable answer: refused (with the controller's text) or unknown."""
+    if probe.refused:
+        report.add(item, Verdict.REFUSED, _refusal(probe.reply), raw=probe.raw)
+    else:
+        report.add(item, Verdict.UNKNOWN, what, raw=probe.raw)
+
+
 def diagnose(robot: Robot, *, probe_upload: bool = False) -> Report:
-    """Run every probe; link failures propagate (the caller exits 3)."""
+    """Run every probe; every answer, odd or not, becomes a line of the report. A link
+    that fails (or an OPEN that cannot be read) ends the probing: `Report.link_failure`."""
     report = Report()
-    banner = robot.connect()
+    try:
+        banner = robot.connect()
+    except (LinkError, RemoteProtocolError, RobotError) as exc:
+        report.add("controller", Verdict.UNKNOWN, f"the session could not be opened: {exc}")
+        report.link_failure = str(exc)
+        return report
     report.controller = f"{banner.robot_type} {banner.controller} {banner.version}".strip()
     report.add("controller", Verdict.OK, f"{report.controller} ({banner.language})")
     if banner.edit_slot is not None:
         report.settings["edit_slot"] = banner.edit_slot
-    _state(robot, report)
-    _alarm_log(robot, report)
-    _program(robot, report)
-    _stop_form(robot, report)
-    _handshakes(robot, report)
-    _parameters(robot, report)
-    report.add(
-        "JOG over RS-232",
-        Verdict.UNKNOWN,
-        "cannot be probed without moving the arm; the client tries JOG and falls back to "
-        "step moves (setting `jog`)",
-    )
-    if probe_upload:
-        _probe_upload(robot, report)
-    else:
+    try:
+        state = _state(robot, report)
+        _alarm_log(robot, report)
+        _origin(robot, report, state)
+        _program(robot, report)
+        _rights(robot, report, state)
+        _stop_form(robot, report)
+        _handshakes(robot, report)
+        _parameters(robot, report)
         report.add(
-            "EMDAT limits, ';' in lines, PDIR counts",
+            "JOG over RS-232",
             Verdict.UNKNOWN,
-            "not probed (read-only); run with --probe-upload",
+            "cannot be probed without moving the arm; the client tries JOG and falls back "
+            "to step moves (setting `jog`)",
         )
+        if probe_upload:
+            _probe_upload(robot, report)
+        else:
+            report.add(
+                "EMDAT limits, ';' in lines, PDIR counts",
+                Verdict.UNKNOWN,
+                "not probed (read-only); run with --probe-upload",
+            )
+    except LinkLost as exc:
+        report.link_failure = str(exc)
     return report
 
 
-def _state(robot: Robot, report: Report) -> None:
-    reply = _ask(robot, "STATE")
-    if not isinstance(reply, Ok):
-        report.add("state", Verdict.REFUSED, _refusal(reply))
-        return
-    state = State.parse(reply.answer)
+def _state(robot: Robot, report: Report) -> State | None:
+    probe = _probe(robot, "STATE")
+    unsafe = "the mode key and any alarm are unknown, so motion cannot be judged safe"
+    if probe.ok is None:
+        verdict = Verdict.REFUSED if probe.refused else Verdict.UNKNOWN
+        report.add("state", verdict, f"no STATE answer: {unsafe}", blocks=True, raw=probe.raw)
+        return None
+    try:
+        state = State.parse(probe.ok.answer)
+    except RemoteProtocolError as exc:
+        report.add(
+            "state",
+            Verdict.UNKNOWN,
+            f"STATE answer not understood ({exc}): {unsafe}",
+            blocks=True,
+            raw=probe.raw,
+        )
+        return None
     status = state.status
     mode = status.mode
     report.add(
@@ -140,24 +246,42 @@ def _state(robot: Robot, report: Report) -> None:
         Verdict.REFUSED if mode is ModeKey.TEACH else Verdict.OK,
         "TEACH: the teaching pendant holds the controller; turn the key to AUTO (Ext.)"
         if mode is ModeKey.TEACH
-        else "AUTO (Op. or Ext.; a 6020 refusal later means Op.: turn it to AUTO (Ext.))",
+        else "AUTO (Op. or Ext.: see 'operation rights')",
         blocks=mode is ModeKey.TEACH,
     )
     servo = RunStatus.SERVO_ON in status.run
     report.add("servo", Verdict.OK, "on" if servo else "off")
     report.add("override", Verdict.OK, f"{state.override} %")
-    if status.error:
-        report.add("alarm", Verdict.REFUSED, error_text(status.error), blocks=True)
+    if status.error == ORIGIN_NOT_SET:
+        report.add(
+            "alarm",
+            Verdict.REFUSED,
+            f"{error_text(status.error)}: set the origin (encoder data) at the robot first",
+            blocks=True,
+            raw=probe.raw,
+        )
+    elif status.error:
+        report.add("alarm", Verdict.REFUSED, error_text(status.error), blocks=True, raw=probe.raw)
     else:
         report.add("alarm", Verdict.OK, "none active")
+    return state
 
 
 def _alarm_log(robot: Robot, report: Report) -> None:
-    reply = _ask(robot, "ERRORRD<;0")
-    if not isinstance(reply, Ok):
-        report.add("error log", Verdict.REFUSED, _refusal(reply))
+    probe = _probe(robot, "ERRORRD<;0")
+    if probe.ok is None:
+        _unanswered(report, "error log", probe, "no answer to ERRORRD")
         return
-    entry = ErrorLogEntry.parse(reply.answer)
+    try:
+        entry = ErrorLogEntry.parse(probe.ok.answer)
+    except RemoteProtocolError as exc:
+        report.add(
+            "error log",
+            Verdict.UNKNOWN,
+            f"answered, but not as the K9b firmware's 8-field entry ({exc})",
+            raw=probe.raw,
+        )
+        return
     report.add(
         "error log",
         Verdict.OK,
@@ -167,13 +291,44 @@ def _alarm_log(robot: Robot, report: Report) -> None:
     )
 
 
+def _origin(robot: Robot, report: Report, state: State | None) -> None:
+    """``JPOSF``: ``****`` axes mean the origin (encoder data) is lost [TRACE K9b-C4]."""
+    probe = _probe(robot, "JPOSF")
+    if probe.ok is None:
+        what = "no JPOSF answer: whether the origin is set is unclear"
+        _unanswered(report, "origin", probe, what)
+        return
+    try:
+        position = Position.parse(probe.ok.answer)
+    except RemoteProtocolError as exc:
+        report.add("origin", Verdict.UNKNOWN, f"JPOSF answer not understood ({exc})", raw=probe.raw)
+        return
+    if any(value is None for _, value in position.axes):
+        unknown = [name for name, value in position.axes if value is None]
+        report.add(
+            "origin",
+            Verdict.REFUSED,
+            f"lost: {', '.join(unknown)} show **** (origin or encoder data not set); nothing "
+            "can move until it is set at the robot",
+            blocks=True,
+            raw=probe.raw,
+        )
+        return
+    report.add("origin", Verdict.OK, "set (every joint has a position)")
+
+
 def _program(robot: Robot, report: Report) -> None:
     name = robot.settings.program
     try:
         entry = find_program(robot, name)
-    except RobotError as exc:
+    except LinkTimeout as exc:
+        report.add(f"program {name}", Verdict.UNKNOWN, f"PDIR not answered ({exc})")
+        return
+    except (RobotError, RemoteProtocolError, LocalProtocolError) as exc:
         report.add(f"program {name}", Verdict.UNKNOWN, str(exc))
         return
+    except LinkError as exc:
+        raise LinkLost(f"PDIR: {exc}") from None
     if entry is None:
         report.add(f"program {name}", Verdict.OK, "not on the controller (upload one)")
     else:
@@ -184,51 +339,109 @@ def _program(robot: Robot, report: Report) -> None:
         )
 
 
+def _rights(robot: Robot, report: Report, state: State | None) -> None:
+    """Whether the computer gets the operation rights: ``CNTLON``, then ``OVRD=`` with the
+    override STATE showed (it writes the value already there: changes nothing), then
+    ``CNTLOFF``. A 6020 means the key is not at AUTO (Ext.): in AUTO (Op.) the operation
+    panel holds the rights, which STATE cannot show [DOC S5 §4]."""
+    item = "operation rights"
+    if state is None or state.override is None or not 1 <= state.override <= 100:
+        report.add(item, Verdict.UNKNOWN, "not probed: the override is unknown")
+        return
+    taken = _probe(robot, "CNTLON")
+    if taken.ok is None:
+        _unanswered(report, item, taken, "no answer to CNTLON")
+        return
+    try:
+        probe = _probe(robot, f"OVRD={state.override}", allow_write=True)
+    finally:
+        _probe(robot, "CNTLOFF")
+    if probe.ok is not None:
+        report.add(item, Verdict.OK, "granted (the key is at AUTO (Ext.))")
+    elif isinstance(probe.reply, Refused) and probe.reply.error == NO_RIGHTS:
+        report.add(
+            item,
+            Verdict.REFUSED,
+            "refused (6020): the key is at AUTO (Op.) or TEACH; turn it to AUTO (Ext.)",
+            blocks=True,
+            raw=probe.raw,
+        )
+    else:
+        _unanswered(report, item, probe, "no answer to OVRD=")
+
+
 def _stop_form(robot: Robot, report: Report) -> None:
     for slot in (1, 0):
-        reply = robot.channel.stop(Request("STOP", robot=robot.settings.robot, slot=slot))
+        command = f"{robot.settings.robot};{slot};STOP"
+        try:
+            reply = robot.channel.stop(Request("STOP", robot=robot.settings.robot, slot=slot))
+        except LinkTimeout as exc:
+            report.add("STOP form", Verdict.UNKNOWN, f"{command}: no answer ({exc})")
+            continue
+        except (RemoteProtocolError, LocalProtocolError) as exc:
+            report.add("STOP form", Verdict.UNKNOWN, f"{command}: unreadable ({_shown(str(exc))})")
+            continue
+        except LinkError as exc:
+            raise LinkLost(f"STOP: {exc}") from None
         if isinstance(reply, Ok):
-            report.add("STOP form", Verdict.OK, f"{robot.settings.robot};{slot};STOP accepted")
+            report.add("STOP form", Verdict.OK, f"{command} accepted", raw=_raw_text(reply))
             report.settings["stop_slot"] = slot
             return
-        report.add("STOP form", Verdict.REFUSED, f"{slot};STOP: {_refusal(reply)}")
-    report.add("STOP form", Verdict.UNKNOWN, "neither form accepted: STOP cannot be relied on")
+        detail = f"{command}: {_refusal(reply)}"
+        report.add("STOP form", Verdict.REFUSED, detail, raw=_raw_text(reply))
+    report.add(
+        "STOP",
+        Verdict.REFUSED,
+        "neither form accepted: STOP cannot be relied on; do not move the arm from melfa",
+        blocks=True,
+    )
 
 
 def _handshakes(robot: Robot, report: Report) -> None:
     accepted = True
     for command in ("PRTVERLISTL", "PRTVEREMDAT"):
-        reply = _ask(robot, command)
-        if not isinstance(reply, Ok):
+        probe = _probe(robot, command)
+        if probe.ok is None:
             accepted = False
-            report.add(command, Verdict.REFUSED, _refusal(reply))
+            _unanswered(report, command, probe, "no answer")
     if accepted:
         report.add("PRTVER handshakes", Verdict.OK, "accepted")
     report.settings["prtver_handshakes"] = accepted
 
 
 def _parameters(robot: Robot, report: Report) -> None:
-    reply = _ask(robot, "PARRLNG")
-    if isinstance(reply, Ok) and reply.answer.upper().startswith("RLNG;"):
-        language = Parameter.parse(reply.answer)
-        report.add(
-            "RLNG (resynchronising request)",
-            Verdict.OK,
-            f"answered {reply.answer}; MELFA-BASIC IV = {language.values[0] == '1'}",
-        )
+    item = "RLNG (resynchronising request)"
+    probe = _probe(robot, "PARRLNG")
+    answer = probe.ok.answer if probe.ok is not None else ""
+    if answer.upper().startswith("RLNG;"):
+        try:
+            values = Parameter.parse(answer).values
+            basic = f"; MELFA-BASIC IV = {values[0] == '1'}"
+        except RemoteProtocolError:
+            basic = ""
+        report.add(item, Verdict.OK, f"answered {answer}{basic}", raw=probe.raw)
     else:
         report.add(
-            "RLNG (resynchronising request)",
-            Verdict.REFUSED,
-            "PARRLNG must be answered for the client to resynchronise after a timeout",
+            item,
+            Verdict.REFUSED if probe.refused else Verdict.UNKNOWN,
+            "PARRLNG must be answered RLNG;… for the client to resynchronise after a timeout",
             blocks=True,
+            raw=probe.raw,
         )
     for name in LINE_PARAMETERS:
-        reply = _ask(robot, f"PAR{name}")
-        if isinstance(reply, Ok) and reply.answer:
-            report.add(name, Verdict.OK, Parameter.parse(reply.answer).to_answer())
+        probe = _probe(robot, f"PAR{name}")
+        answer = probe.ok.answer if probe.ok is not None else ""
+        if probe.ok is None:
+            _unanswered(report, name, probe, "not answered")
+        elif answer.upper().startswith(name + ";"):
+            try:
+                report.add(name, Verdict.OK, Parameter.parse(answer).to_answer(), raw=probe.raw)
+            except RemoteProtocolError as exc:
+                report.add(name, Verdict.UNKNOWN, f"not understood ({exc})", raw=probe.raw)
+        elif not answer:
+            report.add(name, Verdict.UNKNOWN, "answered with no value", raw=probe.raw)
         else:
-            report.add(name, Verdict.UNKNOWN, "not answered")
+            report.add(name, Verdict.UNKNOWN, "answered without its name", raw=probe.raw)
 
 
 def _probe_upload(robot: Robot, report: Report) -> None:
