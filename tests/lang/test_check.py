@@ -546,8 +546,8 @@ def test_limits(text: str, expected: list[tuple[int, str, Severity]]) -> None:
 def test_value_out_of_range_points_at_the_value() -> None:
     [d] = check("OVRD 150\n")
     assert (d.column, d.end_column) == (6, 9)
-    assert d.message == "OVRD takes 1 to 100 (%), found 150"
-    assert d.suggestion == "Use a value from 1 to 100."
+    assert d.message == "OVRD takes more than 0 and up to 100 (%), found 150"
+    assert d.suggestion == "Use a value above 0 and up to 100."
 
 
 def test_def_list_length() -> None:

@@ -86,11 +86,16 @@ def test_op_override_survives_program_reset(arm: SimulatedArm) -> None:
 
 
 @pytest.mark.parametrize("bad", [0, 101, -5])
-def test_override_outside_1_to_100_is_a_caller_error(arm: SimulatedArm, bad: float) -> None:
-    with pytest.raises(ValueError, match=r"1\.\.100"):
+def test_override_outside_its_range_is_a_caller_error(arm: SimulatedArm, bad: float) -> None:
+    with pytest.raises(ValueError, match="above 0 and at most 100"):
         arm.set_speeds(ovrd=bad)
     with pytest.raises(ValueError, match=r"1\.\.100"):
         arm.set_op_override(bad)
+
+
+def test_a_program_override_below_1_percent_is_valid(arm: SimulatedArm) -> None:
+    arm.set_speeds(ovrd=0.5, jovrd=0.1)  # resolution 0.1 % [S1 OVRD]
+    assert (arm.speeds.ovrd, arm.speeds.jovrd) == (0.5, 0.1)
 
 
 def test_servo_off_refuses_moves_with_2000() -> None:

@@ -348,3 +348,12 @@ def test_def_io_variables() -> None:
 def test_timer_is_settable_and_counts_simulated_seconds() -> None:
     v = variables("M_TIMER(1) = 0", "DLY 2.5", "M1 = M_TIMER(1)", "END")
     assert v["M1"] == pytest.approx(2.5)
+
+
+# --- valid IV the interpreter refused (issue 25) ----------------------------------------
+
+
+def test_plain_relm_fractional_overrides_and_a_suffixed_declared_name_run() -> None:
+    v = variables("GETM 1", "RELM", "OVRD 0.5", "JOVRD 0.01", "DEF INTE KPAT", "KPAT% = 3", "END")
+    assert v["KPAT%"] == 3
+    assert fails("OVRD 0", "END") == (errors.ARGUMENT_OUT_OF_RANGE, 10)

@@ -45,6 +45,7 @@ from melfa.lang.model import (
     MAX_NAME_LENGTH,
     MAX_ON_TARGETS,
     MIN_DLY,
+    OPEN_LOW,
     RANGES,
     Kind,
 )
@@ -60,6 +61,7 @@ _NO_NUMBERS_HINT = " (this program has no step numbers)"
 _COMMAND_RANGES: dict[A.CommandKind, tuple[float, float, str]] = {
     kind: RANGES[kind.name] for kind in A.CommandKind if kind.name in RANGES
 }
+_OPEN_LOW = frozenset(RANGES[word] for word in OPEN_LOW)
 _PALLETS = RANGES["PLT"]
 
 
@@ -332,6 +334,9 @@ class _Analyzer(NameChecks):
                 "L4300",
                 f"Shorten it to {MAX_NAME_LENGTH} characters.",
             )
+        if name[-1] == "#" and name not in long_names:
+            long_names.add(name)
+            self.double_name(node)
         if len(name) > 1 and name[1] == "_":
             if name not in self.unknown_external and self.external_name(node):
                 self.unknown_external.add(name)
@@ -379,6 +384,7 @@ class _Analyzer(NameChecks):
     def assign(self, node: A.Assign) -> None:
         if self.read_only(node):
             return
+        self.act_variable(node)
         target = node.target
         if isinstance(target, A.Element):
             tt: Kind | None = Kind.NUM
@@ -447,7 +453,18 @@ class _Analyzer(NameChecks):
         """value-out-of-range when `arg` is a constant outside [low, high]."""
         value = A.constant_number(arg)
         low, high, what = limits
-        if value is not None and not low <= value <= high:
+        if value is None:
+            return
+        if limits in _OPEN_LOW:
+            if not low < value <= high:
+                self.add(
+                    arg.span,
+                    E,
+                    f"{what}, found {_number_text(value)}",
+                    "value-out-of-range",
+                    suggestion=f"Use a value above {low:g} and up to {high:g}.",
+                )
+        elif not low <= value <= high:
             self.add(
                 arg.span,
                 E,

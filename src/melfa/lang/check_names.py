@@ -11,6 +11,7 @@ those of melfa-basic-iv.md.
 from __future__ import annotations
 
 import functools
+from collections.abc import Iterable
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Diagnostic, Severity
@@ -62,6 +63,7 @@ class NameChecks:
     program: A.Program
     symbols: Symbols
     out: list[Diagnostic]
+    _entries: frozenset[int] = frozenset()  # the lines routines start on (interrupt_returns)
 
     def add(
         self,
@@ -131,6 +133,37 @@ class NameChecks:
             f"Assign your own variable instead, e.g. {_EXAMPLE[var.kind]} = …",
         )
         return True
+
+    def act_variable(self, node: A.Assign) -> None:
+        """``ACT1 = 1``: without the space, ACT1 is a variable, and interrupt 1 stays off
+        ("ACT1 without a space is parsed as a variable name", §4.6 [S1 ACT])."""
+        target = node.target
+        if not isinstance(target, A.Name) or target.name in self.symbols.declared:
+            return
+        name = target.name
+        if name.startswith("ACT") and name[3:].isdigit():
+            number = name[3:]
+            self.add(
+                target.span,
+                W,
+                f"{target.written} is a variable named {target.written}, not the interrupt "
+                f"switch ACT {number}: interrupt {number} is not enabled",
+                "act-without-space",
+                suggestion=f"Write ACT {number} = … with a space to switch interrupt {number}.",
+            )
+
+    def double_name(self, node: A.Name) -> None:
+        """``MTIMEOUT#``: V's double-precision suffix (§2.1 [S2 §4.3.6]), said once a name."""
+        bare = node.written[:-1]
+        self.add(
+            node.span,
+            E,
+            f"The # of {node.written} marks a double-precision variable in MELFA BASIC V; "
+            "MELFA BASIC IV declares one with DEF DOUBLE",
+            "melfa-basic-v",
+            "L4220",
+            f"Write {bare} and declare it with DEF DOUBLE {bare}.",
+        )
 
     # -------------------------------------------------------------------- calls, arrays
 
@@ -344,17 +377,23 @@ class NameChecks:
             key = target.name if isinstance(target, A.LabelRef) else target.number
             return where.get(key)
 
-        interrupts = {line_of(t) for t in self.symbols.interrupt_targets} - {None}
-        subroutines: set[int | None] = set()
+        def lines_of(targets: Iterable[A.JumpTarget]) -> set[int]:
+            return {at for at in map(line_of, targets) if at is not None}
+
+        interrupts = lines_of(self.symbols.interrupt_targets)
+        subroutines: set[int] = set()
         for line in lines:
             stmt = line.statement
             if isinstance(stmt, A.Gosub):
-                subroutines.add(line_of(stmt.target))
+                subroutines |= lines_of((stmt.target,))
             elif isinstance(stmt, A.OnJump) and stmt.kind is A.JumpKind.GOSUB:
-                subroutines.update(line_of(t) for t in stmt.targets)
-        subroutines.discard(None)
+                subroutines |= lines_of(stmt.targets)
+        # A routine ends at its RETURN, but never runs on into another routine's entry: a
+        # GOSUB used as a loop (`*MAIN … GOSUB *MAIN`) has no RETURN of its own, and the
+        # RETURN 1 of an interrupt routine below it is not its end.
+        self._entries = frozenset(interrupts | subroutines)
         for start in interrupts:
-            ret = self._first_return(start)  # type: ignore[arg-type]
+            ret = self._first_return(start)
             if ret is not None and ret.mode is None:
                 self.add(
                     ret.span,
@@ -366,7 +405,7 @@ class NameChecks:
                     "repeat the interrupted one.",
                 )
         for start in subroutines - interrupts:
-            ret = self._first_return(start)  # type: ignore[arg-type]
+            ret = self._first_return(start)
             if ret is not None and ret.mode is not None:
                 self.add(
                     ret.span,
@@ -378,8 +417,11 @@ class NameChecks:
                 )
 
     def _first_return(self, start: int) -> A.Return | None:
-        for line in self.program.lines[start:]:
-            stmt = line.statement
+        entries = self._entries
+        for index in range(start, len(self.program.lines)):
+            if index != start and index in entries:
+                return None
+            stmt = self.program.lines[index].statement
             if isinstance(stmt, A.Return):
                 return stmt
             if isinstance(stmt, A.If):

@@ -28,11 +28,11 @@ _MASTER = re.compile(
     | '[^\r\n]*|REM(?![A-Z0-9_$%!])[^\r\n]*       # COMMENT
     | "[^"\r\n]*"?                                # STRING, or ERROR when not closed
     | &H[0-9A-F]+ | &B[01]+                       # HEX, BIN
-    | (?:\d+\.\d*|\.\d+)(?:E[+-]?\d+)?|\d+E[+-]?\d+  # REAL
+    | (?:\d+\.\d*|\.\d+)(?:E[+-]?\d+)?\#?|\d+E[+-]?\d+\#?|\d+\#(?![0-9])  # REAL (V: 1.0#)
     | \d+                                         # INTEGER (or LINE_NUMBER)
     | \.[A-Z][A-Z0-9_]*                           # DOT_ELEMENT
     | \*[A-Z][A-Z0-9_]*[$%!]?                     # LABEL
-    | [A-Z][A-Z0-9_]*[$%!]?                       # a word: KEYWORD or IDENT
+    | [A-Z][A-Z0-9_]*(?:[$%!]|\#(?![0-9]))?       # a word: KEYWORD or IDENT (V: MX#)
     | <>|><|<=|=<|>=|=>|<<|>>|[-+*/\\^=<>\#;]     # OP
     | [,()]                                       # COMMA, LPAREN, RPAREN
     | \Z                                          # EOF (an empty token)

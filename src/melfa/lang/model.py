@@ -94,8 +94,10 @@ MAX_FL1 = 7  # three bits R/L, A/B, N/F (§12)
 
 #: Constant arguments with a range, by statement word: (low, high, what) (§4.2–§4.6).
 RANGES: Mapping[str, tuple[float, float, str]] = {
-    "OVRD": (1, 100, "OVRD takes 1 to 100 (%)"),
-    "JOVRD": (1, 100, "JOVRD takes 1 to 100 (%)"),
+    # 1…100 % is the recommended range, but any value above 0 runs (resolution 0.1 %):
+    # "if 0 or a value over 100 is set, an error will occur" [S1 OVRD, JOVRD].
+    "OVRD": (0, 100, "OVRD takes more than 0 and up to 100 (%)"),
+    "JOVRD": (0, 100, "JOVRD takes more than 0 and up to 100 (%)"),
     "HOPEN": (1, 8, "Hand numbers are 1 to 8"),
     "HCLOSE": (1, 8, "Hand numbers are 1 to 8"),
     "ERROR": (9000, 9299, "User error numbers are 9000 to 9299"),
@@ -103,6 +105,8 @@ RANGES: Mapping[str, tuple[float, float, str]] = {
     "ACT": (1, 8, "Interrupt numbers (DEF ACT priorities) are 1 to 8"),
     "RETURN": (0, 1, "An interrupt routine returns with RETURN 0 or RETURN 1"),
 }
+#: Range words whose low end is itself refused (OVRD 0 is an error, OVRD 0.5 is not).
+OPEN_LOW: frozenset[str] = frozenset({"OVRD", "JOVRD"})
 
 
 # --------------------------------------------------------------------------- functions §5

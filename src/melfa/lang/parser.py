@@ -117,7 +117,9 @@ _COMMANDS: dict[str, tuple[A.CommandKind, int, int, bool]] = {
     "XCLR": (A.CommandKind.XCLR, 1, 1, False),
     "PRIORITY": (A.CommandKind.PRIORITY, 1, 2, False),
     "GETM": (A.CommandKind.GETM, 1, 1, False),
-    "RELM": (A.CommandKind.RELM, 1, 1, False),
+    # Plain RELM releases the mechanism: the reference's GETM example ends `60 RELM`
+    # [S1 RELM, GETM].
+    "RELM": (A.CommandKind.RELM, 0, 1, False),
     "CMPG": (A.CommandKind.CMPG, 1, 8, True),
     "CLR": (A.CommandKind.CLR, 1, 1, False),
     "CHRSRCH": (A.CommandKind.CHRSRCH, 2, 4, False),
@@ -149,7 +151,6 @@ _COMMAND_EXAMPLES: dict[str, str] = {
     "XCLR": "XCLR 2",
     "PRIORITY": "PRIORITY 1",
     "GETM": "GETM 1",
-    "RELM": "RELM 1",
     "CLR": "CLR 1",
 }
 # Words that continue a statement: finding one where a value should be means the value is
@@ -420,9 +421,10 @@ class _LineParser:
             )
         if kind is K.REAL:
             self.i += 1
-            return A.Number(
-                float(tok.text), A.NumberKind.REAL, tok.text, _new_tuple(A.Span, tok[2:6])
-            )
+            text = tok.text
+            if text[-1] == "#":
+                text = self.double_suffix(tok)
+            return A.Number(float(text), A.NumberKind.REAL, tok.text, _new_tuple(A.Span, tok[2:6]))
         if kind is K.HEX or kind is K.BIN:
             self.i += 1
             nk = A.NumberKind.HEX if kind is K.HEX else A.NumberKind.BIN
@@ -476,6 +478,18 @@ class _LineParser:
             "expected-expression",
             f"Write a number, a variable or an expression after {after}." if after else None,
         )
+
+    def double_suffix(self, tok: Token) -> str:
+        """``1.0#``: V's double-precision suffix, explained once; the number without it."""
+        text = tok.text[:-1]
+        self.issue(
+            tok,
+            f"The # of {tok.text} marks a double-precision constant in MELFA BASIC V; "
+            "MELFA BASIC IV numbers have no type suffix",
+            "melfa-basic-v",
+            f"Write {text} (a variable declared with DEF DOUBLE holds it in double precision).",
+        )
+        return text
 
     def bare_pallet(self) -> A.Pallet:
         """``PLACE = PLT 1, M1``: as an assignment's value PLT needs no parentheses (§4.1)."""

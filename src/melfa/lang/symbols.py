@@ -25,6 +25,7 @@ _DEF_KIND = {
 }
 _PREFIX_KIND = {"P": Kind.POS, "J": Kind.JNT, "M": Kind.NUM}
 _EXTERNAL_PREFIX_KIND = {"P": Kind.POS, "J": Kind.JNT, "M": Kind.NUM, "C": Kind.STR}
+_NUMBER_SUFFIXES = frozenset("%!#")  # integer, single and double precision [S2 §4.3.6]
 _MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
 _POSITIONAL = (Kind.POS, Kind.JNT)
 _LOGIC = (A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR)
@@ -124,8 +125,13 @@ class Symbols(Record, frozen=False):
         declared = self.declared.get(name)
         if declared is not None:
             return declared
-        if name.endswith("$"):
+        last = name[-1:]
+        if last == "$":
             return Kind.STR
+        if last in _NUMBER_SUFFIXES:
+            # A type suffix names a number (`DEF INTE PATTERN` then `PATTERN% = 3`),
+            # whatever the first letter says [S2 §4.3.6].
+            return Kind.NUM
         if len(name) > 1 and name[1] == "_":
             system = SYSTEM_VARIABLES.get(name)
             return system.kind if system is not None else _EXTERNAL_PREFIX_KIND.get(name[0])

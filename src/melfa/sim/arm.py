@@ -222,17 +222,17 @@ class SimulatedArm:
         spd: float | None = None,
         accel: tuple[float, float] | None = None,
     ) -> None:
-        """Program settings: OVRD and JOVRD (1..100 %), SPD (mm/s, > 0), ACCEL (acc, dec %).
+        """Program settings: OVRD and JOVRD (0 < % <= 100), SPD (mm/s, > 0), ACCEL (acc, dec %).
 
         Out-of-range values are the caller's mistake (`ValueError`); the interpreter
         validates program values and reports them with its own error numbers.
         """
         s = self._speeds
         if ovrd is not None:
-            _check_percent("OVRD", ovrd)
+            _check_program_percent("OVRD", ovrd)
             s = replace(s, ovrd=float(ovrd))
         if jovrd is not None:
-            _check_percent("JOVRD", jovrd)
+            _check_program_percent("JOVRD", jovrd)
             s = replace(s, jovrd=float(jovrd))
         if spd is not None:
             if not spd > 0:
@@ -533,3 +533,10 @@ class SimulatedArm:
 def _check_percent(name: str, value: float) -> None:
     if not 1 <= value <= 100:
         raise ValueError(f"{name} must be 1..100 %, got {value}")
+
+
+def _check_program_percent(name: str, value: float) -> None:
+    """A program's OVRD/JOVRD: any value above 0 up to 100 runs (0.5 %: resolution 0.1 %);
+    "if 0 or a value over 100 is set, an error will occur" [S1 OVRD, JOVRD]."""
+    if not 0 < value <= 100:
+        raise ValueError(f"{name} must be above 0 and at most 100 %, got {value}")

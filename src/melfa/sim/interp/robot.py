@@ -106,14 +106,15 @@ class RobotPort(Protocol):
 
 
 def set_speed(robot: RobotPort, what: str, value: Value) -> None:
-    """OVRD/JOVRD (1..100 %) and SPD (> 0 mm/s), from a statement or a system variable."""
+    """OVRD/JOVRD (0 < % <= 100) and SPD (> 0 mm/s), from a statement or a system variable."""
     if not isinstance(value, int | float):
         raise errors.RunError(errors.TYPE_COMBINATION, f"{what} needs a number")
     v = float(value)
     if what in ("OVRD", "JOVRD"):
         if not 0 < v <= 100:  # OVRD 0 or >100 is an error [S1 OVRD]
             raise errors.RunError(
-                errors.ARGUMENT_OUT_OF_RANGE, f"{what} must be 1..100 %, got {value}"
+                errors.ARGUMENT_OUT_OF_RANGE,
+                f"{what} must be above 0 and at most 100 %, got {value}",
             )
         if what == "OVRD":
             robot.set_speeds(ovrd=v)

@@ -106,6 +106,9 @@ class VarType(enum.Enum):
     IO = "IO"
 
 
+_NUMBER_SUFFIXES = frozenset("%!#")  # integer, single, double type suffixes
+
+
 def implied_type(name: str) -> VarType:
     """Type from the first letter (IV convention, melfa-basic-iv.md §2.1).
 
@@ -116,6 +119,8 @@ def implied_type(name: str) -> VarType:
     """
     if name.endswith("$"):
         return VarType.STRING
+    if name[-1:] in _NUMBER_SUFFIXES:
+        return VarType.NUMBER  # PATTERN% is a number whatever its first letter [S2 §4.3.6]
     first = name[:1].upper()
     if first == "P":
         return VarType.POSITION
