@@ -8,9 +8,12 @@ to `WebSettings.snapshot_hz`, newest wins), ``link``, ``progress``, ``result``, 
 ``jog_heartbeat``, ``jog_release``, ``hand_toggle``, ``stop``. docs/api.md has every field.
 
 Each socket has its own subscription (the service's bus never waits for a reader) and its
-own sender task, so a slow browser only delays itself. When a socket closes, a jog it
-started is released; when the user's last connection closes, the service ends their jog
-and lease (a move in progress keeps its owner, see `melfa.service.lease`).
+own `Outbox` and sender task: nothing that reads or handles a message ever waits for the
+browser to read, so a slow reader only delays itself and its STOP is still read at once.
+Snapshots waiting to go out are merged (the newest wins); a socket whose answers pile up
+beyond `OUTBOX_LENGTH` is closed. A binary frame is answered with an error. When a socket
+closes, a jog it started is released; when the user's last connection closes, the service
+ends their jog and lease (a move in progress keeps its owner, see `melfa.service.lease`).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import json
 import logging
 import re
 import time
+from collections import deque
 from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
@@ -63,6 +67,9 @@ GOING_AWAY = 1001
 MAX_MESSAGE_CHARS = 4096
 QUEUE_LENGTH = 32
 """Messages of one socket waiting to be processed; beyond, 429 ``too-many-messages``."""
+OUTBOX_LENGTH = 256
+"""Messages other than snapshots waiting for a browser that does not read; beyond, the
+socket is closed (the dead-man then ends its jog)."""
 MOVING = frozenset({"jog_start", "hand_toggle"})
 """Messages after which the arm moves: their session is re-read first."""
 
@@ -106,6 +113,33 @@ def origin_allowed(websocket: WebSocket, allowed: tuple[str, ...]) -> bool:
     return same_site(websocket.headers.get("origin"), websocket.headers.get("host", ""), allowed)
 
 
+class Outbox:
+    """What waits for one browser, in order, bounded: a snapshot replaces a snapshot that
+    is still the last thing waiting (the newest state wins), other messages queue up to
+    ``limit``; `overflowed` once the browser is that far behind."""
+
+    def __init__(self, limit: int = OUTBOX_LENGTH) -> None:
+        self._items: deque[tuple[bool, str]] = deque()
+        self.limit = limit
+        self.overflowed = False
+        self.ready = asyncio.Event()
+
+    def put(self, text: str, *, state: bool = False) -> None:
+        if state and self._items and self._items[-1][0]:
+            self._items[-1] = (True, text)
+        elif len(self._items) >= self.limit:
+            self.overflowed = True
+        else:
+            self._items.append((state, text))
+        self.ready.set()
+
+    def take(self) -> str | None:
+        return self._items.popleft()[1] if self._items else None
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+
 class SessionEnded(Exception):
     """The socket's session was revoked or expired: the socket closes."""
 
@@ -129,6 +163,7 @@ class Connection:
         self.tasks: list[asyncio.Task[None]] = []
         self.ended: str | None = None
         self.checked = time.monotonic()
+        self.outbox = Outbox()
         self._stops: set[asyncio.Task[None]] = set()
 
     async def end(self, reason: str) -> None:
@@ -154,7 +189,18 @@ class Connection:
                 raise SessionEnded(handle.revoked or "the session ended")
 
     async def send(self, message: dict[str, Any]) -> None:
-        await self.websocket.send_text(json.dumps(message, default=str))
+        """Queue ``message`` for the browser; never waits for it to read."""
+        self.outbox.put(json.dumps(message, default=str), state=message.get("type") == "state")
+        if self.outbox.overflowed:
+            await self.end("the browser does not read its messages")
+
+    async def sender(self) -> None:
+        """The one writer to the socket: the outbox, oldest first."""
+        while True:
+            await self.outbox.ready.wait()
+            self.outbox.ready.clear()
+            while (text := self.outbox.take()) is not None:
+                await self.websocket.send_text(text)
 
     async def error(self, error: ApiError, request_id: Any = None) -> None:
         body = error.body()
@@ -195,7 +241,15 @@ class Connection:
         worker = asyncio.create_task(self.process(queue), name="ws-process")
         try:
             while True:
-                text = await self.websocket.receive_text()
+                frame = await self.websocket.receive()
+                if frame["type"] == "websocket.disconnect":
+                    raise WebSocketDisconnect(frame.get("code", 1000))
+                text = frame.get("text")
+                if not isinstance(text, str):
+                    await self.error(
+                        ApiError(400, "bad-message", "binary frames are not read: send JSON text")
+                    )
+                    continue
                 parsed = await self.parse(text)
                 if parsed is None:
                     continue
@@ -377,11 +431,12 @@ async def live(websocket: WebSocket) -> None:
     )
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
     receive = asyncio.create_task(connection.receive(), name=f"ws-recv-{actor.user}")
-    connection.tasks = [pump, receive]
+    sender = asyncio.create_task(connection.sender(), name=f"ws-send-{actor.user}")
+    connection.tasks = [pump, receive, sender]
     if connection.ended is not None or not handle.alive(dt.datetime.now(dt.UTC)):
         await connection.end(handle.revoked or "the session ended")
     try:
-        done, _ = await asyncio.wait({pump, receive}, return_when=asyncio.FIRST_COMPLETED)
+        done, _ = await asyncio.wait(set(connection.tasks), return_when=asyncio.FIRST_COMPLETED)
         for task in done:
             if task.cancelled():
                 continue
@@ -389,9 +444,9 @@ async def live(websocket: WebSocket) -> None:
             if failure is not None and not isinstance(failure, WebSocketDisconnect | RuntimeError):
                 _log.warning("websocket of %s ended: %r", actor.user, failure)
     finally:
-        for task in (pump, receive):
+        for task in connection.tasks:
             task.cancel()
-        for task in (pump, receive):
+        for task in connection.tasks:
             with contextlib.suppress(BaseException):
                 await task
         sub.close()
@@ -427,4 +482,4 @@ async def _goodbye(context: WebContext, connection: Connection) -> None:
     )
 
 
-__all__ = ["Connection", "message_of", "origin_allowed", "router"]
+__all__ = ["Connection", "Outbox", "message_of", "origin_allowed", "router"]

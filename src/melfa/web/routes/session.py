@@ -16,7 +16,7 @@ from typing import Annotated
 from fastapi import APIRouter, Form, Request, Response
 from fastapi.responses import HTMLResponse, RedirectResponse
 
-from melfa.store import NewSession
+from melfa.store import NewSession, User
 from melfa.store.logins import LoginTicket
 from melfa.web.config import CSRF_COOKIE, SESSION_COOKIE
 from melfa.web.context import WebContext
@@ -36,8 +36,12 @@ def client_addr(request: Request) -> str:
     return request.client.host if request.client is not None else "unknown"
 
 
-async def sign_in(context: WebContext, username: str, password: str, addr: str) -> NewSession:
-    """A new session, or `ApiError` 429 (too many failures) / 401 (wrong name or password)."""
+async def password_checked(
+    context: WebContext, username: str, password: str, addr: str
+) -> User | None:
+    """The account if ``password`` is its password, None if not; `ApiError` 429 when this
+    account or address has failed too often. Every password check goes through here (the
+    sign-in and the current password of a change), so each is counted by the throttle."""
     store = context.store
     ticket = await context.db(store.logins.begin, username, addr)
     if not isinstance(ticket, LoginTicket):
@@ -56,9 +60,15 @@ async def sign_in(context: WebContext, username: str, password: str, addr: str) 
         await context.db(store.logins.cancel, ticket)  # never checked: not a failure
         raise
     await context.db(store.logins.finish, ticket, user is not None)
+    return user
+
+
+async def sign_in(context: WebContext, username: str, password: str, addr: str) -> NewSession:
+    """A new session, or `ApiError` 429 (too many failures) / 401 (wrong name or password)."""
+    user = await password_checked(context, username, password, addr)
     if user is None:
         raise ApiError(401, "wrong-login", "wrong username or password")
-    return await context.db(store.sessions.create, user, addr)
+    return await context.db(context.store.sessions.create, user, addr)
 
 
 def set_cookies(request: Request, response: Response, new: NewSession) -> None:
@@ -118,12 +128,17 @@ async def logout(
 
 
 @router.put("/password", response_model=Ok, summary="Change your own password")
-async def change_password(body: OwnPasswordIn, session: SessionDep, context: ContextDep) -> Ok:
-    """Needs the current password (a borrowed, unlocked laptop is not enough). Your other
+async def change_password(
+    body: OwnPasswordIn, request: Request, session: SessionDep, context: ContextDep
+) -> Ok:
+    """Needs the current password (a borrowed, unlocked laptop is not enough); a wrong one
+    counts as a failed sign-in (429 after too many, as for signing in). Your other
     sessions end and their sockets close; this one stays signed in. Weak and common
     passwords are refused (422 with the reason)."""
     store = context.store
-    user = await context.hash(store.accounts.authenticate, session.user.username, body.current)
+    user = await password_checked(
+        context, session.user.username, body.current, client_addr(request)
+    )
     if user is None:
         raise ApiError(403, "wrong-password", "your current password is not right")
     await context.hash(store.accounts.set_password, user.username, body.new, revoke_sessions=False)
@@ -170,4 +185,12 @@ async def login_form(
     return response
 
 
-__all__ = ["clear_cookies", "client_addr", "pages", "router", "set_cookies", "sign_in"]
+__all__ = [
+    "clear_cookies",
+    "client_addr",
+    "pages",
+    "password_checked",
+    "router",
+    "set_cookies",
+    "sign_in",
+]
