@@ -118,10 +118,14 @@ def test_missing_flags_default_to_7_0_with_an_info() -> None:
     assert not f.has_errors
 
 
-def test_empty_flags_default_too() -> None:
+def test_empty_flags_are_rt_toolbox_no_data() -> None:
+    # RT ToolBox exports a position never taught as (0.00,…)(,) [S2 p.146, S10]: defined
+    # for the program, but nothing to upload or to judge against the arm's reach.
     f = parse_points("Pa=(0.00,0.00,0.00,0.00,0.00,0.00)(,)")
+    assert f.points == () and f.names == ("Pa",)
+    assert [(d.severity, d.rule) for d in f.diagnostics] == [(Severity.INFO, "points-no-data")]
+    f = parse_points("Pa=(400,0,600,180,0,180)(,0)")  # one flag omitted: still the default
     assert (f.points[0].fl1, f.points[0].fl2) == (7, 0)
-    assert [d.severity for d in f.diagnostics] == [Severity.INFO]
 
 
 def test_bad_number_points_at_the_element() -> None:
@@ -174,11 +178,12 @@ def test_illegal_characters_in_names(name: str) -> None:
     assert errors(f"DEF POS {name}=(1,2,3,4,5,6)(7,0)") != []
 
 
-def test_underscore_second_is_a_warning_elsewhere_an_error() -> None:
+def test_underscore_second_is_a_warning_further_on_a_name_as_in_programs() -> None:
     f = parse_points("P_01=(1,2,3,4,5,6)(7,0)")
     assert [d.severity for d in f.diagnostics] == [Severity.WARNING]
     assert len(f.points) == 1
-    assert errors("Pa_1=(1,2,3,4,5,6)(7,0)")[0][2] == "L4310"
+    f = parse_points("pSafe_1=(1,2,3,4,5,6)(7,0)\npallet_A=(1,2,3,4,5,6)(7,0)\n")
+    assert (f.diagnostics, [p.name for p in f]) == ((), ["pSafe_1", "pallet_A"])
 
 
 def test_duplicates_ignore_case_and_name_the_first_line() -> None:

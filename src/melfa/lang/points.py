@@ -24,10 +24,11 @@ from __future__ import annotations
 
 import enum
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Mapping
 
 from melfa.lang.ast import Expr, constant_number
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.model import MAX_NAME_LENGTH as MODEL_MAX_NAME_LENGTH
 from melfa.lang.parser import parse_constant
 from melfa.lang.record import Record, field
 
@@ -48,7 +49,7 @@ DEFAULT_FL1 = 7
 """Structure flag of a vertical arm when none is given: RIGHT/ABOVE/NONFLIP [S2 p.146]."""
 DEFAULT_FL2 = 0
 """Multi-rotation word when none is given: every axis within ±180° [S2 p.146]."""
-MAX_NAME_LENGTH = 8
+MAX_NAME_LENGTH = MODEL_MAX_NAME_LENGTH
 """IV names are at most 8 characters (L4300) [S3]; T/B position names too [S4 p.55]."""
 MIN_ELEMENTS = 6
 MAX_ELEMENTS = 8
@@ -140,7 +141,12 @@ class PointsFile(Record):
 
 # --- reading ---------------------------------------------------------------------------
 
-_NAME = re.compile(r"[A-Za-z0-9_]+\Z")
+# A name as programs write one (the lexer's word, melfa-basic-iv §2.1), or an array
+# element of one: PMAG(1), PGRID(2,3).
+_NAME = re.compile(r"([A-Za-z0-9_]+)(\(\s*\d+(?:\s*,\s*\d+){0,2}\s*\))?\Z")
+# Lines of an R-protocol command log (`1;1;EXECP1=(…)`, protocol.md) and of a program.
+_PROTOCOL_LINE = re.compile(r"\s*\d+;\d+;")
+_PROGRAM_LINE = re.compile(r"\s*\d+\s+[*A-Za-z']")
 _DEF = re.compile(r"(\s*)DEF(\s+)(\S+)(\s+)", re.IGNORECASE)
 _LINE_BREAK = re.compile(r"\r\n|\r|\n")  # the line ends programs have too (CR alone: old Macs)
 _REM = re.compile(r"\s*REM(\s|\Z)", re.IGNORECASE)
@@ -261,9 +267,19 @@ def _kind_from_name(name: str) -> PointKind | None:
     return {"P": PointKind.POS, "J": PointKind.JNT}.get(first)
 
 
-def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Diagnostic]) -> None:
+def _base_name(name: str) -> str:
+    """``PMAG`` of the array element ``PMAG(1)``; the name itself otherwise."""
+    return name.split("(", 1)[0].strip()
+
+
+def _check_name(
+    name: str, col: int, lineno: int, kind: PointKind, out: list[Diagnostic], declared: bool
+) -> None:
+    """The program's name rule (melfa-basic-iv §2.1): letters, digits and `_`, a letter
+    first, at most 8 characters; `declared`: the program gives its kind with DEF POS/JNT."""
     end = col + len(name)
-    if not _NAME.match(name) or not name[0].isalpha():
+    match = _NAME.match(name)
+    if not match or not name[0].isalpha():
         raise _LineError(
             _diag(
                 lineno,
@@ -274,8 +290,10 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                 code="L4310",
             )
         )
+    name = match.group(1)
+    end = col + len(name)
     want = "P" if kind is PointKind.POS else "J"
-    if name[0].upper() != want:
+    if name[0].upper() != want and not declared:
         what = (
             "an XYZ position (DEF POS)" if kind is PointKind.POS else "a joint position (DEF JNT)"
         )
@@ -305,35 +323,24 @@ def _check_name(name: str, col: int, lineno: int, kind: PointKind, out: list[Dia
                 suggestion=f"Shorten it, e.g. {name[:MAX_NAME_LENGTH]}.",
             )
         )
-    if "_" in name:
-        if name[1:2] == "_":
-            out.append(
-                _diag(
-                    lineno,
-                    col,
-                    end,
-                    f"{name} has '_' as its second character, which makes it an external "
-                    "variable shared by every program",
-                    "points-name",
-                    severity=Severity.WARNING,
-                    suggestion="Drop the '_' unless the point really is global.",
-                )
+    if name[1:2] == "_":  # `_` further on is allowed, as in programs (pSafe_1)
+        out.append(
+            _diag(
+                lineno,
+                col,
+                end,
+                f"{name} has '_' as its second character, which makes it an external "
+                "variable shared by every program",
+                "points-name",
+                severity=Severity.WARNING,
+                suggestion="Drop the '_' unless the point really is global.",
             )
-        else:
-            out.append(
-                _diag(
-                    lineno,
-                    col,
-                    end,
-                    f"{name}: MELFA BASIC IV names use only letters and digits",
-                    "points-name",
-                    code="L4310",
-                    suggestion=f"Rename it {name.replace('_', '')}.",
-                )
-            )
+        )
 
 
-def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, PointDef | None]:
+def _parse_line(
+    raw: str, lineno: int, out: list[Diagnostic], declared: Mapping[str, PointKind]
+) -> tuple[str, PointDef | None]:
     """Read one non-blank line. Returns (name or "", point or None); errors via _LineError."""
     text = _strip_comment(raw).rstrip()
     pos = 0
@@ -384,8 +391,9 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 suggestion=_SUGGEST_POS,
             )
         )
+    given = declared.get(_base_name(name).upper())
     if kind is None:
-        kind = _kind_from_name(name)
+        kind = given or _kind_from_name(name)
         if kind is None:
             raise _LineError(
                 _diag(
@@ -398,7 +406,7 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                     suggestion="Start the name with P or J, or write DEF POS or DEF JNT before it.",
                 )
             )
-    _check_name(name, name_col, lineno, kind, out)
+    _check_name(name, name_col, lineno, kind, out, given is kind)
 
     literal, issue, end = parse_constant(text, eq + 2)
     if literal is None:
@@ -481,6 +489,20 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
                 )
             )
         e1, e2 = literal.flags
+        if e1 is None and e2 is None and not any(d.is_error and d.line == lineno for d in out):
+            # `(,)`: RT ToolBox's "no data" for a position never taught [S2 p.146, S10].
+            out.append(
+                _diag(
+                    lineno,
+                    name_col,
+                    name_col + len(name),
+                    f"{name} has no data ((,) flags: a position never taught); it is not "
+                    "uploaded or checked",
+                    "points-no-data",
+                    severity=Severity.INFO,
+                )
+            )
+            return name, None
         fl1 = _read_flag(text, e1, lineno, "FL1")
         fl2 = _read_flag(text, e2, lineno, "FL2")
         c1, i1 = _where(text, e1, flags_start)
@@ -546,8 +568,11 @@ def _parse_line(raw: str, lineno: int, out: list[Diagnostic]) -> tuple[str, Poin
     return name, PointDef(name, kind, values, line=lineno)
 
 
-def parse_points(text: str) -> PointsFile:
+def parse_points(text: str, declared: Mapping[str, PointKind] | None = None) -> PointsFile:
     """Read a points file. Never raises: what is wrong becomes a diagnostic.
+
+    `declared` gives the kinds the program declares (`DEF POS GET_BOX`; upper-case keys,
+    `melfa.lang.project.declared_points`), so its names need not start with P or J.
 
     >>> f = parse_points("DEF POS Pa=(584.73,141.04,385.25,-163.74,1.11,-78.61)(7,0)")
     >>> f.points[0].name, f.points[0].values[0], f.points[0].fl1, f.diagnostics
@@ -557,12 +582,16 @@ def parse_points(text: str) -> PointsFile:
     names: list[str] = []
     diagnostics: list[Diagnostic] = []
     first_line: dict[str, int] = {}
-    for lineno, raw in enumerate(_LINE_BREAK.split(text), start=1):
+    lines = _LINE_BREAK.split(text)
+    wrong = _wrong_file(lines)
+    if wrong is not None:
+        return PointsFile((), (wrong,), ())
+    for lineno, raw in enumerate(lines, start=1):
         if not _strip_comment(raw).strip():
             continue
         line_diags: list[Diagnostic] = []
         try:
-            name, point = _parse_line(raw, lineno, line_diags)
+            name, point = _parse_line(raw, lineno, line_diags, declared or {})
         except _LineError as err:
             line_diags.append(err.diagnostic)
             name, point = _name_of_broken_line(raw), None
@@ -589,6 +618,41 @@ def parse_points(text: str) -> PointsFile:
         if point is not None:
             points.append(point)
     return PointsFile(tuple(points), tuple(diagnostics), tuple(names))
+
+
+def _wrong_file(lines: list[str]) -> Diagnostic | None:
+    """One finding when most lines show the file is something else: an R-protocol command
+    log (`1;1;EXECP1=(…)`, as PC tools record what they send, protocol.md) or a program."""
+    written = [(n, line) for n, line in enumerate(lines, start=1) if _strip_comment(line).strip()]
+    if not written:
+        return None
+    protocol = [n for n, line in written if _PROTOCOL_LINE.match(line)]
+    program = [n for n, line in written if _PROGRAM_LINE.match(line)]
+    if 2 * len(protocol) > len(written):
+        first = protocol[0]
+        return _diag(
+            first,
+            0,
+            len(lines[first - 1]),
+            "This file is an R-protocol command log (lines like 1;1;EXECP1=(…)), what a PC "
+            "program sends to the controller, not a points file",
+            "points-wrong-file",
+            code="L4220",
+            suggestion="Keep the Name=(…)(fl1,fl2) part after EXEC of each point in a points "
+            "file of its own, one point a line.",
+        )
+    if 2 * len(program) > len(written):
+        first = program[0]
+        return _diag(
+            first,
+            0,
+            len(lines[first - 1]),
+            "This file is a program (numbered steps), not a points file",
+            "points-wrong-file",
+            code="L4220",
+            suggestion="Open it as the program; a points file has one Name=(…) line a point.",
+        )
+    return None
 
 
 def _name_of_broken_line(raw: str) -> str:

@@ -6,9 +6,13 @@ names they define (`melfa.lang.check`, step numbering included), and the points 
 against the robot by the `reach` function the caller passes (`melfa.kin.reach`
 .reach_diagnostics: the robot model sits above this package, so it is handed in).
 
+Points files are read knowing the programs' declarations: ``DEF POS GET_BOX`` in the program
+makes ``GET_BOX=(…)(7,0)`` an XYZ position although its name does not start with P.
+
 Reach is judged only for points a program may move to. A point used only as an offset
-(the right side of ``P1 + PUP``, ``P1 * POFF``: melfa-basic-iv.md §7) is never a place the
-arm goes, so ``DEF POS PUP=(0,0,30,0,0,0)`` gets no "out of reach" warning. Positions as the
+(the right side of ``P1 + PUP``, ``P1 * POFF``: melfa-basic-iv.md §7) or only as tool or
+base data (``TOOL PHAND``, §4.4) is never a place the arm goes, so
+``DEF POS PUP=(0,0,30,0,0,0)`` gets no "out of reach" warning. Positions as the
 arm actually reaches them are judged better by the simulator's pre-flight.
 """
 
@@ -22,7 +26,7 @@ from melfa.lang.check import check_ast, internal_error
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
-from melfa.lang.points import PointDef, parse_points
+from melfa.lang.points import PointDef, PointKind, parse_points
 from melfa.lang.record import Record
 
 ReachCheck = Callable[[Sequence[PointDef], str], list[Diagnostic]]
@@ -47,8 +51,25 @@ def by_position(diagnostics: Iterable[Diagnostic]) -> tuple[Diagnostic, ...]:
     return tuple(sorted(diagnostics, key=lambda d: (d.line, d.column, _ORDER[d.severity])))
 
 
+_FRAMES = frozenset({A.CommandKind.TOOL, A.CommandKind.BASE})
+_DECLARED_POINTS = {A.VarType.POS: PointKind.POS, A.VarType.JNT: PointKind.JNT}
+
+
+def declared_points(programs: Iterable[A.Program]) -> dict[str, PointKind]:
+    """The names (upper case) the programs declare with DEF POS or DEF JNT (§4.6)."""
+    found: dict[str, PointKind] = {}
+    for program in programs:
+        for line in program.lines:
+            stmt = line.statement
+            if isinstance(stmt, A.DefVar) and stmt.type in _DECLARED_POINTS:
+                for name in stmt.names:
+                    found.setdefault(name.name, _DECLARED_POINTS[stmt.type])
+    return found
+
+
 def offset_only(program: A.Program) -> set[str]:
-    """Names (upper case) used only as the right operand of position arithmetic (§7)."""
+    """Names (upper case) used only as the right operand of position arithmetic (§7) or
+    as the data of TOOL and BASE (§4.4): never a place the arm moves to."""
     uses: Counter[str] = Counter()
     offsets: Counter[str] = Counter()
     for line in program.lines:
@@ -58,6 +79,12 @@ def offset_only(program: A.Program) -> set[str]:
             if type(node) is A.Name:
                 assert isinstance(node, A.Name)
                 uses[node.name] += 1
+            elif type(node) is A.Command:
+                assert isinstance(node, A.Command)
+                if node.kind in _FRAMES and node.args and type(node.args[0]) is A.Name:
+                    frame = node.args[0]
+                    assert isinstance(frame, A.Name)
+                    offsets[frame.name] += 1
             elif type(node) is A.Binary:
                 assert isinstance(node, A.Binary)
                 right = node.right
@@ -76,13 +103,22 @@ def check_project(
     >>> [d.message for d in report.programs[0]], report.points
     (['Position PUP is not defined'], ((),))
     """
-    files = [parse_points(text) for text in points]
+    parsed: list[A.Program | Exception] = []
+    for text in programs:
+        try:
+            parsed.append(parse_tokens(tokenize(text)))
+        except Exception as exc:  # a bug of ours must not take the editor down
+            parsed.append(exc)
+    trees = [p for p in parsed if isinstance(p, A.Program)]
+    declared = declared_points(trees)
+    files = [parse_points(text, declared) for text in points]
     names = [name for f in files for name in f.names]
     program_reports = []
     offsets: list[set[str]] = []
-    for text in programs:
+    for program in parsed:
         try:
-            program = parse_tokens(tokenize(text))
+            if isinstance(program, Exception):
+                raise program
             found = check_ast(program, names)
             offsets.append(offset_only(program))
         except Exception as exc:  # a bug of ours must not take the editor down
