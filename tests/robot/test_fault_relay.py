@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from melfa.cli import app
 from melfa.link import LinkError, LinkSettings, LinkTimeout, SerialLink
-from melfa.robot import Robot, RobotError, SaveOutcomeUnknown
+from melfa.robot import Robot, RobotError, SavedNotConfirmed, SaveOutcomeUnknown
 from melfa.robot.channel import RepliesOutOfStep
 from tests.robot.relay import Fault, FaultRelay
 
@@ -93,8 +93,9 @@ def test_a_lost_save_answer_is_outcome_unknown_then_reports_what_is_held(relay) 
     with robot_on(relay, SILENT_S) as robot, pytest.raises(SaveOutcomeUnknown) as lost:
         robot.load_project(PROGRAM, POINTS)
     message = str(lost.value)
-    assert "outcome unknown" in message
-    assert "41 steps and 3 positions" in message and "probably saved" in message
+    assert isinstance(lost.value, SavedNotConfirmed)
+    assert "saved, but not confirmed" in message and "was lost" in message
+    assert "as many steps and positions as were sent" in message and "probably saved" in message
     assert lost.value.held is not None and lost.value.held.lines == 41
     assert held_program(relay) is not None and len(held_program(relay) or []) == 41
 

@@ -13,7 +13,7 @@ Refusals read like ``error: the controller refused `MOV P1`: L2600 Position data
 limit``; while an alarm is active they end with how to clear it (``melfa reset``).
 
 Exit codes: 0 done, 1 refused (by the controller, or errors in the program), 2 usage,
-3 link failure or timeout.
+3 link failure or timeout, 4 (upload) saved, but not confirmed.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """What every robot command shares: the connection options (declared once), the `Target`
 they describe, one session per command, and how failures become one message and an exit
-code (0 done, 1 refused, 2 usage, 3 link failure or timeout)."""
+code (0 done, 1 refused, 2 usage, 3 link failure or timeout, 4 saved but not confirmed)."""
 
 from __future__ import annotations
 
@@ -34,6 +34,7 @@ from melfa.robot import (
     ControllerError,
     Robot,
     RobotError,
+    SavedNotConfirmed,
     SaveOutcomeUnknown,
     Stopped,
     UploadPreparationError,
@@ -46,6 +47,8 @@ from melfa.robot.status import Alarm
 EXIT_REFUSED = 1
 EXIT_USAGE = 2
 EXIT_LINK = 3
+EXIT_UNCONFIRMED = 4
+"""Saved, but not confirmed: the controller holds the program; what it holds is unchecked."""
 
 _out = Console(highlight=False, soft_wrap=True, emoji=False)
 _err = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
@@ -276,6 +279,9 @@ def _session(target: Target) -> Iterator[Robot]:
             raise _fail(_refusal_message(exc, robot, target), EXIT_REFUSED) from None
         except (Stopped, PositionUnknown, VerifyFailed, UploadPreparationError) as exc:
             raise _fail(str(exc), EXIT_REFUSED) from None
+        except SavedNotConfirmed as exc:
+            _err.print(f"[bold yellow]warning:[/] {escape(str(exc))}")
+            raise typer.Exit(EXIT_UNCONFIRMED) from None
         except SaveOutcomeUnknown as exc:
             raise _fail(str(exc), EXIT_LINK) from None
         except LinkTimeout as exc:

@@ -115,6 +115,11 @@ class ClientConnection:
         return self._broken
 
     @property
+    def has_events(self) -> bool:
+        """Events are ready for `next_event` (a STOP paired while the pairing broke)."""
+        return bool(self._ready)
+
+    @property
     def outstanding(self) -> tuple[Request, ...]:
         """Requests sent and not yet answered, oldest first."""
         return tuple(self._outstanding)
@@ -227,6 +232,20 @@ class ClientConnection:
         self._dropped.append(reply)
         self._check_dropped()
         return None
+
+    def replies_while_broken(self) -> list[Reply]:
+        """While BROKEN: the readable replies received so far, taken out of the buffer
+        (unreadable ones skipped); pairing stays lost. Where an overtaking STOP finds its
+        answer after line noise: any ``QoK`` that came after it went out."""
+        replies: list[Reply] = []
+        while True:
+            try:
+                reply = self._reader.next_reply()
+            except RemoteProtocolError:
+                continue
+            if reply is None:
+                return replies
+            replies.append(reply)
 
     def _forget(self, request: Request) -> None:
         self._unchecked = [r for r in self._unchecked if r is not request]

@@ -10,7 +10,13 @@ even while another request is in flight.
 
 from melfa.robot.channel import Channel
 from melfa.robot.client import Robot
-from melfa.robot.edit import Progress, SaveOutcomeUnknown, UploadReport, VerifyFailed
+from melfa.robot.edit import (
+    Progress,
+    SavedNotConfirmed,
+    SaveOutcomeUnknown,
+    UploadReport,
+    VerifyFailed,
+)
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.opener import open_robot_link
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
@@ -38,6 +44,7 @@ __all__ = [
     "RobotError",
     "RobotSettings",
     "SaveOutcomeUnknown",
+    "SavedNotConfirmed",
     "Stopped",
     "UploadItem",
     "UploadPreparationError",

@@ -43,6 +43,10 @@ class RepliesOutOfStep(RemoteProtocolError):
     """The pairing of replies with requests was lost (a late, stray or unfitting reply)."""
 
 
+class StopNotConfirmed(LinkTimeout):
+    """STOP's bytes went out, but no answer confirmed it: "sent, not confirmed"."""
+
+
 class StopOvertook(Exception):
     """A STOP went out since the batch began: the next request of the batch was not sent."""
 
@@ -253,6 +257,10 @@ class Channel:
             head = self._oldest()
         if head is None:
             return
+        broken = self._conn.state is ClientState.BROKEN and not self._conn.has_events
+        if head.is_stop and broken:
+            self._pump_stop(head)
+            return
         try:
             while True:
                 with self._state_lock:
@@ -268,6 +276,31 @@ class Channel:
         except RemoteProtocolError as exc:
             self._fail_all(RepliesOutOfStep(str(exc)))
         except (LinkError, LocalProtocolError) as exc:
+            self._fail_all(exc)
+
+    def _pump_stop(self, head: _Ticket) -> None:
+        """Pairing was lost (line noise, a garbled reply) while a STOP was out: its answer
+        is the first ``QoK`` read after it went out, whatever came before. None by its own
+        deadline: "sent, not confirmed" (`StopNotConfirmed`)."""
+        try:
+            while True:
+                with self._state_lock:
+                    replies = self._conn.replies_while_broken()
+                    answer = next((r for r in replies if isinstance(r, Ok)), None)
+                    if answer is not None:
+                        for ticket in [t for t in self._tickets if t.is_stop]:
+                            self._tickets.remove(ticket)
+                            self._resolve(ticket, answer)
+                        return
+                data = self.link.read_some(head.deadline)
+                with self._state_lock:
+                    self._conn.receive_data(data)
+        except LinkTimeout:
+            with self._state_lock:
+                if head in self._tickets:
+                    self._tickets.remove(head)
+                self._reject(head, StopNotConfirmed("STOP was sent; no answer confirmed it"))
+        except LinkError as exc:
             self._fail_all(exc)
 
     def _dispatch(self, event: Paired | Unanswered | Resynced) -> None:
@@ -332,5 +365,11 @@ class Channel:
         if self._fence is not None:
             tickets.append(self._fence)
             self._fence = None
+        # A STOP already out keeps waiting for its answer (until its own deadline) when
+        # only the pairing was lost; the line itself failing ends it too.
+        line_failed = isinstance(error, LinkError) and not isinstance(error, LinkTimeout)
         for ticket in tickets:
+            if ticket.is_stop and not line_failed and self._conn.state is ClientState.BROKEN:
+                self._tickets.append(ticket)
+                continue
             self._reject(ticket, error)

@@ -51,7 +51,7 @@ from melfa.robot.channel import Channel
 from melfa.robot.edit import Progress, UploadReport
 from melfa.robot.errors import ControllerError, RobotError, Stopped
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
-from melfa.robot.status import Alarm, ControllerStatus
+from melfa.robot.status import Alarm, ControllerStatus, error_level
 from melfa.robot.upload import PreparedUpload, prepare_upload
 
 JOG_JOINT_VARIABLE: Final = "JMJOG"
@@ -340,22 +340,22 @@ class Robot:
             return self.active_alarm()
 
     def active_alarm(self) -> Alarm | None:
-        """The active error with its text (``ERROR`` then ``ERRORMES``), or None."""
+        """The active error with its text, or None: the error field of ``STATE``, then
+        ``ERRORMES`` (real controllers were recorded answering both; ``ERROR`` never was)."""
         with self._operation():
-            status = ErrorStatus.parse(self._call("ERROR").answer)
-            if status is None:
-                return None
-            return Alarm(status.number, self._error_message(status.number), status.level)
+            return self._alarm_of(State.parse(self._call("STATE").answer))
+
+    def _alarm_of(self, state: State) -> Alarm | None:
+        number = state.status.error
+        if not number:
+            return None
+        return Alarm(number, self._error_message(number), error_level(number))
 
     def status(self) -> ControllerStatus:
-        """``STATE`` plus the active alarm: what ``melfa status`` shows."""
+        """``STATE`` plus the active alarm's text: what ``melfa status`` shows."""
         with self._operation():
             state = State.parse(self._call("STATE").answer)
-            alarm = self.active_alarm()
-            if alarm is None and state.status.error:
-                number = state.status.error
-                alarm = Alarm(number, self._error_message(number))
-            return ControllerStatus(state, alarm)
+            return ControllerStatus(state, self._alarm_of(state))
 
     def error_text(self, number: int) -> str:
         """The controller's text for an error (``ERRORMES<n>``), else melfa's table."""

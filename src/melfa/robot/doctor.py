@@ -473,9 +473,10 @@ def _probe_upload(robot: Robot, report: Report) -> None:
         report.settings["confirm_counts"] = counts
         try:
             read_back(robot, prepared, clear=True)
-            report.add("read-back (LISTL/LISTP), ';' in lines", Verdict.OK, "identical")
+            report.add("read-back (LISTL), ';' in lines", Verdict.OK, "identical")
         except RobotError as exc:
-            report.add("read-back (LISTL/LISTP), ';' in lines", Verdict.REFUSED, str(exc))
+            report.add("read-back (LISTL), ';' in lines", Verdict.REFUSED, str(exc))
+        _listp(robot, report)
         report.add(
             "full EMDAT requests",
             Verdict.OK,
@@ -490,6 +491,27 @@ def _probe_upload(robot: Robot, report: Report) -> None:
             robot._raw(f"FDEL{SCRATCH_PROGRAM}")
         finally:
             robot.settings = saved
+
+
+def _listp(robot: Robot, report: Report) -> None:
+    """Whether ``LISTPTOP`` reads the scratch program's position back (no real controller
+    was recorded answering it): the profile's `listp_answered`, used by ``--verify``."""
+    robot._call("NEW")
+    robot._call(f"LOAD={SCRATCH_PROGRAM}")
+    try:
+        reply = robot._raw("LISTPTOP", slot=robot.edit_slot)
+    finally:
+        robot._call("NEW")
+    answered = isinstance(reply, Ok) and reply.answer.upper().startswith("P1=")
+    report.add(
+        "LISTP (positions read back)",
+        Verdict.OK if answered else Verdict.UNKNOWN,
+        "answered: --verify reads positions back"
+        if answered
+        else "not answered: --verify counts positions with PDIR only",
+        raw=_raw_text(reply),
+    )
+    report.settings["listp_answered"] = answered
 
 
 def defaults_differ(report: Report) -> dict[str, object]:

@@ -10,9 +10,12 @@ The LOAD…SAVE session of every upload [DOC S1 §5.2; TRACE K9b-READ, RT ToolBo
   had shifted the pairing, an EMDAT's reply (even a refusal of the last one) would arrive in
   its place, and the upload stops with NEW instead of saving a truncated program.
 - After ``SAVE`` the directory entry (``PDIR``) must show the program with as many steps
-  and positions as were sent; ``verify`` also reads every line back (``LISTL``/``LISTP``).
-- A lost ``SAVE`` answer is "outcome unknown": the channel resynchronises, ``PDIR`` says
-  what the controller now holds, and `SaveOutcomeUnknown` reports it.
+  and positions as were sent; ``verify`` also reads every line back (``LISTL``; positions
+  with ``LISTP`` only where the profile says the controller answers it).
+- A lost or garbled ``SAVE`` answer is "outcome unknown": the channel resynchronises,
+  ``PDIR`` says what the controller now holds; when it lists the program, or when its
+  counts are empty or counted differently, `SavedNotConfirmed` says "saved, but not
+  confirmed" rather than "failed".
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from melfa.protocol import (
     LocalProtocolError,
     Ok,
     ProgramEntry,
+    RemoteProtocolError,
     Reply,
     chunk_emdat,
 )
@@ -59,6 +63,12 @@ class SaveOutcomeUnknown(RobotError):
         self.held = held
 
 
+class SavedNotConfirmed(SaveOutcomeUnknown):
+    """The controller saved (SAVE answered, or PDIR lists the program after a lost or
+    garbled answer), but what it holds could not be matched with what was sent: PDIR's
+    step/position fields are empty or count differently. Not a failure: say so plainly."""
+
+
 class VerifyFailed(RobotError):
     """The read-back differs from what was sent."""
 
@@ -75,6 +85,8 @@ class UploadReport:
     """The PDIR entry after SAVE (None when confirmation is off)."""
     verified: bool = False
     """True when every line was read back and matched (``verify``)."""
+    unchecked: str | None = None
+    """What ``verify`` could not read back, and why (positions without ``LISTP``)."""
 
     @property
     def confirmation(self) -> str:
@@ -83,7 +95,8 @@ class UploadReport:
             return "not confirmed (confirm_save is off)"
         what = f"{self.held.lines} steps and {self.held.points} positions"
         checked = "read back line by line" if self.verified else "confirmed by PDIR"
-        return f"the controller holds {self.held.name}.MB4 with {what} ({checked})"
+        unchecked = f"; {self.unchecked}" if self.unchecked else ""
+        return f"the controller holds {self.held.name}.MB4 with {what} ({checked}){unchecked}"
 
 
 class Session(Protocol):
@@ -207,15 +220,17 @@ def write_program(
     except BaseException as exc:
         with contextlib.suppress(Exception):
             session._send("NEW")  # close without saving: the old program stays
-        if save_sent and isinstance(exc, LinkError):
-            raise _lost_save(session, prepared, clear) from exc
+        if save_sent and isinstance(exc, LinkError | RemoteProtocolError):
+            # Lost or garbled (a flipped bit): the controller may have saved; PDIR tells.
+            raise _lost_save(session, prepared, clear, exc) from exc
         raise
     held = None
     if settings.confirm_save:
         held = _confirm(session, prepared, clear)
     verified = False
+    unchecked = None
     if verify:
-        read_back(session, prepared, clear)
+        unchecked = read_back(session, prepared, clear)
         verified = True
     return UploadReport(
         len(items),
@@ -224,6 +239,7 @@ def write_program(
         time.monotonic() - started,
         held,
         verified,
+        unchecked,
     )
 
 
@@ -286,6 +302,17 @@ def _expected(prepared: PreparedUpload, clear: bool) -> tuple[int | None, int | 
     return steps, points
 
 
+def counts_match(held: ProgramEntry, steps: int | None, points: int | None) -> bool | None:
+    """Whether PDIR's counts show what was sent: True, False, or None when PDIR's step or
+    position field is empty (nothing to compare). Firmware that counts the positions in
+    the steps (``lines`` = steps + positions) matches too."""
+    if (steps is not None and held.lines is None) or (points is not None and held.points is None):
+        return None
+    if steps is not None and points is not None and held.lines == steps + points:
+        return True
+    return (steps is None or held.lines == steps) and (points is None or held.points == points)
+
+
 def _confirm(session: Session, prepared: PreparedUpload, clear: bool) -> ProgramEntry:
     name = session.settings.program
     held = find_program(session, name)
@@ -295,45 +322,57 @@ def _confirm(session: Session, prepared: PreparedUpload, clear: bool) -> Program
             "holds no copy of it"
         )
     steps, points = _expected(prepared, clear)
-    if session.settings.confirm_counts and (
-        (steps is not None and held.lines != steps)
-        or (points is not None and held.points != points)
-    ):
-        raise RobotError(
-            f"PDIR shows program {name} with {held.lines} steps and {held.points} positions; "
-            f"{steps} and {points} were sent (run the upload again, or `melfa doctor` if "
-            "this repeats)"
+    if session.settings.confirm_counts and not counts_match(held, steps, points):
+        raise SavedNotConfirmed(
+            f"saved, but not confirmed: SAVE was answered and PDIR lists {name}.MB4 "
+            f"({held.stamp}), but {_counts(held)} where {steps} steps and {points} positions "
+            "were sent (upload again with --verify to read the steps back, or run `melfa "
+            "doctor --probe-upload` to learn how this controller counts)",
+            held,
         )
     return held
 
 
-def _lost_save(session: Session, prepared: PreparedUpload, clear: bool) -> SaveOutcomeUnknown:
+def _counts(held: ProgramEntry) -> str:
+    if held.lines is None or held.points is None:
+        return "it shows no step or position counts"
+    return f"it shows {held.lines} steps and {held.points} positions"
+
+
+def _lost_save(
+    session: Session, prepared: PreparedUpload, clear: bool, cause: BaseException
+) -> SaveOutcomeUnknown:
     name = session.settings.program
+    what = "garbled" if isinstance(cause, RemoteProtocolError) else "lost"
     try:
         session.channel.resync()
         held = find_program(session, name)
-    except (LinkError, RobotError, LocalProtocolError) as exc:
+    except (LinkError, RobotError, LocalProtocolError, RemoteProtocolError) as exc:
         return SaveOutcomeUnknown(
-            f"SAVE's answer was lost: outcome unknown, and the controller could not be "
+            f"SAVE's answer was {what}: outcome unknown, and the controller could not be "
             f"asked what it holds ({exc})",
             None,
         )
     if held is None:
         return SaveOutcomeUnknown(
-            f"SAVE's answer was lost: outcome unknown. PDIR lists no program {name}: "
+            f"SAVE's answer was {what}: outcome unknown. PDIR lists no program {name}: "
             "it was not saved",
             None,
         )
     steps, points = _expected(prepared, clear)
-    match = (steps is None or held.lines == steps) and (points is None or held.points == points)
-    verdict = (
-        "as many as were sent, so it was probably saved (upload again with --verify to be sure)"
-        if match
-        else f"not what was sent ({steps} and {points}): the old program is still there"
-    )
-    return SaveOutcomeUnknown(
-        f"SAVE's answer was lost: outcome unknown. The controller now holds {name}.MB4 "
-        f"({held.stamp}) with {held.lines} steps and {held.points} positions: {verdict}",
+    match = counts_match(held, steps, points)
+    if match is False:
+        return SaveOutcomeUnknown(
+            f"SAVE's answer was {what}: outcome unknown. The controller now holds {name}.MB4 "
+            f"({held.stamp}) with {held.lines} steps and {held.points} positions, not what "
+            f"was sent ({steps} and {points}): the old program is probably still there",
+            held,
+        )
+    counted = "as many steps and positions as were sent" if match else _counts(held)
+    return SavedNotConfirmed(
+        f"saved, but not confirmed: SAVE's answer was {what}; PDIR lists {name}.MB4 "
+        f"({held.stamp}) and {counted}, so it was probably saved (upload again with "
+        "--verify to be sure)",
         held,
     )
 
@@ -392,13 +431,17 @@ def read_points(session: Session) -> Iterator[str]:
         answer = session._call("LISTP+1", slot=session.edit_slot).answer
 
 
-def read_back(session: Session, prepared: PreparedUpload, clear: bool) -> None:
-    """Open the saved program and compare every line and position with what was sent."""
+def read_back(session: Session, prepared: PreparedUpload, clear: bool) -> str | None:
+    """Open the saved program and compare every line (``LISTL``, which real clients send)
+    and, where the profile says the controller answers ``LISTP`` (`listp_answered`: no
+    real controller was recorded answering it), every position with what was sent.
+    Returns what could not be read back, or None."""
     session._call("NEW")
     session._call(f"LOAD={session.settings.program}")
+    listp = session.settings.listp_answered
     try:
         lines = list(read_lines(session))
-        points = list(read_points(session))
+        points = list(read_points(session)) if listp else []
     finally:
         with contextlib.suppress(Exception):
             session._call("NEW")
@@ -409,6 +452,13 @@ def read_back(session: Session, prepared: PreparedUpload, clear: bool) -> None:
         for index, (got, sent) in enumerate(zip(lines, sent_lines, strict=True), start=1):
             if not _same_line(got, sent):
                 raise VerifyFailed(f"step {index} reads back as {got!r}; {sent!r} was sent")
+    if not listp:
+        return (
+            f"the {len(sent_points)} positions were counted by PDIR, not read back (this "
+            "controller is not known to answer LISTP)"
+            if sent_points
+            else None
+        )
     by_name = {_point_values(p)[0]: p for p in points}
     for sent in sent_points:
         name = _point_values(sent)[0]
@@ -417,6 +467,7 @@ def read_back(session: Session, prepared: PreparedUpload, clear: bool) -> None:
             raise VerifyFailed(f"position {name} reads back as {held!r}; {sent!r} was sent")
     if clear and len(points) != len(sent_points):
         raise VerifyFailed(f"read back {len(points)} positions; {len(sent_points)} were sent")
+    return None
 
 
 # ------------------------------------------------------------------------ chunks

@@ -29,6 +29,7 @@ PROFILE_FIELDS: Final = (
     "jog",
     "confirm_counts",
     "edit_slot",
+    "listp_answered",
 )
 """The settings doctor may write (each one a [GUESS] it can probe)."""
 

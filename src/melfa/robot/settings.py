@@ -53,6 +53,9 @@ class RobotSettings:
     """[GUESS from TRACE] PDIR's 8th/9th fields are the step and position counts (they
     match every upload on record); the confirmation compares them with what was sent.
     `melfa doctor --probe-upload` checks this on the real controller."""
+    listp_answered: bool = False
+    """Whether the controller answers ``LISTP`` (positions read back by ``--verify``). No
+    real controller was recorded answering it; `melfa doctor --probe-upload` finds out."""
     prtver_handshakes: bool = True
     """[GUESS §3.8] send PRTVERLISTL / PRTVEREMDAT after LOAD, as the thesis did on this
     controller family, once per session (a version handshake); a refusal is tolerated.
