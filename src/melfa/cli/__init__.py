@@ -7,6 +7,8 @@ becomes one clear message and an exit code, never a traceback:
     1  refused: errors in a program, or the controller said no
     2  usage: bad options, missing or unreadable file
     3  link failure or timeout
+  130  interrupted (Ctrl-C): whatever was moving or serving was stopped first, one line
+       says so, and no traceback is shown
 """
 
 from __future__ import annotations
@@ -30,16 +32,38 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(name)
 
 
+EXIT_INTERRUPTED = 130
+"""Ctrl-C, as a shell reports a program ended by SIGINT (128 + 2), for every command."""
+
+
 def main() -> None:
     """Entry point of the `melfa` console script."""
-    if sys.argv[1:2] == ["check"]:
+    try:
+        raise SystemExit(_run(sys.argv[1:]))
+    except KeyboardInterrupt:
+        sys.stderr.write("interrupted\n")
+        raise SystemExit(EXIT_INTERRUPTED) from None
+
+
+def _run(args: list[str]) -> int:
+    if args[:1] == ["check"]:
         # `melfa check` runs without Typer or the other commands, for start-up time.
         from melfa.cli.checking import check_main
 
-        raise SystemExit(check_main(sys.argv[2:]))
+        return check_main(args[1:])
+    import click
+
     from melfa.cli.typer_app import app
 
-    app()
+    try:
+        # Not standalone: Click would turn Ctrl-C into "Aborted!" and exit status 1.
+        result = app(prog_name="melfa", standalone_mode=False)
+    except click.exceptions.Abort:
+        raise KeyboardInterrupt from None
+    except click.ClickException as exc:
+        exc.show()
+        return exc.exit_code
+    return result if type(result) is int else 0
 
 
 app: OnDemandTyper

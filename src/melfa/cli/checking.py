@@ -274,18 +274,22 @@ def report_lines(reports: Sequence[FileReport], excerpts: bool) -> Iterator[list
 
 
 def wants_color(color: ColorMode, stream: TextIO) -> bool:
-    return color is ColorMode.ALWAYS or (color is ColorMode.AUTO and stream.isatty())
+    """``--color always``; or ``auto`` on a terminal, unless ``NO_COLOR`` is set and not
+    empty (https://no-color.org)."""
+    if color is ColorMode.AUTO:
+        return stream.isatty() and not os.environ.get("NO_COLOR")
+    return color is ColorMode.ALWAYS
 
 
 def print_reports(reports: Sequence[FileReport], color: ColorMode, stream: TextIO) -> None:
-    """Plain text, or coloured with source excerpts on a terminal (Rich, loaded then)."""
+    """Coloured (Rich, loaded then) or plain text; source excerpts on a terminal either way."""
     if wants_color(color, stream):
         # Imported only for a terminal, for start-up time: Rich costs more than checking.
         from melfa.cli.check_rich import print_text, rich_console
 
         print_text(reports, rich_console(stream, terminal=True))
         return
-    for line in report_lines(reports, excerpts=False):
+    for line in report_lines(reports, excerpts=color is ColorMode.AUTO and stream.isatty()):
         stream.write("".join(text for text, _ in line) + "\n")
 
 
@@ -339,6 +343,35 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+LONG_WORK_BYTES = 256 * 1024
+"""Checking this much text takes seconds: a terminal is told what is being checked."""
+
+
+@dataclass
+class _Feedback:
+    stream: TextIO
+    shown: str = ""
+
+    def done(self) -> None:
+        """Clear the line said while working (the findings follow on a clean line)."""
+        if self.shown:
+            self.stream.write("\r" + " " * len(self.shown) + "\r")
+            self.stream.flush()
+
+
+def _announce_long_work(sources: Sequence[SourceFile], stream: TextIO) -> _Feedback:
+    """On a terminal, a line saying what is checked when that takes long (a 5 MB file: many
+    seconds); nothing in a pipe or for small files."""
+    size = sum(len(source.raw) for source in sources)
+    if size < LONG_WORK_BYTES or not stream.isatty():
+        return _Feedback(stream)
+    names = sources[0].path.name if len(sources) == 1 else f"{len(sources)} files"
+    text = f"checking {names} ({size / 1_000_000:.1f} MB)…"
+    stream.write(text)
+    stream.flush()
+    return _Feedback(stream, text)
+
+
 def check_main(argv: Sequence[str]) -> int:
     """``melfa check ARGV``: print the findings and return the exit status (0, 1 or 2)."""
     try:
@@ -360,7 +393,9 @@ def check_main(argv: Sequence[str]) -> int:
     except UsageError as err:
         sys.stderr.write(f"error: {err}\n")
         return 2
+    feedback = _announce_long_work(sources, sys.stderr)
     reports = check_files(sources)
+    feedback.done()
     try:
         if args.output_format is OutputFormat.JSON:
             sys.stdout.write(

@@ -13,7 +13,8 @@ Refusals read like ``error: the controller refused `MOV P1`: L2600 Position data
 limit``; while an alarm is active they end with how to clear it (``melfa reset``).
 
 Exit codes: 0 done, 1 refused (by the controller, or errors in the program), 2 usage,
-3 link failure or timeout, 4 (upload) saved, but not confirmed.
+3 link failure or timeout, 4 (upload) saved, but not confirmed, 130 Ctrl-C (`run --wait`
+stops the robot first).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
+from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.robot_session import (
     EXIT_REFUSED,
     EXIT_USAGE,
@@ -53,6 +55,7 @@ from melfa.protocol import (
     POSE_NAMES,
     JogMode,
 )
+from melfa.protocol.answers import DState
 from melfa.robot.status import Alarm
 
 # --- upload ------------------------------------------------------------------------------
@@ -176,11 +179,20 @@ def run(
         if not wait:
             _out.print("started")
             return
+        started = time.monotonic()
         try:
-            state = session.wait_idle(timeout=3600)
+            # On a terminal, the line it runs and for how long (stderr; nothing in a pipe).
+            with _err.status("running…") as shown:
+
+                def progress(now: DState) -> None:
+                    where = f"line {now.step}" if now.step else "running"
+                    shown.update(f"running {where}  ({time.monotonic() - started:.0f} s)")
+
+                state = session.wait_idle(timeout=3600, on_state=progress)
         except KeyboardInterrupt:
             session.stop()
-            raise _fail("interrupted: robot stopped", EXIT_REFUSED) from None
+            _err.print("interrupted: robot stopped")
+            raise typer.Exit(EXIT_INTERRUPTED) from None
         if state.status.error:
             status = session.status()
             line = f" at line {status.state.line}" if status.state.line else ""

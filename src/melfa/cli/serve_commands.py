@@ -2,14 +2,17 @@
 robot is given.
 
 The command is thin: it opens the store (creating the first admin and printing its
-password once), builds the app (`melfa.web.create_app`) and runs it under uvicorn. Ctrl+C
-shuts down cleanly: the service stops polling, ends the lease and closes the link.
+password once), takes its ports (a busy one fails before anything says "serving"; port 0
+is a free one, printed), builds the app (`melfa.web.create_app`) and runs it under uvicorn.
+Ctrl+C shuts down cleanly: the service stops polling, ends the lease and closes the link;
+then "melfa stopped" and exit status 130, as every command's Ctrl-C.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
+import errno
 import ipaddress
 import os
 import socket
@@ -20,6 +23,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
+from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.typer_app import app
 from melfa.link import ROBOT_ENV, RobotSpecError, parse_robot
 from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
@@ -176,9 +180,6 @@ def serve(
             f"[bold yellow]warning:[/] the browser IDE's libraries are missing ({VENDOR}); "
             "run scripts/setup (or scripts/build-frontend) to make them. The API works meanwhile."
         )
-    robot_text = "virtual controller (in process)" if parsed.is_sim else spec
-    shown = f"[{host}]" if ":" in host else host
-    _out.print(f"melfa serving on http://{shown}:{port}/  (robot: {escape(robot_text)})")
     hosts = tuple(allowed_hosts or ())
     if not hosts and _is_loopback(host):
         hosts = LOOPBACK_NAMES  # a page on another name (DNS rebinding) is refused
@@ -204,68 +205,101 @@ def serve(
         access_log=False,
         timeout_graceful_shutdown=3,
     )
+    # The ports are taken here, before anything says "serving": a busy port fails first, and
+    # --port 0 prints the port the system chose.
+    sockets: list[socket.socket] = []
     for wanted in (port, rosbridge_port):
-        if wanted and not _port_free(host, wanted):
+        if wanted is None:
+            continue
+        try:
+            sockets.append(_listen(host, wanted))
+        except OSError as exc:
+            for taken in sockets:
+                taken.close()
             store.close()
-            _err.print(
-                f"[bold red]error:[/] port {wanted} on {escape(host)} is in use (another "
-                "melfa serve, or rosbridge_server?); choose another"
+            why = (
+                "is in use (another melfa serve, or rosbridge_server?); choose another"
+                if exc.errno == errno.EADDRINUSE
+                else f"cannot be listened on ({exc.strerror or exc})"
             )
-            raise typer.Exit(EXIT_USAGE)
-    servers = [uvicorn.Server(config)]
+            _err.print(f"[bold red]error:[/] port {wanted} on {escape(host)} {why}")
+            raise typer.Exit(EXIT_USAGE) from None
+    web_socket, *bridge_sockets = sockets
+    robot_text = "virtual controller (in process)" if parsed.is_sim else spec
+    shown = f"[{host}]" if ":" in host else host
+    _out.print(
+        f"melfa serving on http://{shown}:{_port_of(web_socket)}/  (robot: {escape(robot_text)})"
+    )
+    served: list[tuple[uvicorn.Server, list[socket.socket]]] = [
+        (uvicorn.Server(config), [web_socket])
+    ]
     if rosbridge_port is not None:
         from melfa.web.rosbridge_app import create_rosbridge_app
 
         try:
             bridge = create_rosbridge_app(web_app, rosbridge_mode)
         except ValueError as exc:
+            for taken in sockets:
+                taken.close()
             store.close()
             _err.print(f"[bold red]error:[/] --rosbridge-mode: {escape(str(exc))}")
             raise typer.Exit(EXIT_USAGE) from None
-        servers.append(
-            uvicorn.Server(
-                uvicorn_config(
-                    bridge,
-                    host=host,
-                    port=rosbridge_port,
-                    limits=settings.limits,
-                    trusted_proxies=settings.trusted_proxies,
-                    log_level="warning",
-                )
+        bridge_server = uvicorn.Server(
+            uvicorn_config(
+                bridge,
+                host=host,
+                port=rosbridge_port,
+                limits=settings.limits,
+                trusted_proxies=settings.trusted_proxies,
+                log_level="warning",
             )
         )
-        _out.print(f"rosbridge on ws://{shown}:{rosbridge_port}/  (mode {rosbridge_mode})")
+        served.append((bridge_server, bridge_sockets))
+        bridge_port = _port_of(bridge_sockets[0])
+        _out.print(f"rosbridge on ws://{shown}:{bridge_port}/  (mode {rosbridge_mode})")
     try:
-        asyncio.run(_serve_all(servers))
+        asyncio.run(_serve_all(served))
     except KeyboardInterrupt:
-        pass  # uvicorn re-raises Ctrl+C after its clean shutdown: that is the normal end
+        # uvicorn re-raises Ctrl+C after its clean shutdown: said, then exit 130 (melfa.cli).
+        _out.print("melfa stopped")
+        raise typer.Exit(EXIT_INTERRUPTED) from None
     finally:
         store.close()
+        for taken in sockets:
+            taken.close()
     _out.print("melfa stopped")
 
 
-def _port_free(host: str, port: int) -> bool:
-    """Whether ``port`` can be listened on (checked first, for a clear message)."""
+def _listen(host: str, port: int) -> socket.socket:
+    """A socket bound to ``host:port`` (0: a free port the system chooses), as uvicorn
+    binds its own; `OSError` when it cannot be had."""
     family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    with socket.socket(family) as probe:
-        probe.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        try:
-            probe.bind((host, port))
-        except OSError:
-            return False
-    return True
-
-
-async def _serve_all(servers: list[uvicorn.Server]) -> None:
-    """Run the web server and the optional rosbridge server on one loop; the first one
-    handles Ctrl+C, and when it ends the others end too."""
-    first, *others = servers
-    for other in others:
-        other.capture_signals = contextlib.nullcontext  # type: ignore[method-assign,assignment]
-    tasks = [asyncio.create_task(other.serve()) for other in others]
+    sock = socket.socket(family, socket.SOCK_STREAM)
     try:
-        await first.serve()
+        sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        sock.bind((host, port))
+        sock.listen(2048)
+    except OSError:
+        sock.close()
+        raise
+    sock.set_inheritable(True)
+    return sock
+
+
+def _port_of(sock: socket.socket) -> int:
+    return int(sock.getsockname()[1])
+
+
+async def _serve_all(served: list[tuple[uvicorn.Server, list[socket.socket]]]) -> None:
+    """Run the web server and the optional rosbridge server on one loop, each on its own
+    sockets; the first one handles Ctrl+C, and when it ends the others end too."""
+    (first, first_sockets), *others = served
+    for other, _ in others:
+        other.capture_signals = contextlib.nullcontext  # type: ignore[method-assign,assignment]
+    tasks = [asyncio.create_task(other.serve(sockets=socks)) for other, socks in others]
+    try:
+        await first.serve(sockets=first_sockets)
     finally:
-        for other in others:
+        for other, _ in others:
             other.should_exit = True
         await asyncio.gather(*tasks, return_exceptions=True)

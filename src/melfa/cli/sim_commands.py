@@ -18,6 +18,7 @@ from typing import Annotated
 import typer
 from rich.console import Console
 
+from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
@@ -103,8 +104,6 @@ def _until_interrupted(stop: threading.Event) -> None:
     try:
         while not stop.wait(0.2):
             pass
-    except KeyboardInterrupt:
-        pass
     finally:
         signal.signal(signal.SIGTERM, previous)
 
@@ -269,8 +268,9 @@ def sim(
             serve_tcp(controller, pacing, host, port, stop)
         else:
             serve_pty(controller, pacing, stop)
-    except KeyboardInterrupt:
-        pass  # Ctrl-C before the wait loop started: same clean stop
+    except KeyboardInterrupt:  # Ctrl-C (SIGTERM ends it with status 0): stopped cleanly
+        console.print("virtual controller stopped")
+        raise typer.Exit(EXIT_INTERRUPTED) from None
     except OSError as exc:
         errors.print(f"[red]error:[/] cannot serve: {exc.strerror or exc}")
         raise typer.Exit(3) from None

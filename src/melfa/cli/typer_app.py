@@ -12,7 +12,7 @@ from __future__ import annotations
 import importlib
 import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import Annotated, Any
 
 import typer
 
@@ -107,13 +107,34 @@ app = OnDemandTyper(
     name="melfa",
     help="Program and drive a Mitsubishi RV-6S (CR2B-574, MELFA BASIC IV).",
     no_args_is_help=True,
-    add_completion=False,
+    add_completion=True,  # --install-completion / --show-completion (bash, zsh, fish)
     pretty_exceptions_enable=False,
+    # -h as well as --help, on `melfa` and every command (subcommands inherit it).
+    context_settings={"help_option_names": ["-h", "--help"]},
 )
 
 
+def _print_version(wanted: bool) -> None:
+    if wanted:
+        from importlib.metadata import version  # the installed package's (pyproject's)
+
+        typer.echo(f"melfa {version('melfa')}")
+        raise typer.Exit()
+
+
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            "-V",
+            help="Print melfa's version and exit.",
+            callback=_print_version,
+            is_eager=True,
+        ),
+    ] = False,
+) -> None:
     """Program and drive a Mitsubishi RV-6S (CR2B-574, MELFA BASIC IV)."""
     # A callback keeps `melfa` a group of commands even when only one command module is
     # loaded (Typer runs a lone command as the whole program otherwise).

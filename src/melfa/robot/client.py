@@ -283,15 +283,23 @@ class Robot:
         if not isinstance(reply, Ok):
             raise self._refusal(reply, "STOP", fetch=False)
 
-    def wait_idle(self, timeout: float = 60.0, poll: float = 0.2) -> DState:
+    def wait_idle(
+        self,
+        timeout: float = 60.0,
+        poll: float = 0.2,
+        on_state: Callable[[DState], object] | None = None,
+    ) -> DState:
         """Poll ``STATE`` until the RUN bit (0x40) clears [DOC S1 p.55; ≥ 100 ms spacing
-        while running, DOC S1 §3.3.3]. `Stopped` if `stop` is called meanwhile."""
+        while running, DOC S1 §3.3.3]. `Stopped` if `stop` is called meanwhile.
+        ``on_state`` sees each state read while it runs (a command line's progress)."""
         with self._operation() as generation:
             end = time.monotonic() + timeout
             while True:
                 state = self._status()
                 if RunStatus.RUNNING not in state.status.run:
                     return state
+                if on_state is not None:
+                    on_state(state)
                 if time.monotonic() > end:
                     raise RobotError(f"still running after {timeout:g} s")
                 self._checkpoint(generation)

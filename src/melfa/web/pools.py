@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
+import contextlib
 import functools
 import importlib
 import multiprocessing
-from collections.abc import Callable
+import signal
+import threading
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import ParamSpec, TypeVar
 
@@ -29,6 +32,19 @@ class Busy(Exception):
     def __init__(self, pool: str) -> None:
         super().__init__(f"the server is busy ({pool}); try again in a moment")
         self.pool = pool
+
+
+@contextlib.contextmanager
+def _sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored meanwhile (processes started now inherit that), on the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 class BoundedPool:
@@ -46,10 +62,19 @@ class BoundedPool:
         if processes:
             # Pure-Python work (checking) in threads would hold the GIL against the event
             # loop; in processes it cannot slow the loop, and its memory is not ours.
+            # Ctrl-C on a terminal reaches the whole process group, but the server, not its
+            # workers, decides what it means (it shuts them down): workers ignore SIGINT from
+            # their first instruction (an ignored signal stays ignored across exec, and
+            # Python keeps it so) and again once started: no tracebacks from them.
             context = multiprocessing.get_context("spawn")
-            self._executor = concurrent.futures.ProcessPoolExecutor(workers, mp_context=context)
-            for _ in range(workers):  # start and warm them now, not on a student's first check
-                self._executor.submit(importlib.import_module, "melfa.web.routes.check")
+            self._executor = concurrent.futures.ProcessPoolExecutor(
+                workers,
+                mp_context=context,
+                initializer=functools.partial(signal.signal, signal.SIGINT, signal.SIG_IGN),
+            )
+            with _sigint_ignored():
+                for _ in range(workers):  # start and warm them now, not on a first check
+                    self._executor.submit(importlib.import_module, "melfa.web.routes.check")
         else:
             self._executor = concurrent.futures.ThreadPoolExecutor(workers, f"melfa-{name}")
 
