@@ -119,3 +119,84 @@ def test_a_command_log_or_a_program_is_named_once() -> None:
     assert "R-protocol command log" in d.message
     (d,) = parse_points("10 MOV P1\n20 HOPEN 1\n30 END\n").diagnostics
     assert (d.rule, "program" in d.message) == ("points-wrong-file", True)
+
+
+# --- MELFA BASIC V: each construct named once, nothing after it ---------------------------
+
+
+def v_findings(text: str) -> list[tuple[int, str]]:
+    return [(d.line, d.rule) for d in found(text)]
+
+
+def test_numbered_tool_and_base_frames_are_v() -> None:
+    (d,) = found("10 TOOL 1\n")
+    assert (d.rule, d.column) == ("melfa-basic-v", 9)
+    assert "numbered tool frame" in d.message and "P_NTOOL" in (d.suggestion or "")
+    assert rules("10 BASE 0\n") == ["melfa-basic-v"]
+    # IV's forms: a position, a position variable, the system's default.
+    assert rules("10 TOOL (0,0,100,0,0,0)\n20 BASE P_NBASE\n30 DEF POS GRP1\n40 TOOL GRP1\n") == []
+
+
+def test_a_general_wait_condition_is_v() -> None:
+    assert rules("10 WAIT M_IN(1) = 1\n20 WAIT M1 = -2\n") == []
+    (d,) = found("10 WAIT M_IN8(100) <> 0\n")
+    assert d.rule == "melfa-basic-v" and "loop" in (d.suggestion or "")
+    assert rules("10 WAIT (M_IN(10) = 0 AND M1 < 6) OR M_IN(11) = 1\n") == ["melfa-basic-v"]
+
+
+def test_v_status_variables_are_named_once_per_name() -> None:
+    text = '10 C_COM(1) = "ETH:192.168.0.2"\n20 M1 = M_PI\n30 M2 = M_PI * 2\n'
+    ds = [d for d in found(text) if d.rule == "melfa-basic-v"]
+    assert [d.line for d in ds] == [1, 2]
+    assert ds[1].suggestion == "Write the number, 3.14159265, or compute it as 4 * ATN(1)."
+    assert "Not available in IV" in (ds[0].suggestion or "")
+
+
+def test_vision_commands_are_v_never_a_typo_guess() -> None:
+    (d,) = found('10 NVOpen "COM2:" As #1\n')
+    assert d.rule == "melfa-basic-v" and "HOPEN" not in d.message + (d.suggestion or "")
+    assert "Not available in IV" in (d.suggestion or "")
+    assert rules("10 DEF LONG MX\n") == ["melfa-basic-v"]
+
+
+def test_a_function_block_is_named_once_and_its_calls_are_not_arrays() -> None:
+    text = (
+        "10 Function M Add(M a, M b)\n"
+        "20 Add = a + b\n"
+        "30 Exit Function\n"
+        "40 FEnd\n"
+        "50 M2 = Add(1, 2)\n"
+        "60 M3 = Add(M2, 4)\n"
+    )
+    assert v_findings(text) == [(1, "melfa-basic-v")]
+
+
+def test_the_hash_suffix_is_explained() -> None:
+    ds = [
+        d
+        for d in found("10 MTimeout# = 1.0#\n20 M1 = MTimeout# + 1\n")
+        if d.rule != "melfa-basic-v-program"
+    ]
+    assert [(d.line, d.column, d.rule) for d in ds] == [
+        (1, 4, "melfa-basic-v"),
+        (1, 16, "melfa-basic-v"),
+    ]
+    assert "double-precision" in ds[0].message and "DEF DOUBLE" in (ds[0].suggestion or "")
+
+
+def test_a_mostly_v_file_is_said_to_look_like_v_once() -> None:
+    text = "10 BASE 1\n20 WAIT M_IN8(100) <> 0\n30 TOOL 2\n40 HOPEN 9\n"
+    summaries = [d for d in found(text) if d.rule == "melfa-basic-v-program"]
+    assert len(summaries) == 1 and summaries[0].line == 1
+    assert "3 of its 4 errors" in summaries[0].message
+    assert summaries[0].severity is Severity.WARNING
+    # One V construct among IV mistakes is not a V program.
+    assert "melfa-basic-v-program" not in rules("10 BASE 1\n20 HOPEN 9\n30 OVRD 0\n")
+
+
+def test_a_v_construct_used_again_is_named_at_its_first_use() -> None:
+    text = "10 Fsc On, 0, 0, 1\n20 MOV P1\n30 Fsc Off\n40 Fsc Off\n50 P_FsStf0 = P1\n60 M1 = M_FsCod0\n"
+    ds = [d for d in found(text, ("P1",)) if d.rule == "melfa-basic-v"]
+    assert [d.line for d in ds] == [1, 5]
+    assert ds[0].message.endswith("(also on lines 3, 4)")
+    assert "every P_Fs…, M_Fs… name" in ds[1].message

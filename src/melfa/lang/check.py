@@ -34,6 +34,7 @@ from typing import Any
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.blocks import match_blocks
 from melfa.lang.check_names import NameChecks
+from melfa.lang.check_v import FunctionBlocks, VChecks, v_program, without_follow_ons
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.model import (
@@ -97,7 +98,7 @@ _RULE_FAMILY = {
 }
 
 
-class _Analyzer(NameChecks):
+class _Analyzer(NameChecks, VChecks):
     def __init__(self, program: A.Program, points: Iterable[str]) -> None:
         self.program = program
         self.points = {p.upper() for p in points}
@@ -107,6 +108,9 @@ class _Analyzer(NameChecks):
         self.undefined: set[str] = set()  # points already warned about (once per name)
         self.indexed: set[int] = set()  # ids of the Names that have an index: M_IN(8)
         self.unknown_external: set[str] = set()  # misspelt system variables (once per name)
+        self.v_named: set[str] = set()  # MELFA BASIC V status variables (once per name)
+        self.blocks = FunctionBlocks(program)
+        self.v_functions = self.blocks.names
 
     # ------------------------------------------------------------------------- passes
 
@@ -132,7 +136,11 @@ class _Analyzer(NameChecks):
                     problem.code,
                     problem.suggestion,
                 )
-        return self.out
+        found = without_follow_ons(self.out, self.blocks)
+        summary = v_program(found)
+        if summary is not None:
+            found.append(summary)
+        return found
 
     def broken_structure(self) -> set[str]:
         """Block families with an unparsable opener or closer (WIHLE…): their pairing
@@ -338,6 +346,8 @@ class _Analyzer(NameChecks):
             long_names.add(name)
             self.double_name(node)
         if len(name) > 1 and name[1] == "_":
+            if self.v_system_variable(node):
+                return
             if name not in self.unknown_external and self.external_name(node):
                 self.unknown_external.add(name)
             self.system_index(node, id(node) in self.indexed)
@@ -438,7 +448,7 @@ class _Analyzer(NameChecks):
                 )
 
     def command(self, node: A.Command) -> None:
-        if not node.args:
+        if not node.args or self.v_frame(node):
             return
         arg = node.args[0]
         if node.kind is A.CommandKind.DLY:
@@ -505,7 +515,11 @@ class _Analyzer(NameChecks):
 
     def array_or_system(self, node: A.Index) -> None:
         self.indexed.add(id(node.name))
-        self.index(node)
+        if node.name.name not in self.v_functions:  # a V Function's call: named at its block
+            self.index(node)
+
+    def wait(self, node: A.Wait) -> None:
+        self.v_wait(node)
 
     def dim(self, node: A.Dim) -> None:
         for array in node.arrays:
@@ -577,6 +591,7 @@ _SPECIFIC: dict[type, _Check] = {
     A.PositionLiteral: _Analyzer.position_literal,
     A.DefAct: _Analyzer.def_act,
     A.ActSet: _Analyzer.act_set,
+    A.Wait: _Analyzer.wait,
 }
 
 

@@ -357,8 +357,66 @@ V_CONSTRUCTS: Mapping[str, Construct] = {
         Construct("COLCHK", "ColChk (collision detection)", None),
         Construct("COLLVL", "ColLvl (collision detection)", None),
         Construct("HANDSPD", "HandSpd", None),
+        # Vision sensors (network vision, In-Sight/COGNEX): V's NV… and EB… commands.
+        Construct("NVOPEN", "NVOpen (network vision sensor)", None),
+        Construct("NVCLOSE", "NVClose (network vision sensor)", None),
+        Construct("NVLOAD", "NVLoad (network vision sensor)", None),
+        Construct("NVRUN", "NVRun (network vision sensor)", None),
+        Construct("NVPST", "NVPst (network vision sensor)", None),
+        Construct("NVIN", "NVIn (network vision sensor)", None),
+        Construct("NVTRG", "NVTrg (network vision sensor)", None),
+        Construct("EBREAD", "EBRead (vision sensor)", None),
+        Construct("EBWRITE", "EBWrite (vision sensor)", None),
+        # Force sensor (the force-sense option's samples, melfa-basic-iv §11 item 16).
+        Construct("FSLOG", "FsLog (force sensor log)", None),
+        Construct("FSOUTLOG", "FsOutLog (force sensor log)", None),
+        Construct("FSGCHG", "FsGChg (force sensor control)", None),
+        Construct("FSCTRG", "FsCTrg (force sensor control)", None),
+        Construct("SETMOTRG", "SetMoTrg (force sensor trigger)", None),
+        Construct("MXT", "Mxt (real-time external control)", None),
     )
 }
+
+#: DEF types only MELFA BASIC V has (``Def Long``, ``Def MoTrg``): word -> construct.
+V_DEF_TYPES: Mapping[str, Construct] = {
+    c.word: c
+    for c in (
+        Construct("LONG", "Def Long", "Declare it with DEF DOUBLE (or DEF INTE up to 32767)."),
+        Construct("MOTRG", "Def MoTrg (force sensor trigger)", None),
+    )
+}
+
+#: Status variables only MELFA BASIC V has: name -> the IV way to write it (None: no way).
+#: Names with these prefixes are V's force-sensor variables (P_FsCurD, M_FsLmtS…).
+V_SYSTEM_VARIABLES: Mapping[str, str | None] = {
+    "M_PI": "Write the number, 3.14159265, or compute it as 4 * ATN(1).",
+    "M_EXP": "Compute it as EXP(1).",
+    "M_G": "Write the number, 9.80665.",
+    "M_ON": "Write 1.",
+    "M_OFF": "Write 0.",
+    "P_ZERO": "Write the constant (0, 0, 0, 0, 0, 0)(0, 0).",
+    "C_COM": None,
+    "C_PRG": None,
+    "C_MAKER": None,
+    "C_MECHA": None,
+    "C_USER": None,
+    "M_UAR": None,
+    "M_MODE": None,
+    "M_CYS": None,
+    "M_LINE": None,
+    "M_ERRLVL": None,
+    "M_NVOPEN": None,
+    "M_NVS1": None,
+    "M_MOTRG": None,
+    "P_FBC": None,
+    "J_FBC": None,
+    "J_ECURR": None,
+    "M_LDFACT": None,
+    "M_BTIME": None,
+    "M_COLSTS": None,
+    "P_COLDIR": None,
+}
+V_SYSTEM_PREFIXES = ("P_FS", "M_FS", "J_FS")
 
 
 def foreign_constructs(dialect: Dialect = Dialect.IV) -> Mapping[str, Construct]:

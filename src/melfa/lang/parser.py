@@ -18,7 +18,7 @@ from typing import Final
 
 from melfa.lang import ast as A  # noqa: N812  (short alias: the parser builds many nodes)
 from melfa.lang.lexer import tokenize
-from melfa.lang.model import foreign_constructs
+from melfa.lang.model import V_DEF_TYPES, Construct, foreign_constructs
 from melfa.lang.tokens import ELEMENTS, FUNCTIONS, KEYWORDS, STATEMENT_KEYWORDS, Token, TokenKind
 from melfa.lang.typos import suggest
 
@@ -661,12 +661,17 @@ class _LineParser:
         construct = foreign_constructs().get(tok.text.upper())
         if construct is None:
             return
-        raise self.fail(
+        raise self.v_construct(tok, construct)
+
+    def v_construct(self, tok: Token, construct: Construct) -> _Fail:
+        """The one finding for a MELFA BASIC V construct: what it is, the IV way or none."""
+        return self.fail(
             tok,
             f"{construct.what} is MELFA BASIC V; the CR2B-574 runs MELFA BASIC IV, "
             "which does not have it",
             "melfa-basic-v",
-            construct.in_iv or "MELFA BASIC IV has no equivalent: remove the line.",
+            construct.in_iv
+            or "Not available in IV: MELFA BASIC IV has no equivalent, so remove the line.",
         )
 
     def assign_target(self) -> A.AssignTarget:
@@ -1234,6 +1239,9 @@ class _LineParser:
             self.expect_op("=", "after the DEF FN name")
             body = self.expr()
             return A.DefFn(fname, tuple(params), body, self.last_span(tok))
+        v_type = V_DEF_TYPES.get(word)
+        if v_type is not None:
+            raise self.v_construct(kind_tok, v_type)
         guess = suggest(word, _DEF_WORDS) if word else None
         if guess is not None:
             raise self.fail(
