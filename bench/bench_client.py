@@ -25,6 +25,7 @@ import time
 from collections.abc import Callable
 
 from bench_link import SETTINGS, check_uploaded, line_minimum, make_program
+from melfa.lang.plan import plan_upload
 from melfa.link import Link, PacedLink
 from melfa.robot import Robot, RobotSettings
 from melfa.sim import SimConfig, VirtualController, open_sim_link
@@ -62,10 +63,11 @@ def upload_seconds(
     controller = VirtualController(SimConfig(strict=False))
     robot = Robot(PacedLink(open_sim_link(SETTINGS, controller=controller)), settings)
     robot.connect()
-    robot.load_project(program, points)  # the program exists already, as after an edit
+    plan = plan_upload(program, "\n".join(points))
+    robot.load_project(plan)  # the program exists already, as after an edit
     try:
         start = time.monotonic()
-        report = robot.load_project(program, points, verify=verify)
+        report = robot.load_project(plan, verify=verify)
         seconds = time.monotonic() - start
     finally:
         robot.close()

@@ -48,9 +48,10 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.link import Link, LinkSettings, PacedLink
 from melfa.protocol import Ok, Request, chunk_emdat, encode_reply
-from melfa.robot import Robot, RobotSettings, point_items, program_items
+from melfa.robot import Robot, RobotSettings
 from melfa.sim import VirtualController, open_sim_link
 
 SETTINGS = LinkSettings()  # 9600 8E2
@@ -103,8 +104,13 @@ def timed(action: Callable[[], object]) -> float:
     return time.monotonic() - start
 
 
+def project(program: str, points: list[str]) -> UploadPlan:
+    """The upload plan of a program and its points (as lines)."""
+    return plan_upload(program, "\n".join(points))
+
+
 def line_minimum(program: str, points: list[str]) -> tuple[int, float]:
-    items = [i.text for i in program_items(program)] + [i.text for i in point_items(points)]
+    items = [i.text for i in project(program, points).items]
     size = sum(len(t) + 1 for t in items)
     return size, size * SETTINGS.seconds_per_char
 
@@ -173,7 +179,7 @@ def fresh_controller(program: str, points: list[str]) -> VirtualController:
     """A controller already holding the program, as when re-uploading after an edit."""
     controller = VirtualController()
     with Robot(open_sim_link(controller=controller)) as robot:
-        robot.load_project(program, points)
+        robot.load_project(project(program, points))
     return controller
 
 
@@ -212,41 +218,40 @@ def timed_robot(
 def check_uploaded(controller: VirtualController, program: str, points: list[str]) -> None:
     """The benchmark measures complete uploads only."""
     stored = controller.store.get("1")
-    lines = [i.text for i in program_items(program)]
-    if stored is None or list(stored.lines.values()) != lines:
+    plan = project(program, points)
+    if stored is None or list(stored.lines.values()) != list(plan.program_texts):
         raise SystemExit("benchmark upload did not store the program")
-    if len(stored.positions) != len(point_items(points)):
+    if len(stored.positions) != plan.point_count:
         raise SystemExit("benchmark upload did not store the points")
 
 
 def measure(program: str, points: list[str], latency: float, args: argparse.Namespace) -> Results:
     """Every row of the table at one controller latency."""
     rows: list[tuple[str, float]] = []
+    plan = project(program, points)
+    program_only = plan_upload(program)
+    points_only = plan_upload(None, "\n".join(points))
     default = timed_robot(program, points, latency)
-    rows.append(
-        ("melfa load_project (ECLR deletes)", default(lambda r: r.load_project(program, points)))
-    )
+    rows.append(("melfa load_project (ECLR deletes)", default(lambda r: r.load_project(plan))))
 
     def delete_then_load(robot: Robot) -> None:
         robot.delete()
-        robot.load_project(program, points)
+        robot.load_project(plan)
 
     rows.append(("melfa delete() + load_project", default(delete_then_load)))
     no_prtver = timed_robot(program, points, latency, RobotSettings(prtver_handshakes=False))
-    rows.append(
-        ("melfa, no PRTVER handshakes", no_prtver(lambda r: r.load_project(program, points)))
-    )
+    rows.append(("melfa, no PRTVER handshakes", no_prtver(lambda r: r.load_project(plan))))
     rows.append(
         (
             "melfa program + points (2 sessions)",
-            default(lambda r: (r.upload_program(program), r.upload_points(points))),
+            default(lambda r: (r.upload_program(program_only), r.upload_points(points_only))),
         )
     )
     piped = timed_robot(program, points, latency, RobotSettings(emdat_window=2))
-    rows.append(("melfa, EMDAT window 2 [GUESS]", piped(lambda r: r.load_project(program, points))))
+    rows.append(("melfa, EMDAT window 2 [GUESS]", piped(lambda r: r.load_project(plan))))
 
-    program_lines = [i.text for i in program_items(program)]
-    point_lines = [i.text for i in point_items(points)]
+    program_lines = list(plan.program_texts)
+    point_lines = list(plan.point_texts)
     numbers = [line.split(" ", 1)[0] for line in program_lines]
     controller = fresh_controller(program, points)
 

@@ -26,6 +26,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from melfa.lang.plan import plan_upload
 from melfa.link import LinkSettings, PacedLink
 from melfa.service import Actor, RobotService, Role, StateSnapshot, Subscription
 from melfa.service.simulator import PrivateSimulator
@@ -102,7 +103,7 @@ async def run(count_: int, seconds: float, unpaced: bool) -> dict[str, Any]:
     for i, sim in enumerate(sims):
         actor = sim.actor(Actor(f"student{i}", Role.STUDENT, "bench"))
         await sim.service.servo(actor, True)
-        await sim.service.load_project(actor, PROGRAM, POINTS)
+        await sim.service.load_project(actor, plan_upload(PROGRAM, "\n".join(POINTS)))
         await sim.service.run(actor)
         watchers.append(asyncio.create_task(drain(sim.service.subscribe(StateSnapshot))))
     await asyncio.sleep(1.0)  # every program under way

@@ -21,6 +21,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
+from melfa.lang.plan import plan_upload
 from melfa.link import Link, LinkSettings, PacedLink
 from melfa.protocol import JOG_WATCHDOG_S, Request
 from melfa.service import Actor, RobotService, Role, ServiceConfig, StateSnapshot, UploadProgress
@@ -109,7 +110,7 @@ async def stop_latency(latency: float, runs: int) -> list[float]:
         service = RobotService(_factory(controller, latency), config=ServiceConfig(polling=False))
         async with service:
             progress = service.subscribe(UploadProgress)
-            upload = asyncio.create_task(service.upload_program(ANN, program))
+            upload = asyncio.create_task(service.upload_program(ANN, plan_upload(program)))
             while True:
                 event = await progress.get()
                 assert isinstance(event, UploadProgress)

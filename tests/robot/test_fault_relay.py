@@ -14,6 +14,7 @@ from melfa.cli import app
 from melfa.link import LinkError, LinkSettings, LinkTimeout, SerialLink
 from melfa.robot import Robot, RobotError, SavedNotConfirmed, SaveOutcomeUnknown
 from melfa.robot.channel import RepliesOutOfStep
+from tests.plans import project
 from tests.robot.relay import Fault, FaultRelay
 
 PROMPT_S = 10.0
@@ -48,7 +49,7 @@ def held_program(relay: FaultRelay) -> list[str] | None:
 def with_old_program(relay: FaultRelay) -> list[str]:
     """Upload the old program through the (still fault-free) relay; return its steps."""
     with robot_on(relay) as robot:
-        robot.load_project(OLD, OLD_POINTS)
+        robot.load_project(project(OLD, OLD_POINTS))
     old = held_program(relay)
     assert old == ["10 MOV P1", "20 END"]
     relay.lines.clear()
@@ -91,7 +92,7 @@ def test_a_reply_to_another_request_is_an_error_not_data(relay) -> None:  # type
 def test_a_lost_save_answer_is_outcome_unknown_then_reports_what_is_held(relay) -> None:  # type: ignore[no-untyped-def]
     relay.add(Fault.drop("SAVE"))
     with robot_on(relay, SILENT_S) as robot, pytest.raises(SaveOutcomeUnknown) as lost:
-        robot.load_project(PROGRAM, POINTS)
+        robot.load_project(project(PROGRAM, POINTS))
     message = str(lost.value)
     assert isinstance(lost.value, SavedNotConfirmed)
     assert "saved, but not confirmed" in message and "was lost" in message
@@ -108,7 +109,7 @@ def test_the_last_emdat_refused_after_a_shift_saves_nothing(relay) -> None:  # t
     relay.add(Fault.extra_before("EMDAT", b"QoK\r"))
     broken = PROGRAM.replace("420 END", "420 MOV (")
     with robot_on(relay) as robot, pytest.raises((RobotError, RepliesOutOfStep)) as failed:
-        robot.load_project(broken, POINTS)
+        robot.load_project(project(broken, POINTS))
     assert "out of step" in str(failed.value)
     assert "SAVE" not in relay.commands()
     assert held_program(relay) == old
@@ -116,7 +117,7 @@ def test_the_last_emdat_refused_after_a_shift_saves_nothing(relay) -> None:  # t
 
 def _upload(relay: FaultRelay) -> object:
     with robot_on(relay, SILENT_S) as robot:
-        return robot.load_project(PROGRAM, POINTS)
+        return robot.load_project(project(PROGRAM, POINTS))
 
 
 def test_a_link_drop_at_every_step_of_an_upload_never_saves_a_truncated_program() -> None:

@@ -12,6 +12,7 @@ import pytest
 from melfa.link import LinkClosed, LinkSettings, LinkTimeout, SerialLink
 from melfa.protocol import RemoteProtocolError
 from melfa.robot import ControllerError, Robot
+from tests.plans import program_plan
 from tests.robot.fake import OPEN_BANNER, FakeController
 from tests.waiting import wait_until
 
@@ -100,7 +101,7 @@ def test_hang_up_mid_upload_sends_no_save(fake_robot) -> None:  # type: ignore[n
 
     robot, fake = fake_robot(script)
     with pytest.raises(LinkClosed, match="unplugged"):
-        robot.upload_program("10 MOV P1\n20 END")
+        robot.upload_program(program_plan("10 MOV P1\n20 END"))
     assert not any(line.endswith(b"SAVE") for line in fake.lines)
 
 
@@ -114,7 +115,7 @@ def test_refused_emdat_sends_new_not_save(fake_robot) -> None:  # type: ignore[n
 
     robot, fake = fake_robot(script)
     with pytest.raises(ControllerError) as exc:
-        robot.upload_program("10 MOV P1\n20 MOV\n30 END")
+        robot.upload_program(program_plan("10 MOV P1\n20 MOV\n30 END"))
     assert (exc.value.number, exc.value.line) == (4220, 2)  # type: ignore[attr-defined]
     assert exc.value.message == "L4220 Syntax error"
     sent = [line.split(b";", 2)[2] for line in fake.lines]

@@ -26,6 +26,7 @@ from melfa.robot import (
     UploadRefused,
 )
 from melfa.sim import PtyServer, SimConfig, VirtualController
+from tests.plans import points_plan, program_plan, project
 from tests.robot.conftest import LINK
 from tests.waiting import wait_until
 
@@ -41,7 +42,7 @@ def stored(controller: VirtualController) -> dict[int, str]:
 
 
 def test_upload_numbered_program(robot: Robot, controller: VirtualController) -> None:
-    report = robot.upload_program(NUMBERED)
+    report = robot.upload_program(program_plan(NUMBERED))
     assert report.requests == 1
     assert stored(controller) == {
         10: "10 SERVO ON",
@@ -53,7 +54,7 @@ def test_upload_numbered_program(robot: Robot, controller: VirtualController) ->
 
 
 def test_upload_unnumbered_program_is_numbered(robot: Robot, controller: VirtualController) -> None:
-    robot.upload_program(UNNUMBERED)
+    robot.upload_program(program_plan(UNNUMBERED))
     assert list(stored(controller).values()) == [
         "10 SERVO ON",
         "20 MOV P1",
@@ -63,19 +64,19 @@ def test_upload_unnumbered_program_is_numbered(robot: Robot, controller: Virtual
 
 
 def test_upload_replaces_old_lines(robot: Robot, controller: VirtualController) -> None:
-    robot.upload_program("10 SERVO ON\n20 MOV P1\n30 MOV P2\n40 END")
-    robot.upload_program("10 SERVO OFF\n20 END")
+    robot.upload_program(program_plan("10 SERVO ON\n20 MOV P1\n30 MOV P2\n40 END"))
+    robot.upload_program(program_plan("10 SERVO OFF\n20 END"))
     assert stored(controller) == {10: "10 SERVO OFF", 20: "20 END"}
 
 
 def test_points_and_project(robot: Robot, controller: VirtualController) -> None:
-    report = robot.load_project(NUMBERED, POINTS)
+    report = robot.load_project(project(NUMBERED, POINTS))
     program = controller.store.get("1")
     assert program is not None
     assert list(program.positions) == ["P1"]
     assert program.positions["P1"].startswith("P1=(300.00,0.00,450.00")
     assert report.requests == 1
-    robot.upload_points(["P2=(1,2,3,4,5,6)(7,0)"])
+    robot.upload_points(points_plan(["P2=(1,2,3,4,5,6)(7,0)"]))
     program = controller.store.get("1")
     assert program is not None and set(program.positions) == {"P1", "P2"}
     assert len(program.lines) == 4  # points alone keep the steps
@@ -86,7 +87,9 @@ def test_long_program_needs_several_emdat_and_arrives_line_by_line(
 ) -> None:
     lines = [f"{10 * i} MOV P{i % 7 + 1}" for i in range(1, 201)] + ["2010 END"]
     progress: list[tuple[int, int]] = []
-    report = robot.upload_program("\n".join(lines), progress=lambda a, b: progress.append((a, b)))
+    report = robot.upload_program(
+        program_plan(lines), progress=lambda a, b: progress.append((a, b))
+    )
     assert report.requests > 5
     assert [text for _, text in sorted(stored(controller).items())] == lines
     totals = {total for _, total in progress}
@@ -95,7 +98,7 @@ def test_long_program_needs_several_emdat_and_arrives_line_by_line(
 
 
 def test_run_and_wait(robot: Robot, controller: VirtualController) -> None:
-    robot.load_project("10 SERVO ON\n20 MOV P1\n30 END", POINTS)
+    robot.load_project(project("10 SERVO ON\n20 MOV P1\n30 END", POINTS))
     robot.run()
     state = robot.wait_idle(timeout=30)
     assert RunStatus.RUNNING not in state.status.run
@@ -103,7 +106,7 @@ def test_run_and_wait(robot: Robot, controller: VirtualController) -> None:
 
 
 def test_delete_program_and_points(robot: Robot, controller: VirtualController) -> None:
-    robot.load_project(NUMBERED, POINTS)
+    robot.load_project(project(NUMBERED, POINTS))
     robot.delete()
     assert "1" not in controller.store
     robot.delete()  # nothing left: still fine
@@ -230,9 +233,9 @@ def test_2160_beyond_joint_limit(robot: Robot, controller: VirtualController) ->
 
 
 def test_4220_on_emdat_names_line_and_column(robot: Robot, controller: VirtualController) -> None:
-    robot.upload_program(NUMBERED)
+    robot.upload_program(program_plan(NUMBERED))
     with pytest.raises(UploadRefused) as exc:
-        robot.upload_program("10 SERVO ON\n\n20 MOV P1\n30 FOO BAR(\n40 END")
+        robot.upload_program(program_plan("10 SERVO ON\n\n20 MOV P1\n30 FOO BAR(\n40 END"))
     assert (exc.value.number, exc.value.line, exc.value.text) == (4220, 4, "30 FOO BAR(")
     assert exc.value.column >= 1
     assert stored(controller)[20] == "20 MOV P1"  # the old program is intact
@@ -241,9 +244,9 @@ def test_4220_on_emdat_names_line_and_column(robot: Robot, controller: VirtualCo
 
 @pytest.mark.parametrize("sim_config", [SimConfig(check_syntax_on_emdat=False)])
 def test_4220_on_save_keeps_old_program(robot: Robot, controller: VirtualController) -> None:
-    robot.upload_program(NUMBERED)
+    robot.upload_program(program_plan(NUMBERED))
     with pytest.raises(ControllerError) as exc:
-        robot.upload_program("10 SERVO ON\n20 FOO BAR(\n30 END")
+        robot.upload_program(program_plan("10 SERVO ON\n20 FOO BAR(\n30 END"))
     assert exc.value.number == 4220 and exc.value.command == "SAVE"
     assert stored(controller) == {
         10: "10 SERVO ON",
@@ -266,7 +269,7 @@ def test_link_loss_midway_through_upload_saves_nothing(
             server.close()
 
     with pytest.raises(LinkError) as exc:
-        robot.upload_program("\n".join(lines), progress=pull_the_plug)
+        robot.upload_program(program_plan(lines), progress=pull_the_plug)
     assert isinstance(exc.value, LinkClosed) or "in time" in str(exc.value)
     assert "1" not in controller.store
     robot.close()
@@ -288,14 +291,14 @@ def test_client_name_setting(controller: VirtualController, pty_server: PtyServe
 def test_pipelined_upload_same_result(controller: VirtualController, pty_server: PtyServer) -> None:
     lines = [f"{10 * i} MOV P{i % 7 + 1}" for i in range(1, 120)] + ["1200 END"]
     with Robot(SerialLink(pty_server.new_port(), LINK), RobotSettings(emdat_window=2)) as r:
-        report = r.upload_program("\n".join(lines))
+        report = r.upload_program(program_plan(lines))
         assert report.requests > 3
         assert [text for _, text in sorted(stored(controller).items())] == lines
         with pytest.raises(UploadRefused) as exc:
-            r.upload_program("\n".join([*lines[:4], "50 FOO(", *lines[5:]]))
+            r.upload_program(program_plan([*lines[:4], "50 FOO(", *lines[5:]]))
         assert exc.value.line == 5  # refused while the next chunk was already in flight
         assert controller.edit is None
-        r.upload_program("10 END")  # pairing intact after the refusal
+        r.upload_program(program_plan("10 END"))  # pairing intact after the refusal
         assert stored(controller) == {10: "10 END"}
 
 
@@ -324,7 +327,7 @@ def test_alarm_refusal_status_and_reset(robot: Robot, controller: VirtualControl
 
 
 def test_status_of_a_running_program(robot: Robot, controller: VirtualController) -> None:
-    robot.load_project("10 SERVO ON\n20 OVRD 5\n30 MOV P1\n40 END", POINTS)
+    robot.load_project(project("10 SERVO ON\n20 OVRD 5\n30 MOV P1\n40 END", POINTS))
     robot.run()
     status = robot.status()
     assert status.running and status.state.program.startswith("1")
@@ -337,10 +340,14 @@ def test_load_project_replaces_program_and_points(
 ) -> None:
     """The thesis deleted slot 1 before loading; ECLR inside the edit does the same."""
     robot.load_project(
-        "10 MOV P1\n20 MOV P2\n30 HOPEN 1\n40 END",
-        [POINTS, "DEF POS P2=(300.00,50.00,450.00,180.00,0.00,180.00)(7,0)"],
+        project(
+            "10 MOV P1\n20 MOV P2\n30 HOPEN 1\n40 END",
+            [POINTS, "DEF POS P2=(300.00,50.00,450.00,180.00,0.00,180.00)(7,0)"],
+        )
     )
-    robot.load_project("10 MOV P3\n20 END", ["P3=(310.00,0.00,450.00,180.00,0.00,180.00)(7,0)"])
+    robot.load_project(
+        project("10 MOV P3\n20 END", ["P3=(310.00,0.00,450.00,180.00,0.00,180.00)(7,0)"])
+    )
     program = controller.store.get("1")
     assert program is not None
     assert list(program.lines.values()) == ["10 MOV P3", "20 END"]

@@ -16,6 +16,7 @@ from typer.testing import CliRunner
 
 from melfa.cli import app
 from melfa.robot import SavedNotConfirmed
+from tests.plans import project
 from tests.robot.relay import Fault, FaultRelay
 from tests.robot.test_fault_relay import POINTS, PROGRAM, held_program, robot_on
 
@@ -47,11 +48,11 @@ def test_pdir_variants_confirm_or_say_saved_but_not_confirmed(
     relay.add(Fault.replace("PDIR", payload))
     with robot_on(relay) as robot:
         if confirms:
-            report = robot.load_project(PROGRAM, POINTS)
+            report = robot.load_project(project(PROGRAM, POINTS))
             assert report.held is not None and report.held.lines == 44
         else:
             with pytest.raises(SavedNotConfirmed, match="saved, but not confirmed") as caught:
-                robot.load_project(PROGRAM, POINTS)
+                robot.load_project(project(PROGRAM, POINTS))
             assert "None" not in str(caught.value)
             assert caught.value.held is not None and caught.value.held.name == "1"
     assert held_program(relay) is not None and len(held_program(relay) or []) == 41
@@ -60,14 +61,14 @@ def test_pdir_variants_confirm_or_say_saved_but_not_confirmed(
 def test_a_bit_flipped_save_answer_gets_the_pdir_look(relay: FaultRelay) -> None:
     relay.add(Fault.replace("SAVE", b"QoJ\r"))  # K (0x4B) with its lowest bit flipped
     with robot_on(relay) as robot, pytest.raises(SavedNotConfirmed) as caught:
-        robot.load_project(PROGRAM, POINTS)
+        robot.load_project(project(PROGRAM, POINTS))
     assert "garbled" in str(caught.value) and "probably saved" in str(caught.value)
     assert relay.commands().count("PDIR<") >= 1
 
 
 def test_verify_reads_steps_back_without_listp(relay: FaultRelay) -> None:
     with robot_on(relay) as robot:
-        report = robot.load_project(PROGRAM, POINTS, verify=True)
+        report = robot.load_project(project(PROGRAM, POINTS), verify=True)
     assert report.verified
     assert "counted by PDIR, not read back" in report.confirmation
     assert any(c.startswith("LISTL") for c in relay.commands())

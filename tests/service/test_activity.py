@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from melfa.service import ServoPolicy
 from melfa.service.activity import Activity
+from tests.plans import project
 from tests.service.helpers import ANN, RecordingController, make_service, run, until
 
 PROGRAM = "MOV P1\nMOV P2\nMOV P1\nMOV P2\nEND\n"
@@ -25,7 +26,7 @@ def test_move_to_run_pause_and_idle_are_told_apart() -> None:
             assert await until(lambda: service.state.activity is Activity.MOVING_TO)
             assert service.state.activity_detail == "P2"
             assert await until(lambda: service.state.activity is Activity.IDLE)
-            await service.load_project(ANN, PROGRAM, POINTS)
+            await service.load_project(ANN, project(PROGRAM, POINTS))
             await service.run(ANN, servo=ServoPolicy.TURN_ON)
             assert await until(lambda: service.state.activity is Activity.RUNNING)
             assert service.state.activity_detail.startswith("line ")

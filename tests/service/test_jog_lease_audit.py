@@ -19,6 +19,7 @@ from melfa.service import (
 )
 from melfa.sim import SimConfig
 from melfa.sim.machine import SimArm
+from tests.plans import program_plan
 from tests.service.helpers import (
     ANN,
     BOB,
@@ -252,7 +253,7 @@ def test_close_fails_queued_commands_and_is_safe_twice() -> None:
         await service.servo(ANN, True)
         progress = service.subscribe(UploadProgress)
         upload = asyncio.create_task(
-            service.upload_program(ANN, "\n".join(f"{i * 10} MOV P1" for i in range(1, 40)))
+            service.upload_program(ANN, program_plan([f"{i * 10} MOV P1" for i in range(1, 40)]))
         )
         await progress.get()  # the upload is on the wire
         queued = asyncio.create_task(service.run(ANN))

@@ -10,6 +10,7 @@ import itertools
 import time
 
 from melfa.service import JogFrame, ServoPolicy, StateSnapshot
+from tests.plans import points_plan, program_plan
 from tests.service.helpers import ANN, RecordingController, make_service, run, until
 
 TURN_ON = ServoPolicy.TURN_ON
@@ -75,9 +76,9 @@ def _step_time(stop_first: bool) -> tuple[float, bool | None]:
             await service.exec(ANN, "SERVO ON")
             if stop_first:
                 program = ["10 SERVO ON", "20 SPD 5", "30 MVS P1", "40 END"]
-                await service.upload_program(ANN, program)
+                await service.upload_program(ANN, program_plan(program))
                 await service.upload_points(
-                    ANN, ["DEF POS P1=(400.00,0.00,300.00,180.00,0.00,180.00)(7,0)"]
+                    ANN, points_plan(["DEF POS P1=(400.00,0.00,300.00,180.00,0.00,180.00)(7,0)"])
                 )
                 await service.run(ANN)
                 assert await until(lambda: bool(service.want_state().running))

@@ -19,6 +19,7 @@ from melfa.service import (
     UploadProgress,
 )
 from melfa.sim import Pacing, PtyServer
+from tests.plans import program_plan
 from tests.service.helpers import ANN, LINK, OLGA, RecordingController, make_service, run, until
 
 PROGRAM = "\n".join(f"{10 * i} MOV P{i % 7 + 1}" for i in range(1, 160))
@@ -31,7 +32,7 @@ def _after_stop(commands: list[str]) -> list[str]:
 
 async def _stop_during_upload(service: RobotService, controller: RecordingController) -> None:
     sub = service.subscribe(UploadProgress)
-    upload = asyncio.create_task(service.upload_program(ANN, PROGRAM))
+    upload = asyncio.create_task(service.upload_program(ANN, program_plan(PROGRAM)))
     while True:
         event = await sub.get()
         assert isinstance(event, UploadProgress)

@@ -15,6 +15,7 @@ from melfa.service import (
     ThesisOutput,
 )
 from melfa.service.thesis import parse_control
+from tests.plans import points_plan, program_plan
 from tests.service.helpers import ANN, RecordingController, make_service, run
 
 PROGRAM = ["10 SERVO ON", "20 SPD 10", "30 MOV PA", "40 END"]
@@ -58,8 +59,8 @@ async def _thesis(node: ThesisMessages, scenario: str) -> None:
 async def _direct(service: RobotService, scenario: str) -> None:
     if scenario == "project":
         await service.delete(ANN)
-        await service.upload_program(ANN, PROGRAM)
-        await service.upload_points(ANN, POINTS)
+        await service.upload_program(ANN, program_plan(PROGRAM))
+        await service.upload_points(ANN, points_plan(POINTS))
         await service.exec(ANN, "SERVO ON")
         await service.run(ANN, servo=ServoPolicy.TURN_ON)  # a topic cannot ask back
         await service.read_joints(ANN)

@@ -25,7 +25,7 @@ import json
 import sys
 import time
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.markup import escape
@@ -50,6 +50,9 @@ from melfa.cli.robot_session import (
     alarm_hint,
     robot_command,
 )
+
+if TYPE_CHECKING:
+    from melfa.cli.checking import SourceFile
 from melfa.protocol import (
     JOINT_NAMES,
     POSE_NAMES,
@@ -61,7 +64,7 @@ from melfa.robot.status import Alarm
 # --- upload ------------------------------------------------------------------------------
 
 
-def _read_text(path: Path, what: str) -> tuple[str, object]:
+def _read_text(path: Path, what: str) -> tuple[str, SourceFile]:
     # Lazily (start-up): only the commands that send files need the file reader and checker.
     from melfa.cli.lang_commands import FileKind, UsageError, read_source
 
@@ -102,17 +105,26 @@ def upload(
 ) -> None:
     """See the help text above."""
     # Lazily (start-up): the other robot commands need neither the checker nor the uploader.
-    from melfa.cli.lang_commands import check_files, print_text
+    from melfa.cli.checking import FileReport
+    from melfa.cli.lang_commands import print_text
     from melfa.lang.diagnostics import Severity
-    from melfa.robot.upload import UploadPreparationError, prepare_upload
+    from melfa.lang.plan import plan_upload
+    from melfa.lang.project import by_position
+    from melfa.robot.upload import UploadPreparationError, sendable
 
     text, program_source = _read_text(program, "program")
-    sources = [program_source]
+    files = [(program, program_source)]
     points_text: str | None = None
     if points is not None:
         points_text, points_source = _read_text(points, "points")
-        sources.append(points_source)
-    reports = check_files(sources)  # type: ignore[arg-type]
+        files.append((points, points_source))
+    # One plan: the checker's findings, the lines to send and the step numbers.
+    plan = plan_upload(text, points_text if points_text is not None else "")
+    found = (plan.diagnostics, plan.point_diagnostics)
+    reports = [
+        FileReport(path, source, list(by_position([*source.diagnostics, *diagnostics])))
+        for (path, source), diagnostics in zip(files, found, strict=False)
+    ]
     errors = [d for r in reports for d in r.diagnostics if d.severity is Severity.ERROR]
     if errors and not force:
         print_text(reports, _err)
@@ -121,7 +133,7 @@ def upload(
             EXIT_REFUSED,
         )
     try:
-        prepared = prepare_upload(text, points_text if points_text is not None else "")
+        prepared = sendable(plan)
     except UploadPreparationError as exc:
         path = program if exc.source == "program" else points
         raise _fail(f"{path}:{exc.line}:{exc.column}: {exc.reason}", EXIT_REFUSED) from None

@@ -34,12 +34,14 @@ from melfa.lang.tokens import Token, TokenKind
 
 __all__ = [
     "MAX_LINE_NUMBER",
+    "Numbering",
     "NumberingError",
     "NumberingResult",
     "Reference",
     "controller_text",
     "is_numbered",
     "number_lines",
+    "number_tokens",
     "references",
     "renumber",
     "source_line",
@@ -214,10 +216,13 @@ def renumber(text: str, start: int = 10, step: int = 10) -> NumberingResult:
     10 MOV P1
     20 GOTO 10
     """
+    return _renumber(_lines(text), start, step)
+
+
+def _renumber(lines: list[_Line], start: int, step: int) -> NumberingResult:
+    """`renumber` on a program already split into token lines."""
     if start < 1 or step < 1:
         raise ValueError("start and step must be positive")
-    tokens = tokenize(text)
-    lines = _split_lines(tokens)
     problems = _numbering_problems(lines)
     mapping: dict[int, int] = {}
     for index, line in enumerate(lines):
@@ -246,7 +251,7 @@ def renumber(text: str, start: int = 10, step: int = 10) -> NumberingResult:
             else:
                 problems.append(_missing_target(ref, Severity.ERROR))
     if problems:
-        return NumberingResult(text, tuple(sorted(problems, key=_position)))
+        return NumberingResult(_joined(lines), tuple(sorted(problems, key=_position)))
     parts: list[str] = []
     for index, line in enumerate(lines):
         number = start + index * step
@@ -330,9 +335,12 @@ def is_numbered(text: str) -> bool:
 
 
 def controller_text(text: str, start: int = 10, step: int = 10) -> str:
-    """The program as the controller gets it: a numbered text unchanged, any other numbered
-    with `number_lines` (which raises `NumberingError` when that cannot be done safely)."""
-    return text if is_numbered(text) else number_lines(text, start, step)
+    """The program as the controller gets it (`number_tokens`'s text): a numbered text as it
+    is, any other numbered; `NumberingError` when that cannot be done safely."""
+    numbering = number_tokens(tokenize(text), start, step)
+    if numbering.text is None:
+        raise NumberingError(numbering.diagnostics)
+    return numbering.text
 
 
 def step_lines(text: str, start: int = 10, step: int = 10) -> dict[int, int]:
@@ -346,8 +354,11 @@ def step_lines(text: str, start: int = 10, step: int = 10) -> dict[int, int]:
     {5: 1, 7: 2}
     """
     lines = _lines(text)
+    return _step_lines(lines, _all_numbered(lines), start, step)
+
+
+def _step_lines(lines: list[_Line], numbered: bool, start: int, step: int) -> dict[int, int]:
     mapping: dict[int, int] = {}
-    numbered = _all_numbered(lines)
     for index, line in enumerate(lines):
         if line.is_blank:
             continue
@@ -374,3 +385,59 @@ def _all_numbered(lines: list[_Line]) -> bool:
 
 def _lines(text: str) -> list[_Line]:
     return _split_lines(tokenize(text))
+
+
+def _joined(lines: list[_Line]) -> str:
+    """The text back from its tokens (the lexer is lossless)."""
+    return "".join(t.prefix + t.text for line in lines for t in line.tokens)
+
+
+def _spaced(lines: list[_Line]) -> str:
+    """A numbered program as sent: unchanged, except that a step number glued to its
+    statement (``3END``, which the lexer and the checker read as step 3) gets a space, as
+    the controller's own listings write it (the virtual controller refuses ``3END``)."""
+    parts: list[str] = []
+    for line in lines:
+        number = line.number_token
+        for tok in line.tokens:
+            glued = (
+                number is not None
+                and tok is line.tokens[1]
+                and not tok.prefix
+                and tok.kind not in _END_KINDS
+            )
+            parts.append((" " if glued else tok.prefix) + tok.text)
+    return "".join(parts)
+
+
+class Numbering(Record):
+    """How a program goes to the controller, decided once from its tokens (the upload
+    plan's, `melfa.lang.plan`): whether it was numbered already (then it is sent as it is),
+    the text to send (None when it cannot be numbered without changing its meaning, with
+    `diagnostics` saying why; ``3END`` is sent as ``3 END``) and which line of the user's
+    text each step number is."""
+
+    numbered: bool
+    text: str | None
+    step_lines: dict[int, int]
+    diagnostics: tuple[Diagnostic, ...] = ()
+
+
+def number_tokens(tokens: list[Token], start: int = 10, step: int = 10) -> Numbering:
+    """`controller_text` and `step_lines` at once, on tokens already made.
+
+    >>> n = number_tokens(tokenize("1 MOV P1\\n2 GOTO 1\\n3END"))
+    >>> n.numbered, n.step_lines
+    (True, {1: 1, 2: 2, 3: 3})
+    >>> number_tokens(tokenize("MOV P1\\nEND")).text
+    '10 MOV P1\\n20 END'
+    """
+    lines = _split_lines(tokens)
+    numbered = _all_numbered(lines)
+    mapping = _step_lines(lines, numbered, start, step)
+    if numbered:
+        return Numbering(True, _spaced(lines), mapping)
+    result = _renumber(lines, start, step)
+    if not result.ok:
+        return Numbering(False, None, mapping, result.diagnostics)
+    return Numbering(False, result.text, mapping)

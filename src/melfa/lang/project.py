@@ -28,6 +28,7 @@ from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
 from melfa.lang.points import PointDef, PointKind, parse_points
 from melfa.lang.record import Record
+from melfa.lang.tokens import Token
 
 ReachCheck = Callable[[Sequence[PointDef], str], list[Diagnostic]]
 """(points, the points file's text) -> warnings; `melfa.kin.reach.reach_diagnostics`."""
@@ -94,6 +95,32 @@ def offset_only(program: A.Program) -> set[str]:
     return {name for name, count in offsets.items() if uses[name] == count}
 
 
+def parse_program(tokens: list[Token]) -> A.Program | Exception:
+    """The tree of a program's tokens, or the exception a bug of ours raised (kept, to be
+    reported as a diagnostic by `check_program`: it must not take the editor down)."""
+    try:
+        return parse_tokens(tokens)
+    except Exception as exc:
+        return exc
+
+
+def check_program(
+    program: A.Program | Exception, names: Sequence[str]
+) -> tuple[tuple[Diagnostic, ...], set[str] | None]:
+    """One program checked against the point `names`: its diagnostics sorted by position,
+    and the names it uses only as offsets (None when the checker failed). The upload plan
+    (`melfa.lang.plan`) calls this on the tree of the tokens it numbers, so a load
+    tokenizes once."""
+    try:
+        if isinstance(program, Exception):
+            raise program
+        found = check_ast(program, names)
+        offsets = offset_only(program)
+    except Exception as exc:  # a bug of ours must not take the editor down
+        return by_position([internal_error(exc)]), None
+    return by_position(found), offsets
+
+
 def check_project(
     programs: Sequence[str], points: Sequence[str] = (), reach: ReachCheck | None = None
 ) -> ProjectReport:
@@ -103,12 +130,7 @@ def check_project(
     >>> [d.message for d in report.programs[0]], report.points
     (['Position PUP is not defined'], ((),))
     """
-    parsed: list[A.Program | Exception] = []
-    for text in programs:
-        try:
-            parsed.append(parse_tokens(tokenize(text)))
-        except Exception as exc:  # a bug of ours must not take the editor down
-            parsed.append(exc)
+    parsed = [parse_program(tokenize(text)) for text in programs]
     trees = [p for p in parsed if isinstance(p, A.Program)]
     declared = declared_points(trees)
     files = [parse_points(text, declared) for text in points]
@@ -116,14 +138,10 @@ def check_project(
     program_reports = []
     offsets: list[set[str]] = []
     for program in parsed:
-        try:
-            if isinstance(program, Exception):
-                raise program
-            found = check_ast(program, names)
-            offsets.append(offset_only(program))
-        except Exception as exc:  # a bug of ours must not take the editor down
-            found = [internal_error(exc)]
-        program_reports.append(by_position(found))
+        checked, offsets_here = check_program(program, names)
+        if offsets_here is not None:
+            offsets.append(offsets_here)
+        program_reports.append(checked)
     skip = set.intersection(*offsets) if offsets else set()
     point_reports = []
     for text, f in zip(points, files, strict=True):

@@ -21,15 +21,7 @@ from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefus
 from melfa.robot.opener import open_robot_link
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus
-from melfa.robot.text import to_controller_ascii
-from melfa.robot.upload import (
-    PreparedUpload,
-    UploadItem,
-    UploadPreparationError,
-    point_items,
-    prepare_upload,
-    program_items,
-)
+from melfa.robot.upload import UploadPreparationError, sendable
 
 __all__ = [
     "Alarm",
@@ -38,7 +30,6 @@ __all__ = [
     "ControllerStatus",
     "HandMethod",
     "JogMethod",
-    "PreparedUpload",
     "Progress",
     "Robot",
     "RobotError",
@@ -46,14 +37,10 @@ __all__ = [
     "SaveOutcomeUnknown",
     "SavedNotConfirmed",
     "Stopped",
-    "UploadItem",
     "UploadPreparationError",
     "UploadRefused",
     "UploadReport",
     "VerifyFailed",
     "open_robot_link",
-    "point_items",
-    "prepare_upload",
-    "program_items",
-    "to_controller_ascii",
+    "sendable",
 ]

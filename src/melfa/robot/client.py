@@ -16,8 +16,8 @@ from __future__ import annotations
 import contextlib
 import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
-from typing import Final
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Final
 
 from melfa.link import Link, LinkError, LinkSettings
 from melfa.protocol import (
@@ -52,7 +52,10 @@ from melfa.robot.edit import Progress, UploadReport
 from melfa.robot.errors import ControllerError, RobotError, Stopped
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
 from melfa.robot.status import Alarm, ControllerStatus, error_level
-from melfa.robot.upload import PreparedUpload, prepare_upload
+from melfa.robot.upload import sendable
+
+if TYPE_CHECKING:
+    from melfa.lang.plan import UploadPlan
 
 JOG_JOINT_VARIABLE: Final = "JMJOG"
 """Joint variable the step jog assigns (≤ 8 characters, L4300; leading J = joint type)."""
@@ -167,25 +170,21 @@ class Robot:
     # ------------------------------------------------------------------------ program
 
     def upload_program(
-        self,
-        program: str | Sequence[str] | PreparedUpload,
-        progress: Progress | None = None,
-        *,
-        verify: bool = False,
+        self, plan: UploadPlan, progress: Progress | None = None, *, verify: bool = False
     ) -> UploadReport:
-        """Replace program `settings.program` (slot program "1") with ``program``.
+        """Replace program `settings.program` (slot program "1") with the plan's program
+        (`melfa.lang.plan.plan_upload`).
 
         Sequence and guarantees: `melfa.robot.edit` (slot reset, NEW, LOAD=, ECLR, EMDAT…,
         a self-identifying PARRLNG before SAVE, PDIR confirmation, read-back on ``verify``).
         On any failure the edit is closed with NEW, so the old program stays. An
-        `UploadRefused` names the line and column in ``program``. ECLR also clears the
+        `UploadRefused` names the line and column in the program. ECLR also clears the
         program's positions: use `load_project` to send both.
         """
-        prepared = program if isinstance(program, PreparedUpload) else prepare_upload(program)
         with self._operation() as generation:
             return edit.write_program(
                 self,
-                prepared,
+                sendable(plan),
                 generation,
                 progress,
                 clear=self.settings.clear_with_eclr,
@@ -193,41 +192,29 @@ class Robot:
             )
 
     def upload_points(
-        self,
-        points: str | Sequence[str] | PreparedUpload,
-        progress: Progress | None = None,
-        *,
-        verify: bool = False,
+        self, plan: UploadPlan, progress: Progress | None = None, *, verify: bool = False
     ) -> UploadReport:
-        """Add or replace positions (``P1=(…)(7,0)`` or ``DEF POS P1=…`` lines) in the
-        program, keeping its steps (no ECLR)."""
-        prepared = points if isinstance(points, PreparedUpload) else prepare_upload(None, points)
+        """Add or replace the plan's positions in the program, keeping its steps (no
+        ECLR)."""
         with self._operation() as generation:
             return edit.write_program(
-                self, prepared, generation, progress, clear=False, verify=verify
+                self, sendable(plan), generation, progress, clear=False, verify=verify
             )
 
     def load_project(
-        self,
-        program: str | Sequence[str] | PreparedUpload,
-        points: str | Sequence[str] = (),
-        progress: Progress | None = None,
-        *,
-        verify: bool = False,
+        self, plan: UploadPlan, progress: Progress | None = None, *, verify: bool = False
     ) -> UploadReport:
-        """Program and points in one LOAD…SAVE session (they live in the same program, and
-        one session saves the NEW/LOAD/handshake/SAVE round trips of a second one).
+        """The plan's program and points in one LOAD…SAVE session (they live in the same
+        program, and one session saves the NEW/LOAD/handshake/SAVE round trips of a second
+        one).
 
         This is the thesis's "load project" (delete, program, points), with the delete done
         *inside* the edit: ``ECLR`` clears the old steps and positions [DOC S1 §5.2; TRACE
         S21], so nothing of the old program survives a successful upload, and a failed one
         leaves the old program whole (the thesis's FDEL first would have lost it)."""
-        prepared = (
-            program if isinstance(program, PreparedUpload) else prepare_upload(program, points)
-        )
         with self._operation() as generation:
             return edit.write_program(
-                self, prepared, generation, progress, clear=True, verify=verify
+                self, sendable(plan), generation, progress, clear=True, verify=verify
             )
 
     def find_program(self) -> edit.ProgramEntry | None:

@@ -17,6 +17,7 @@ import dataclasses
 import enum
 from dataclasses import dataclass, field
 
+from melfa.lang.plan import plan_upload
 from melfa.link import LinkError, LinkTimeout
 from melfa.protocol import (
     ErrorLogEntry,
@@ -41,7 +42,6 @@ from melfa.robot.client import Robot
 from melfa.robot.edit import find_program, read_back
 from melfa.robot.errors import RobotError
 from melfa.robot.settings import RobotSettings
-from melfa.robot.upload import prepare_upload
 
 SCRATCH_PROGRAM = "MDOCTOR"
 """Name of the scratch program ``--probe-upload`` writes and deletes."""
@@ -454,7 +454,7 @@ def _probe_upload(robot: Robot, report: Report) -> None:
     comments = "".join(f"{20 + 10 * i} ' {'x' * 110}\n" for i in range(5))
     program = f"10 ' doctor; a ';' inside a line\n{comments}80 END\n"
     points = "DEF POS P1=(300.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
-    prepared = prepare_upload(program, points)
+    prepared = plan_upload(program, points)
     scratch = dataclasses.replace(
         robot.settings, program=SCRATCH_PROGRAM, slot_reset=False, confirm_counts=False
     )

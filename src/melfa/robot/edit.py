@@ -27,6 +27,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import Protocol
 
+from melfa.lang.plan import UploadItem, UploadPlan
 from melfa.link import LinkError
 from melfa.protocol import (
     REQUEST_LIMIT,
@@ -44,7 +45,6 @@ from melfa.protocol.error_table import PROGRAM_RUNNING
 from melfa.robot.channel import Channel, StopOvertook
 from melfa.robot.errors import ControllerError, RobotError, Stopped, UploadRefused
 from melfa.robot.settings import RobotSettings
-from melfa.robot.upload import PreparedUpload, UploadItem
 
 Progress = Callable[[int, int], None]
 """``progress(bytes_sent, bytes_total)`` during an upload."""
@@ -176,7 +176,7 @@ def _scan(session: Session, name: str) -> ProgramEntry | None:
 
 def write_program(
     session: Session,
-    prepared: PreparedUpload,
+    prepared: UploadPlan,
     generation: int,
     progress: Progress | None,
     *,
@@ -296,7 +296,7 @@ def _send_chunks(
         raise _upload_refusal(session, refused[0], refused[1], items)
 
 
-def _expected(prepared: PreparedUpload, clear: bool) -> tuple[int | None, int | None]:
+def _expected(prepared: UploadPlan, clear: bool) -> tuple[int | None, int | None]:
     steps = prepared.program_lines if clear else None
     points = prepared.point_count if clear else None
     return steps, points
@@ -313,7 +313,7 @@ def counts_match(held: ProgramEntry, steps: int | None, points: int | None) -> b
     return (steps is None or held.lines == steps) and (points is None or held.points == points)
 
 
-def _confirm(session: Session, prepared: PreparedUpload, clear: bool) -> ProgramEntry:
+def _confirm(session: Session, prepared: UploadPlan, clear: bool) -> ProgramEntry:
     name = session.settings.program
     held = find_program(session, name)
     if held is None:
@@ -340,7 +340,7 @@ def _counts(held: ProgramEntry) -> str:
 
 
 def _lost_save(
-    session: Session, prepared: PreparedUpload, clear: bool, cause: BaseException
+    session: Session, prepared: UploadPlan, clear: bool, cause: BaseException
 ) -> SaveOutcomeUnknown:
     name = session.settings.program
     what = "garbled" if isinstance(cause, RemoteProtocolError) else "lost"
@@ -431,7 +431,7 @@ def read_points(session: Session) -> Iterator[str]:
         answer = session._call("LISTP+1", slot=session.edit_slot).answer
 
 
-def read_back(session: Session, prepared: PreparedUpload, clear: bool) -> str | None:
+def read_back(session: Session, prepared: UploadPlan, clear: bool) -> str | None:
     """Open the saved program and compare every line (``LISTL``, which real clients send)
     and, where the profile says the controller answers ``LISTP`` (`listp_answered`: no
     real controller was recorded answering it), every position with what was sent.

@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import Protocol
 
 from melfa.lang.encoding import decode_text
+from melfa.lang.plan import plan_upload
 from melfa.robot import UploadReport
 from melfa.ros import interface as ri
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, StreamMessages
@@ -236,15 +237,19 @@ class RosCore:
         service, actor = self.service, self.actor
         if name == ri.LOAD_PROGRAM:
             program = self._text(ri.PROGRAM_PARAM, texts)
-            report = await service.upload_program(actor, program)
+            plan = await asyncio.to_thread(plan_upload, program)
+            report = await service.upload_program(actor, plan)
             return f"program loaded: {_report(report)}"
         if name == ri.LOAD_POINTS:
-            report = await service.upload_points(actor, self._text(ri.POINTS_PARAM, texts))
+            points = self._text(ri.POINTS_PARAM, texts)
+            plan = await asyncio.to_thread(plan_upload, None, points)
+            report = await service.upload_points(actor, plan)
             return f"points loaded: {_report(report)}"
         if name == ri.LOAD_PROJECT:
             program = self._text(ri.PROGRAM_PARAM, texts)
             points = self._text(ri.POINTS_PARAM, texts, required=False)
-            report = await service.load_project(actor, program, points)
+            plan = await asyncio.to_thread(plan_upload, program, points)
+            report = await service.load_project(actor, plan)
             return f"program and points loaded: {_report(report)}"
         if name == ri.RESET:
             await service.reset_alarm(actor)

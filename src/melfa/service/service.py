@@ -33,13 +33,13 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from melfa.lang.plan import UploadPlan
 from melfa.link import Link, LinkSettings, parse_robot
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot, RobotSettings, UploadReport
 from melfa.robot.opener import open_robot_link
 from melfa.robot.profile import profile_settings
-from melfa.robot.upload import PreparedUpload
 from melfa.service.activity import Activity, Facts, Motion, MotionKind, activity_of
 from melfa.service.audit import AuditSink, MemoryAuditSink
 from melfa.service.bus import EventBus, Subscription
@@ -395,31 +395,19 @@ class RobotService:
 
     # ================================================================== commands
 
-    async def load_project(
-        self,
-        actor: Actor,
-        program: str | Sequence[str] | PreparedUpload,
-        points: str | Sequence[str] = (),
-    ) -> UploadReport:
-        """Program and points into the controller's program in one LOAD…SAVE session;
-        `UploadProgress` events while it goes. Polling pauses meanwhile."""
-        return await self._upload(
-            actor, "load_project", lambda r, p: r.load_project(program, points, p)
-        )
+    async def load_project(self, actor: Actor, plan: UploadPlan) -> UploadReport:
+        """The plan's program and points (`melfa.lang.plan.plan_upload`) into the
+        controller's program in one LOAD…SAVE session; `UploadProgress` events while it
+        goes. Polling pauses meanwhile."""
+        return await self._upload(actor, "load_project", lambda r, p: r.load_project(plan, p))
 
-    async def upload_program(
-        self, actor: Actor, program: str | Sequence[str] | PreparedUpload
-    ) -> UploadReport:
-        """Replace the program (steps and positions)."""
-        return await self._upload(
-            actor, "upload_program", lambda r, p: r.upload_program(program, p)
-        )
+    async def upload_program(self, actor: Actor, plan: UploadPlan) -> UploadReport:
+        """Replace the program (steps and positions) with the plan's."""
+        return await self._upload(actor, "upload_program", lambda r, p: r.upload_program(plan, p))
 
-    async def upload_points(
-        self, actor: Actor, points: str | Sequence[str] | PreparedUpload
-    ) -> UploadReport:
-        """Add or replace positions, keeping the steps."""
-        return await self._upload(actor, "upload_points", lambda r, p: r.upload_points(points, p))
+    async def upload_points(self, actor: Actor, plan: UploadPlan) -> UploadReport:
+        """Add or replace the plan's positions, keeping the steps."""
+        return await self._upload(actor, "upload_points", lambda r, p: r.upload_points(plan, p))
 
     async def run(self, actor: Actor, *, servo: ServoPolicy | None = None) -> None:
         """Start the program (``RUN<program>;1``). ``servo``: what to do when the servo is

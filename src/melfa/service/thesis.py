@@ -50,6 +50,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from melfa.lang.plan import plan_upload
 from melfa.service.errors import ThesisMessageError
 from melfa.service.events import Actor, JogFrame, ThesisOutput
 from melfa.service.service import RobotService, describe_error
@@ -250,11 +251,13 @@ class ThesisMessages:
                 await self.servo(False)
         if self.state is ThesisState.S2 and name == "LOAD PROGRAM END":
             lines, self._lines, self.state = self._lines, [], ThesisState.S0
-            await self.service.upload_program(self.actor, lines)
+            plan = await asyncio.to_thread(plan_upload, "\n".join(lines))
+            await self.service.upload_program(self.actor, plan)
             return None
         if self.state is ThesisState.S3 and name == "LOAD POINTS END":
             lines, self._lines, self.state = self._lines, [], ThesisState.S0
-            await self.service.upload_points(self.actor, lines)
+            plan = await asyncio.to_thread(plan_upload, None, "\n".join(lines))
+            await self.service.upload_points(self.actor, plan)
             return None
         if self.state is not ThesisState.S0:
             state = self.state

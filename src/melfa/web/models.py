@@ -240,7 +240,7 @@ class UploadOut(BaseModel):
     step_lines: dict[int, int] | None = Field(
         None,
         description="Step number the controller reports -> line of the program as sent "
-        "(`melfa.lang.numbering.step_lines`): the running line in the student's own text.",
+        "(`melfa.lang.plan.UploadPlan.step_lines`): the running line in the student's own text.",
     )
 
 

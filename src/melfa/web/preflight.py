@@ -5,7 +5,6 @@ pre-flight errors. The check itself is `melfa.sim.debug.preflight`."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import logging
 import threading
@@ -15,16 +14,6 @@ from melfa.sim.debug.cell import Cell, CellError
 
 CELL_FILE = "cell.json"
 _log = logging.getLogger("melfa.web.preflight")
-
-
-def fingerprint(program: str, points: str) -> str:
-    """What "the same text" means to the gate: program and points, ends of lines and
-    trailing blanks aside."""
-
-    def norm(text: str) -> str:
-        return "\n".join(line.rstrip() for line in text.strip().splitlines())
-
-    return hashlib.sha256(f"{norm(program)}\0{norm(points)}".encode()).hexdigest()
 
 
 class Preflight:
@@ -56,13 +45,14 @@ class Preflight:
             tmp.replace(self.path)
             self.cell = cell
 
-    def passed(self, program: str, points: str) -> None:
+    def passed(self, fingerprint: str) -> None:
+        """A plan's fingerprint (`melfa.lang.plan.UploadPlan.fingerprint`) passed."""
         with self._lock:
-            self._passed.add(fingerprint(program, points))
+            self._passed.add(fingerprint)
 
-    def has_passed(self, program: str, points: str) -> bool:
+    def has_passed(self, fingerprint: str) -> bool:
         with self._lock:
-            return fingerprint(program, points) in self._passed
+            return fingerprint in self._passed
 
 
-__all__ = ["CELL_FILE", "Preflight", "fingerprint"]
+__all__ = ["CELL_FILE", "Preflight"]

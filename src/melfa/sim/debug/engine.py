@@ -12,8 +12,8 @@
   `Stop` the first time the program stops (breakpoint, step done, HLT, END, error, pause).
 * Breakpoints are set on a line of the user's text (`break_line`) or a label
   (`break_label`). Lines are the user's own: the program is numbered for the controller
-  exactly as an upload numbers it (`melfa.lang.numbering.controller_text`) and the step
-  numbers are mapped back with `melfa.lang.numbering.step_lines`.
+  exactly as an upload numbers it (`melfa.lang.numbering.number_tokens`, as the upload
+  plan does) and the step numbers are mapped back with its step → line map.
 * `variables()` is the variables panel (`view.VarView` rows, those the last stop changed
   marked), `evaluate(expr)` prints an expression, `where()` the GOSUB stack, `set_input`
   drives ``M_IN(n)`` (to release a ``WAIT``).
@@ -29,7 +29,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from melfa.lang import ast
-from melfa.lang.numbering import NumberingError, controller_text, step_lines
+from melfa.lang.lexer import tokenize
+from melfa.lang.numbering import number_tokens
 from melfa.lang.parser import parse
 from melfa.lang.points import PointDef, parse_points
 from melfa.protocol.error_table import ERROR_MESSAGES
@@ -281,11 +282,14 @@ class Debugger:
         self.arm = arm if arm is not None else SimulatedArm()
         self.io = io if io is not None else IOState()
         self.interp = Interpreter(ArmPort(self.arm), self.io)
-        try:
-            sent = controller_text(program)
-        except NumberingError as exc:
-            raise DebugError(f"the program cannot be numbered: {exc}") from None
-        self._steps_lines = step_lines(program)
+        numbering = number_tokens(tokenize(program))
+        if numbering.text is None:
+            first = numbering.diagnostics[0]
+            raise DebugError(
+                f"the program cannot be numbered: line {first.line}: {first.message}"
+            ) from None
+        sent = numbering.text
+        self._steps_lines = numbering.step_lines
         try:
             self.interp.load(sent)
         except errors.RunError as exc:

@@ -30,7 +30,7 @@ from melfa.web.debug_models import (
 from melfa.web.deps import ActorDep, ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Ok
-from melfa.web.routes.robot import checked_program, operate, sources
+from melfa.web.routes.robot import checked_program, operate, planned, sources
 from melfa.web.targets import MINE, Target
 
 router = APIRouter(prefix="/api/debug", tags=["debug"], responses=ERROR_RESPONSES)
@@ -98,7 +98,7 @@ async def start(
     Replaces a session already open."""
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    await checked_program(context, program, points, body.check)
+    checked_program(await planned(context, program, points), body.check)
     speed = _speed(body.speed)
     target = await _mine(context, session.user.username)
     simulator = target.simulator

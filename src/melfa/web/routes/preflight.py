@@ -17,7 +17,7 @@ from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, SessionDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input, SourceIn
-from melfa.web.routes.robot import checked_program, sources
+from melfa.web.routes.robot import checked_program, planned, sources
 
 router = APIRouter(prefix="/api", tags=["preflight"], responses=ERROR_RESPONSES)
 
@@ -68,7 +68,8 @@ async def run_preflight(
     robot run the same text when the gate is on."""
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    await checked_program(context, program, points, body.check)
+    plan = await planned(context, program, points)
+    checked_program(plan, body.check)
     state = context.preflight
     cell = state.cell
     try:
@@ -78,7 +79,7 @@ async def run_preflight(
     except DebugError as exc:
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
-        state.passed(program, points)
+        state.passed(plan.fingerprint)
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
 
 

@@ -5,18 +5,17 @@ did. Its refusals map to 4xx in the one error shape (423 ``lease-required``, 409
 
 from __future__ import annotations
 
-import contextlib
 import time
 from collections.abc import Awaitable, Callable
 from typing import Annotated, TypeVar
 
 from fastapi import APIRouter, Query
 
-from melfa.lang.numbering import NumberingError, step_lines
+from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.lang.points import PointKind, parse_points
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
-from melfa.robot.upload import PreparedUpload, UploadPreparationError, prepare_upload
+from melfa.robot.upload import UploadPreparationError, sendable
 from melfa.service import Actor, ServoPolicy
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
@@ -39,8 +38,6 @@ from melfa.web.models import (
     UploadOut,
     ValuesOut,
 )
-from melfa.web.preflight import fingerprint
-from melfa.web.routes.check import check_texts
 from melfa.web.routes.workspaces import default_workspace, open_workspace
 from melfa.web.target_deps import TARGET_HELP, Drive, DriveDep, find_target
 from melfa.web.targets import LAB
@@ -98,11 +95,15 @@ async def sources(
     return program, points
 
 
-def _prepared(program: str | None, points: str | None) -> PreparedUpload:
-    """`melfa.robot.prepare_upload` (the one home of upload preparation), its refusal as a
-    422 naming the source, line and column."""
+async def planned(context: WebContext, program: str | None, points: str | None) -> UploadPlan:
+    """`melfa.lang.plan.plan_upload` (the one home of upload planning), in the CPU pool."""
+    return await context.cpu(plan_upload, program, points)
+
+
+def sendable_plan(plan: UploadPlan) -> UploadPlan:
+    """The plan, or its refusal as a 422 naming the source, line and column."""
     try:
-        return prepare_upload(program, points)
+        return sendable(plan)
     except UploadPreparationError as exc:
         code = "points-have-errors" if exc.source == "points" else "program-not-sendable"
         raise ApiError(
@@ -113,11 +114,10 @@ def _prepared(program: str | None, points: str | None) -> PreparedUpload:
         ) from None
 
 
-async def checked_program(context: WebContext, program: str, points: str, check: bool) -> None:
+def checked_program(plan: UploadPlan, check: bool) -> None:
     if not check:
         return
-    program_diags, _ = await context.cpu(check_texts, program, points)
-    errors = [d for d in program_diags if d.is_error]
+    errors = [d for d in plan.diagnostics if d.is_error]
     if errors:
         first = errors[0]
         raise ApiError(
@@ -133,12 +133,12 @@ GATE_FIX = {"offer": "preflight", "fix": "preflight", "fix_label": "Run pre-flig
 """The gate's refusal offers the simulation (the IDE's one-click fix, docs/api.md)."""
 
 
-def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
+def gate(context: WebContext, drive: Drive, plan: UploadPlan) -> None:
     """The instructor's gate: on the lab robot, only texts that passed pre-flight."""
     state = context.preflight
     if not state.require_simulation or not drive.target.shared:
         return
-    if not state.has_passed(program, points):
+    if not state.has_passed(plan.fingerprint):
         raise ApiError(
             409,
             "simulation-required",
@@ -149,12 +149,11 @@ def gate(context: WebContext, drive: Drive, program: str, points: str) -> None:
         )
 
 
-def _upload_out(report: object, program: str | None = None) -> UploadOut:
+def _upload_out(report: object, plan: UploadPlan | None = None) -> UploadOut:
     out = UploadOut.model_validate(report, from_attributes=True)
-    if program is not None:
+    if plan is not None:
         # The controller reports step numbers; the IDE shows the student's own lines.
-        with contextlib.suppress(NumberingError):
-            out.step_lines = step_lines(program)
+        out.step_lines = dict(plan.step_lines)
     return out
 
 
@@ -167,14 +166,15 @@ async def load_project(
     actor = drive.actor
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    await checked_program(context, program, points, body.check)
-    gate(context, drive, program, points)
-    prepared = _prepared(program, points)
+    plan = await planned(context, program, points)
+    checked_program(plan, body.check)
+    gate(context, drive, plan)
+    sendable_plan(plan)
     service = drive.service
-    report = await operate(actor, "load_project", lambda: service.load_project(actor, prepared))
+    report = await operate(actor, "load_project", lambda: service.load_project(actor, plan))
     if drive.target.shared:
-        context.preflight.lab_loaded = fingerprint(program, points)
-    return _upload_out(report, program)
+        context.preflight.lab_loaded = plan.fingerprint
+    return _upload_out(report, plan)
 
 
 @router.post("/program", response_model=UploadOut, summary="Upload the program only")
@@ -184,14 +184,17 @@ async def upload_program(
     actor = drive.actor
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
-    await checked_program(context, program, points, body.check)
-    gate(context, drive, program, points)
-    prepared = _prepared(program, None)
+    plan = await planned(context, program, points)
+    checked_program(plan, body.check)
+    gate(context, drive, plan)
+    program_plan = sendable_plan(await planned(context, program, None))
     service = drive.service
-    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, prepared))
+    report = await operate(
+        actor, "upload_program", lambda: service.upload_program(actor, program_plan)
+    )
     if drive.target.shared:
-        context.preflight.lab_loaded = fingerprint(program, points)
-    return _upload_out(report, program)
+        context.preflight.lab_loaded = plan.fingerprint
+    return _upload_out(report, plan)
 
 
 @router.post("/points", response_model=UploadOut, summary="Upload the points only")
@@ -201,11 +204,11 @@ async def upload_points(
     actor = drive.actor
     _, points = await sources(context, session, body)
     assert points is not None
-    prepared = _prepared(None, points)
-    if not prepared.items:
+    plan = sendable_plan(await planned(context, None, points))
+    if not plan.items:
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
-    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, prepared))
+    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, plan))
     if drive.target.shared:
         context.preflight.lab_loaded = None  # the gate asks for program and points together
     return _upload_out(report)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Final
 
 from melfa.lang.lexer import tokenize
-from melfa.lang.tokens import TokenKind
+from melfa.lang.tokens import Token, TokenKind
 
 REPLACEMENT: Final = "?"
 """Stands in for a character with no ASCII form (``ß``, ``€``, CJK…)."""
@@ -81,21 +81,30 @@ def convert(program: str) -> AsciiConversion:
     """Transliterate comments and strings of ``program`` to ASCII; see the module doc."""
     if program.isascii():
         return AsciiConversion(program)
+    _, conversion = fold_tokens(tokenize(program))
+    return conversion
+
+
+def fold_tokens(tokens: list[Token]) -> tuple[list[Token], AsciiConversion]:
+    """`convert` on tokens already made (an upload plan tokenizes once): the tokens with
+    comments and strings folded, and what changed. Code tokens are the same objects."""
+    out: list[Token] = []
     parts: list[str] = []
     comments: set[int] = set()
     strings: set[int] = set()
-    for token in tokenize(program):
+    for token in tokens:
         text = token.text
-        if token.kind is TokenKind.COMMENT:
-            text = ascii_fold(text)
-            if text != token.text:
+        if not text.isascii():
+            if token.kind is TokenKind.COMMENT:
+                text = ascii_fold(text)
                 comments.add(token.line)
-        elif token.kind is TokenKind.STRING:
-            text = '"' + ascii_fold(text[1:-1], forbid='"') + '"'
-            if text != token.text:
+            elif token.kind is TokenKind.STRING:
+                text = '"' + ascii_fold(text[1:-1], forbid='"') + '"'
                 strings.add(token.line)
+        out.append(token if text is token.text else token._replace(text=text))
         parts.append(token.prefix + text)
-    return AsciiConversion("".join(parts), tuple(sorted(comments)), tuple(sorted(strings)))
+    conversion = AsciiConversion("".join(parts), tuple(sorted(comments)), tuple(sorted(strings)))
+    return out, conversion
 
 
 def to_controller_ascii(program: str) -> tuple[str, tuple[int, ...]]:

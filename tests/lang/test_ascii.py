@@ -8,10 +8,9 @@ from pathlib import Path
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from melfa.lang.ascii import REPLACEMENT, ascii_fold, convert, find_non_ascii, to_controller_ascii
 from melfa.lang.lexer import tokenize
 from melfa.lang.tokens import TokenKind
-from melfa.robot import to_controller_ascii
-from melfa.robot.text import REPLACEMENT, ascii_fold, convert, find_non_ascii
 
 FREE = (TokenKind.COMMENT, TokenKind.STRING)
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -97,11 +96,11 @@ def test_only_comments_and_strings_change(lines: list[str]) -> None:
 
 
 def test_every_upload_path_folds_accents_before_numbering() -> None:
-    """The web IDE and the service upload through `program_items` too, not only the CLI:
+    """The web IDE and the service upload through `plan_upload` too, not only the CLI:
     a program with Catalan comments becomes numbered ASCII items, line for line."""
-    from melfa.robot.upload import program_items
+    from melfa.lang.plan import plan_upload
 
-    items = program_items("' Piràmide\nMOV P1 ' repòs\nGOTO *FI\n*FI\nEND")
+    items = plan_upload("' Piràmide\nMOV P1 ' repòs\nGOTO *FI\n*FI\nEND").items
     assert [item.text for item in items] == [
         "10 ' Piramide",
         "20 MOV P1 ' repos",
