@@ -195,7 +195,10 @@ def test_a_mostly_v_file_is_said_to_look_like_v_once() -> None:
 
 
 def test_a_v_construct_used_again_is_named_at_its_first_use() -> None:
-    text = "10 Fsc On, 0, 0, 1\n20 MOV P1\n30 Fsc Off\n40 Fsc Off\n50 P_FsStf0 = P1\n60 M1 = M_FsCod0\n"
+    text = (
+        "10 Fsc On, 0, 0, 1\n20 MOV P1\n30 Fsc Off\n40 Fsc Off\n"
+        "50 P_FsStf0 = P1\n60 M1 = M_FsCod0\n"
+    )
     ds = [d for d in found(text, ("P1",)) if d.rule == "melfa-basic-v"]
     assert [d.line for d in ds] == [1, 5]
     assert ds[0].message.endswith("(also on lines 3, 4)")
