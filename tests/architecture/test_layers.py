@@ -16,15 +16,28 @@ ALLOWED: dict[str, set[str]] = {
     "kin": {"lang"},  # kin.reach builds lang diagnostics (pure) for points files
     "protocol": set(),
     "vocab": set(),  # the student's words for commands, refusals, activities (pure)
+    "live": {"vocab", "protocol"},  # the /api/ws messages and their schema (pure)
     "link": {"protocol"},
     "robot": {"link", "protocol", "lang", "sim"},  # `sim` only for --robot sim, lazily
     "sim": {"protocol", "link", "lang", "kin"},
     "service": {"robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
     "store": {"lang"},  # the service's audit sink adapter lives in web
     "ros": {"service", "robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
-    "web": {"service", "store", "ros", "robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
+    "web": {
+        "service",
+        "store",
+        "ros",
+        "robot",
+        "link",
+        "protocol",
+        "sim",
+        "kin",
+        "lang",
+        "vocab",
+        "live",
+    },
     # A client of the web API; only the pure parts below (file reading, student texts).
-    "desktop": {"lang", "protocol", "vocab"},
+    "desktop": {"lang", "protocol", "vocab", "live"},
 }
 
 # Standard-library and third-party modules that mean I/O, a clock or a thread.
@@ -32,7 +45,7 @@ IMPURE = {
     "socket", "serial", "sqlite3", "asyncio", "threading", "subprocess", "select",
     "os", "pathlib", "io", "time", "urllib", "http", "uvicorn", "fastapi", "pty",
 }  # fmt: skip
-PURE_PARTS = ("lang", "kin", "protocol", "vocab")
+PURE_PARTS = ("lang", "kin", "protocol", "vocab", "live")
 
 
 def _imports(path: Path) -> list[str]:

@@ -4,7 +4,7 @@ a program stopped mid-way "paused", a held jog "jogging" (never "running line 50
 from __future__ import annotations
 
 from melfa.service import ServoPolicy
-from melfa.service.activity import Activity
+from melfa.vocab.activity import Activity
 from tests.plans import project
 from tests.service.helpers import ANN, RecordingController, make_service, run, until
 

@@ -13,7 +13,8 @@ import enum
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
-from melfa.service.activity import Activity
+from melfa.vocab.activity import Activity
+from melfa.vocab.link import LinkStatus
 
 
 def utc_now() -> dt.datetime:
@@ -46,17 +47,6 @@ class Actor:
 
 SERVICE_ACTOR = Actor("melfa-service", Role.INSTRUCTOR, "service")
 """The service acting on its own (closing, heartbeat loss)."""
-
-
-class LinkStatus(enum.Enum):
-    """State of the line to the controller."""
-
-    CONNECTING = "connecting"
-    CONNECTED = "connected"
-    RECONNECTING = "reconnecting"
-    LOST = "lost"
-    """Reconnecting for longer than `ServiceConfig.lost_after_s`; still trying."""
-    CLOSED = "closed"
 
 
 class JogFrame(enum.Enum):
@@ -129,7 +119,7 @@ class StateSnapshot(Event):
     paused: bool | None = None
     """The program was stopped mid-way (STOP without PROGRAM SELECT)."""
     activity: Activity = Activity.OFFLINE
-    """What the robot does, the one word every view shows (`melfa.service.activity`)."""
+    """What the robot does, the one word every view shows (`melfa.vocab.activity`)."""
     activity_detail: str = ""
     """The target of a move (``P1``) or the running line (``line 30``)."""
 

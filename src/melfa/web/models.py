@@ -8,6 +8,10 @@ from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, FiniteFloat
 
+# The live protocol's models, shared with REST (one shape for the state, the actor, an alarm).
+from melfa.live.messages import ActorOut as ActorOut
+from melfa.live.messages import AlarmOut as AlarmOut
+from melfa.live.messages import StateOut as StateOut
 from melfa.store import MAX_TEXT_CHARS
 
 
@@ -218,11 +222,6 @@ class NumberOut(BaseModel):
 # --- robot ---------------------------------------------------------------------------------
 
 
-class ActorOut(BaseModel):
-    user: str
-    role: str
-
-
 class SourceIn(Input):
     """Text from the request, else from the workspace (``workspace_id``, else the default)."""
 
@@ -313,53 +312,6 @@ class JogStepIn(Input):
 class ValuesOut(BaseModel):
     names: list[str]
     values: list[float]
-
-
-class AlarmOut(BaseModel):
-    number: int
-    text: str
-    """The controller's own text."""
-    code: str = ""
-    """``L2000``: level letter and number, as the manual lists it."""
-    message: str = ""
-    """What happened and what to do, in a student's words (`melfa.protocol.advice`)."""
-    fix: str | None = None
-    """The one action that fixes it (``reset-alarm``, ``servo-on-retry``…), if any."""
-    fix_label: str | None = None
-
-
-class StateOut(BaseModel):
-    """The service's latest `StateSnapshot` (also the WebSocket ``state`` message)."""
-
-    seq: int
-    at: datetime
-    link: str
-    joints: list[float] | None
-    pose: list[float] | None
-    pose_measured: bool
-    flags: list[int] | None
-    servo: bool | None
-    running: bool | None
-    moving: bool | None
-    program: str
-    line: int | None
-    override: int | None
-    speed: float | None
-    alarm: AlarmOut | None
-    hands: list[bool | None]
-    busy: str | None
-    jogging: bool
-    lease_holder: str | None
-    lease_since: datetime | None = None
-    lease_state: str | None = Field(
-        None, description="connected, no connection (REST only), disconnected, robot moving"
-    )
-    program_running: bool | None = None
-    paused: bool | None = None
-    activity: str = "offline"
-    """idle, moving-to, jogging, running, paused, moving, alarm, uploading, offline: the one
-    word every view shows."""
-    activity_detail: str = ""
 
 
 class TargetOut(BaseModel):

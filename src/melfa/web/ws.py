@@ -2,10 +2,10 @@
 one target (``/api/ws?target=mine`` for the user's private simulator; the lab robot
 by default).
 
-Server → client (JSON objects with a ``type``): ``hello``, ``state`` (throttled per socket
-to `WebSettings.snapshot_hz`, newest wins), ``link``, ``progress``, ``result``, ``lease``,
-``jog``, ``ack``, ``error``, ``pong``. Client → server: ``ping``, ``jog_start``,
-``jog_heartbeat``, ``jog_release``, ``hand_toggle``, ``stop``. docs/api.md has every field.
+Every message is a model of `melfa.live.messages` (the schema is ``docs/ws-schema.json``):
+the server sends `ServerMessage`s (``state`` throttled per socket to
+`WebSettings.snapshot_hz`, newest wins) and acts on `ClientMessage`s, read here into their
+models before anything is done. docs/api.md has every field.
 
 Each socket has its own subscription (the service's bus never waits for a reader) and its
 own `Outbox` and sender task: nothing that reads or handles a message ever waits for the
@@ -29,7 +29,37 @@ from collections import deque
 from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
+from pydantic import ValidationError
 
+from melfa.live.messages import (
+    CLIENT_TYPES,
+    CommandResultMessage,
+    DebugMessage,
+    ErrorBody,
+    ErrorMessage,
+    HandToggle,
+    HandToggleAck,
+    Hello,
+    JogHeartbeat,
+    JogHeartbeatAck,
+    JogMessage,
+    JogRelease,
+    JogReleaseAck,
+    JogStart,
+    JogStartAck,
+    LeaseMessage,
+    LinkMessage,
+    Ping,
+    Pong,
+    ProgressMessage,
+    RequestId,
+    ServerMessage,
+    StateMessage,
+    Stop,
+    StopAck,
+    TargetRef,
+    parse_client,
+)
 from melfa.protocol.advice import advice_for
 from melfa.service import (
     Actor,
@@ -51,7 +81,7 @@ from melfa.store import is_access_token
 from melfa.vocab.commands import command_label
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
-from melfa.web.convert import actor_dict, state_dict, target_dict
+from melfa.web.convert import actor_dict, actor_out, state_dict, target_dict
 from melfa.web.deps import actor_of, find_session
 from melfa.web.errors import ApiError, from_robot
 from melfa.web.guard import MessageGate, TooManySockets
@@ -61,7 +91,6 @@ from melfa.web.targets import LAB, Target, UnknownTarget
 router = APIRouter()
 _log = logging.getLogger("melfa.web.ws")
 
-PROTOCOL_VERSION = 1
 POLICY_VIOLATION = 1008
 GOING_AWAY = 1001
 MAX_MESSAGE_CHARS = 4096
@@ -74,26 +103,37 @@ MOVING = frozenset({"jog_start", "hand_toggle"})
 """Messages after which the arm moves: their session is re-read first."""
 
 
-def message_of(event: Event) -> dict[str, Any] | None:
+def message_of(event: Event) -> ServerMessage | None:
     """The WebSocket message for a service event (None: not sent to browsers)."""
     if isinstance(event, StateSnapshot):
-        return {"type": "state", **state_dict(event)}
-    if isinstance(event, DebugUpdate):
-        return {"type": "debug", **{k: v for k, v in event_to_dict(event).items() if k != "name"}}
+        return StateMessage.model_validate(state_dict(event))
     if isinstance(event, AuditEvent) or not isinstance(
-        event, LinkStatusChanged | UploadProgress | CommandResult | LeaseChanged | JogChanged
+        event,
+        DebugUpdate
+        | LinkStatusChanged
+        | UploadProgress
+        | CommandResult
+        | LeaseChanged
+        | JogChanged,
     ):
         return None
     out = event_to_dict(event)
     out.pop("name", None)
-    out["type"] = event.name
     out["actor"] = actor_dict(event.actor)
+    if isinstance(event, DebugUpdate):
+        return DebugMessage.model_validate(out)
+    if isinstance(event, LinkStatusChanged):
+        return LinkMessage.model_validate(out)
+    if isinstance(event, JogChanged):
+        return JogMessage.model_validate(out)
     if isinstance(event, LeaseChanged):
         out["holder"] = actor_dict(event.holder)
         out["previous"] = actor_dict(event.previous)
-    if isinstance(event, CommandResult | UploadProgress):
-        out["label"] = command_label(event.command)  # the command in a student's words
-    if isinstance(event, CommandResult) and not event.ok:
+        return LeaseMessage.model_validate(out)
+    out["label"] = command_label(event.command)  # the command in a student's words
+    if isinstance(event, UploadProgress):
+        return ProgressMessage.model_validate(out)
+    if not event.ok:
         # Student words, never the sent request or a Python class name.
         if event.error_number is not None:
             advice = advice_for(event.error_number)
@@ -101,7 +141,7 @@ def message_of(event: Event) -> dict[str, Any] | None:
             out["advice"] = advice.to_json()
         else:
             out["error"] = _PYTHON_PREFIX.sub("", event.error)
-    return out
+    return CommandResultMessage.model_validate(out)
 
 
 _PYTHON_PREFIX = re.compile(r"^[A-Z][A-Za-z]*(Error|Closed|Down|Cancelled|Refused|Busy)?: ")
@@ -161,9 +201,9 @@ class Connection:
         self.token = ""
         self.gate: MessageGate | None = None
         self.tasks: list[asyncio.Task[None]] = []
+        self.outbox = Outbox()
         self.ended: str | None = None
         self.checked = time.monotonic()
-        self.outbox = Outbox()
         self._stops: set[asyncio.Task[None]] = set()
 
     async def end(self, reason: str) -> None:
@@ -188,9 +228,10 @@ class Connection:
             if not self.context.guard.confirm(handle, session):
                 raise SessionEnded(handle.revoked or "the session ended")
 
-    async def send(self, message: dict[str, Any]) -> None:
-        """Queue ``message`` for the browser; never waits for it to read."""
-        self.outbox.put(json.dumps(message, default=str), state=message.get("type") == "state")
+    async def send(self, message: ServerMessage) -> None:
+        """Queue ``message`` for the browser; never waits for it to read. Only what the
+        protocol's models say (`melfa.live.messages`) goes out."""
+        self.outbox.put(message.model_dump_json(), state=isinstance(message, StateMessage))
         if self.outbox.overflowed:
             await self.end("the browser does not read its messages")
 
@@ -202,9 +243,9 @@ class Connection:
             while (text := self.outbox.take()) is not None:
                 await self.websocket.send_text(text)
 
-    async def error(self, error: ApiError, request_id: Any = None) -> None:
-        body = error.body()
-        await self.send({"type": "error", "id": request_id, **body})
+    async def error(self, error: ApiError, request_id: RequestId = None) -> None:
+        body = error.body()["error"]
+        await self.send(ErrorMessage(id=_echo(request_id), error=ErrorBody.model_validate(body)))
 
     async def pump(self, sub: Subscription) -> None:
         """Events to the browser; at most one snapshot per interval, always the newest."""
@@ -216,7 +257,7 @@ class Connection:
                 event = await asyncio.wait_for(sub.get(), timeout)
             except TimeoutError:
                 assert pending is not None
-                await self.send({"type": "state", **state_dict(pending)})
+                await self.send(StateMessage.model_validate(state_dict(pending)))
                 self.sent_states += 1
                 last, pending = time.monotonic(), None
                 continue
@@ -224,7 +265,7 @@ class Connection:
                 return
             if isinstance(event, StateSnapshot):
                 if pending is None and time.monotonic() - last >= self.interval:
-                    await self.send({"type": "state", **state_dict(event)})
+                    await self.send(StateMessage.model_validate(state_dict(event)))
                     self.sent_states += 1
                     last = time.monotonic()
                 else:
@@ -261,7 +302,7 @@ class Connection:
                 if queue.full():
                     await self.error(
                         ApiError(429, "too-many-messages", "too many messages waiting; slow down"),
-                        parsed.get("id"),
+                        _echo(parsed.get("id")),
                     )
                     continue
                 queue.put_nowait((text, parsed))
@@ -297,11 +338,12 @@ class Connection:
             await self.run(text, message)
 
     async def run(self, text: str, message: dict[str, Any]) -> None:
-        request_id = message.get("id")
+        request_id = _echo(message.get("id"))
         try:
-            if message.get("type") != "stop":  # stop is everyone's, always
-                await self.authorise(message.get("type"))
-            await self.handle(message, request_id)
+            request = read_request(message)
+            if request.type != "stop":  # stop is everyone's, always
+                await self.authorise(request.type)
+            await self.handle(request)
         except SessionEnded as exc:
             await self.error(ApiError(401, "session-ended", str(exc)), request_id)
             await self.end(str(exc))
@@ -316,50 +358,77 @@ class Connection:
                 mapped = ApiError(500, "internal-error", "the server failed; it was logged")
             await self.error(mapped, request_id)
 
-    async def handle(self, message: dict[str, Any], request_id: Any) -> None:
-        kind = message.get("type")
+    async def handle(self, request: ClientRequest) -> None:
         service = self.service
         actor = self.actor
-        if kind == "ping":
-            await self.send({"type": "pong", "id": request_id})
-        elif kind == "jog_heartbeat":
-            alive = service.jog_heartbeat(actor)
-            if not alive and self.jogging:
+        match request:
+            case Ping():
+                await self.send(Pong(id=request.id))
+            case JogHeartbeat():
+                alive = service.jog_heartbeat(actor)
+                if not alive and self.jogging:
+                    self.jogging = False
+                    await self.send(JogHeartbeatAck(id=request.id))
+            case JogStart():
+                policy = ServoPolicy.TURN_ON if request.servo_on else ServoPolicy.ASK
+                self.jogging = True
+                try:
+                    method = await service.jog_start(
+                        actor, request.frame, request.axis, request.direction, servo=policy
+                    )
+                except BaseException:
+                    self.jogging = False
+                    raise
+                await self.send(
+                    JogStartAck.model_validate({"id": request.id, "method": method.value})
+                )
+            case JogRelease():
                 self.jogging = False
-                await self.send({"type": "ack", "id": request_id, "op": kind, "jogging": False})
-        elif kind == "jog_start":
-            frame = message.get("frame", "joint")
-            axis = message.get("axis")
-            direction = message.get("direction")
-            if not isinstance(axis, int | str) or not isinstance(direction, int | str):
-                raise ApiError(422, "invalid-value", "jog_start needs axis and direction")
-            if not isinstance(frame, str):
-                raise ApiError(422, "invalid-value", "jog frame is tool, xyz or joint")
-            policy = ServoPolicy.TURN_ON if message.get("servo_on") is True else ServoPolicy.ASK
-            self.jogging = True
-            try:
-                method = await service.jog_start(actor, frame, axis, direction, servo=policy)
-            except BaseException:
-                self.jogging = False
-                raise
-            await self.send({"type": "ack", "id": request_id, "op": kind, "method": method.value})
-        elif kind == "jog_release":
-            self.jogging = False
-            await service.jog_release(actor)
-            await self.send({"type": "ack", "id": request_id, "op": kind})
-        elif kind == "hand_toggle":
-            hand = message.get("hand", 1)
-            if not isinstance(hand, int) or isinstance(hand, bool) or not 1 <= hand <= 8:
-                raise ApiError(422, "invalid-value", "hand is a number 1–8")
-            is_open = await service.hand_toggle(actor, hand)
-            await self.send(
-                {"type": "ack", "id": request_id, "op": kind, "hand": hand, "open": is_open}
-            )
-        elif kind == "stop":
-            await self.target.stop(actor)
-            await self.send({"type": "ack", "id": request_id, "op": kind})
-        else:
-            raise ApiError(400, "unknown-message", f"unknown message type {kind!r}")
+                await service.jog_release(actor)
+                await self.send(JogReleaseAck(id=request.id))
+            case HandToggle():
+                is_open = await service.hand_toggle(actor, request.hand)
+                await self.send(HandToggleAck(id=request.id, hand=request.hand, open=is_open))
+            case Stop():
+                await self.target.stop(actor)
+                await self.send(StopAck(id=request.id))
+
+
+ClientRequest = Ping | JogStart | JogHeartbeat | JogRelease | HandToggle | Stop
+
+_PROBLEMS = {
+    "frame": "jog frame is tool, xyz or joint",
+    "axis": "jog_start needs axis (0–5 or a name) and direction (1, -1, + or -)",
+    "direction": "jog_start needs axis (0–5 or a name) and direction (1, -1, + or -)",
+    "hand": "hand is a number 1–8",
+    "id": "id is a number or a string",
+}
+
+
+def read_request(message: dict[str, Any]) -> ClientRequest:
+    """The client's message as its model (`melfa.live.messages.ClientMessage`), or the
+    API error that says what is wrong with it. A ``stop`` is always read: whatever came
+    with it, STOP works."""
+    kind = message.get("type")
+    if not isinstance(kind, str) or kind not in CLIENT_TYPES:
+        raise ApiError(400, "unknown-message", f"unknown message type {kind!r}"[:120])
+    try:
+        return parse_client(message)
+    except ValidationError as exc:
+        if kind == "stop":
+            return Stop()
+        first = exc.errors()[0]
+        field = str(first["loc"][1]) if len(first["loc"]) > 1 else ""
+        problem = _PROBLEMS.get(field, f"{kind}: {field} {first['msg']}".strip())
+        where = {"field": field} if field else None
+        raise ApiError(422, "invalid-value", problem, where=where) from None
+
+
+def _echo(request_id: object) -> RequestId:
+    """The id to echo: a number or a string, as the schema says (anything else: none)."""
+    if isinstance(request_id, int | str) and not isinstance(request_id, bool):
+        return request_id
+    return None
 
 
 @router.websocket("/api/ws")
@@ -414,20 +483,18 @@ async def live(websocket: WebSocket) -> None:
         extra={"fields": {"user": actor.user, "session": actor.session_id, "target": target.id}},
     )
     await connection.send(
-        {
-            "type": "hello",
-            "protocol": PROTOCOL_VERSION,
-            "user": session.user.username,
-            "role": session.user.role.value,
-            "robot_role": actor.role.value,
-            "session": actor.session_id,
-            "robot": context.settings.robot if target.shared else "sim",
-            "target": target_dict(target),
-            "link": service.link_status.value,
-            "lease_holder": actor_dict(holder) if target.shared else None,
-            "snapshot_hz": context.settings.snapshot_hz,
-            "jog_override_ceiling": service.config.jog_override_ceiling,
-        }
+        Hello(
+            user=session.user.username,
+            role=session.user.role.value,
+            robot_role=actor.role.value,
+            session=actor.session_id,
+            robot=context.settings.robot if target.shared else "sim",
+            target=TargetRef.model_validate(target_dict(target)),
+            link=service.link_status,
+            lease_holder=actor_out(holder) if target.shared else None,
+            snapshot_hz=context.settings.snapshot_hz,
+            jog_override_ceiling=service.config.jog_override_ceiling,
+        )
     )
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
     receive = asyncio.create_task(connection.receive(), name=f"ws-recv-{actor.user}")
