@@ -6,6 +6,7 @@ controller: one session that makes the server send every kind of message."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from collections.abc import Iterator
 from pathlib import Path
@@ -16,8 +17,27 @@ import pytest
 from websockets.sync.client import ClientConnection, connect
 
 from melfa.link.memory import MemoryLink
-from melfa.live.messages import CLIENT_TYPES, SERVER
+from melfa.live.messages import (
+    CLIENT_TYPES,
+    SERVER,
+    CommandResultMessage,
+    DebugMessage,
+    JogMessage,
+    LeaseMessage,
+    LinkMessage,
+    ProgressMessage,
+    StateMessage,
+)
 from melfa.live.schema import ws_schema
+from melfa.service import (
+    CommandResult,
+    JogChanged,
+    LeaseChanged,
+    LinkStatusChanged,
+    StateSnapshot,
+    UploadProgress,
+)
+from melfa.service.debugging import DebugUpdate
 from melfa.web import WebSettings
 from tests.web.conftest import fast_service, make_store
 from tests.web.live_server import Live, live_server
@@ -181,3 +201,23 @@ def test_every_message_of_a_session_validates_against_the_committed_schema(live:
     assert all(client.is_valid(m) for m in accepted), accepted
     refused = [m for m in ann.sent if m not in accepted]
     assert not any(client.is_valid(m) for m in refused)
+
+
+@pytest.mark.parametrize(
+    ("event", "message"),
+    [
+        (StateSnapshot, StateMessage),
+        (DebugUpdate, DebugMessage),
+        (LinkStatusChanged, LinkMessage),
+        (UploadProgress, ProgressMessage),
+        (CommandResult, CommandResultMessage),
+        (LeaseChanged, LeaseMessage),
+        (JogChanged, JogMessage),
+    ],
+)
+def test_every_field_of_an_event_has_its_place_in_the_message(event: Any, message: Any) -> None:
+    """A field the service adds to an event and the protocol does not know would be
+    dropped on the way to the clients: the message model names every one."""
+    dropped = {"actor"} if event is StateSnapshot else set()  # a snapshot is nobody's
+    missing = {f.name for f in dataclasses.fields(event)} - set(message.model_fields) - dropped
+    assert not missing, f"{message.__name__} has no place for {sorted(missing)}"

@@ -19,6 +19,8 @@ from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
 
 from melfa.protocol.advice import Fix
 from melfa.vocab.activity import Activity
+from melfa.vocab.commands import Command
+from melfa.vocab.jog import JogEnd
 from melfa.vocab.link import LinkStatus
 
 PROTOCOL_VERSION = 1
@@ -181,14 +183,22 @@ class LeaseMessage(_Event):
     reason: str
     since: datetime | None = None
     holder_state: str | None = None
+    command: Command | None = None
+    """The command that took a free lease (a client names it by `Command.label`)."""
 
 
 class JogMessage(_Event):
+    """A hold-to-move jog began or ended: an end says why (``end``: a client shows
+    `JogEnd.words`), who caused it (``by``) and a refusal's text (``detail``)."""
+
     type: Literal["jog"] = "jog"
     active: bool
     frame: JogFrameName | None = None
     axis: int | None = None
     direction: int | None = None
+    end: JogEnd | None = None
+    by: str | None = None
+    detail: str = ""
     reason: str = ""
 
 
