@@ -11,6 +11,7 @@ from melfa.protocol import (
     JOINT_NAMES,
     POSE_NAMES,
     JogMode,
+    Ok,
     Refused,
     Request,
     RunStatus,
@@ -193,8 +194,11 @@ def test_stop_from_another_thread_interrupts_wait(
 # ---------------------------------------------------------------------- refusals
 
 
-def test_6010_before_open_and_unknown_command(robot: Robot, controller: VirtualController) -> None:
-    assert robot.channel.request(Request("STATE")) == Refused(6010, detail="00000")
+def test_unknown_command_is_6010_and_state_is_answered_before_open(
+    robot: Robot, controller: VirtualController
+) -> None:
+    # Real controllers answered clients that never sent OPEN (SimConfig.open_required).
+    assert isinstance(robot.channel.request(Request("STATE")), Ok)
     with pytest.raises(ControllerError) as exc:
         robot.request("NOSUCHCOMMAND")
     assert exc.value.number == 6010

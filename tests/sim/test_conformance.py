@@ -140,7 +140,7 @@ def test_refusals_on_record_carry_the_recorded_numbers() -> None:
 
 def test_four_digit_option_answers_the_manual_form() -> None:
     drive = Driver(VirtualController(SimConfig(strict=True, nine_digit_errors=False)))
-    assert drive.send("STATE") == b"QeR6010\r"
+    assert drive.send("FROBNICATE") == b"QeR6010\r"
     drive.ok("OPEN=TOOLBOX")
     assert drive.send("SRVON") == b"QeR6020\r"
 

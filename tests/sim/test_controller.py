@@ -18,7 +18,8 @@ BANNER = (
 # ----------------------------------------------------------------------- session, rights
 
 
-def test_everything_before_open_is_illegal(drive: Driver) -> None:
+def test_everything_before_open_is_illegal_where_open_is_required() -> None:
+    drive = Driver(VirtualController(SimConfig(open_required=True)))
     for command in ("STATE", "CNTLON", "JPOSF", "EXECMOV P1", "CLOSE"):
         assert drive.send(command) == b"QeR601000000\r"
 
@@ -33,7 +34,8 @@ def test_unknown_command_is_illegal(drive: Driver) -> None:
     assert drive.send("STATEX") == b"QeR601000000\r"
 
 
-def test_close_ends_the_session_and_drops_rights(drive: Driver) -> None:
+def test_close_ends_the_session_and_drops_rights() -> None:
+    drive = Driver(VirtualController(SimConfig(open_required=True)))
     drive.ok("OPEN=X")
     drive.ok("CNTLON")
     assert drive.send("CLOSE") == b"QoK\r"
@@ -384,7 +386,7 @@ def test_too_long_error_is_configurable() -> None:
 
 
 def test_replies_are_typed_the_same_way(drive: Driver) -> None:
-    assert drive.reply("STATE") == Refused(6010, detail="00000")
+    assert drive.reply("FROBNICATE") == Refused(6010, detail="00000")
     assert isinstance(drive.controller.respond("1;1;OPEN=X", 0.0), Ok)
 
 

@@ -165,7 +165,7 @@ def test_slot_minus_one_reads_the_current_position() -> None:
 def test_strict_refuses_documented_only_commands_in_the_real_form() -> None:
     strict = _ready(SimConfig(strict=True))
     lenient = _ready(SimConfig(strict=False))
-    for command in ("DSTATE", "HNDSTS", "JOG00;00;00;01;00", "LISTP TOP", "FCHECK R"):
+    for command in ("CALIB", "HNDSTS", "JOG00;00;00;01;00", "LISTP TOP", "FCHECK R"):
         assert strict.send(command) == b"QeR601000000\r", command
         assert lenient.send(command) != b"QeR601000000\r", command
     # [TRACE] RT ToolBox's slot forms are served; a slot form never seen is not.
@@ -177,7 +177,7 @@ def test_strict_serves_exactly_the_commands_with_real_evidence() -> None:
     served = strict_commands()
     assert {"OPEN=", "STATE", "PPOSF", "GJPOSF", "ERRORRD", "SLOTINIT", "EMDAT"} <= set(served)
     assert all(COMMANDS[name].evidence is not Evidence.DOC for name in served)
-    assert "DSTATE" not in served and "JOG" not in served
+    assert "CALIB" not in served and "JOG" not in served
 
 
 def test_edit_refusals_follow_the_digit_setting() -> None:

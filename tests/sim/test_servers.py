@@ -17,6 +17,7 @@ from melfa.sim import (
     NO_PACING,
     Pacing,
     PtyServer,
+    SimConfig,
     TcpServer,
     VirtualController,
     WireSession,
@@ -63,7 +64,7 @@ def test_pyserial_8e2_client_on_a_fresh_pty(sim_pty_path: str) -> None:
 
 
 def test_each_port_is_fresh_and_disconnect_ends_the_session() -> None:
-    sim = VirtualController()
+    sim = VirtualController(SimConfig(open_required=True))
     with PtyServer(sim) as server:
         first = server.new_port()
         with serial.Serial(first, 9600, parity="E", stopbits=2, timeout=TIMEOUT_S) as port:
@@ -115,7 +116,7 @@ def test_tcp_server_reports_its_url() -> None:
 
 
 def test_in_memory_link() -> None:
-    sim = VirtualController()
+    sim = VirtualController(SimConfig(open_required=True))
     with open_sim_link(controller=sim) as link:
         assert link.exchange(Request("STATE")) == Refused(6010, detail="00000")
         assert isinstance(link.exchange(Request("OPEN=X")), Ok)

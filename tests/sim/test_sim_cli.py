@@ -167,7 +167,7 @@ def test_real_situation_options_reach_the_served_controller() -> None:
                 (b"1;1;OPEN=CLI\r", b"QoK3F;3F;"),
                 (b"1;1;CNTLON\r", b"QoK\r"),
                 (b"1;1;SLOTINIT\r", b"QeR6020\r"),  # TEACH, 4 digits
-                (b"1;1;DSTATE\r", b"QeR6010\r"),  # strict
+                (b"1;1;HNDSTS\r", b"QeR6010\r"),  # strict
                 (b"1;1;PPOSF\r", b"QoKX;****;"),  # origin not set
             ):
                 port.write(request)

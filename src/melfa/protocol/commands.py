@@ -77,7 +77,7 @@ class CommandSpec:
 
 _S = SlotForm
 _TASK = frozenset({_S.TASK})
-_POS = frozenset({_S.TASK, _S.CURRENT})
+_POS = frozenset({_S.TASK, _S.CURRENT, _S.EDIT})  # 1;9;JPOSF: a real CR1-571 [issue 24]
 _EDIT = frozenset({_S.TASK, _S.EDIT})
 
 
@@ -109,7 +109,7 @@ _TABLE: tuple[CommandSpec, ...] = (
     _c("PAW=", Kind.EDIT, D),
     # state
     _c("STATE", Kind.READ, T, exact=True),
-    _c("DSTATE", Kind.READ, D, exact=True),
+    _c("DSTATE", Kind.READ, T, exact=True),  # answered by a real CR1-571 [issue 24]
     _c("ERRORRD", Kind.READ, T),
     _c("ERRORMES", Kind.READ, T),
     _c("ERRORLOG", Kind.READ, D),
@@ -146,6 +146,9 @@ _TABLE: tuple[CommandSpec, ...] = (
     _c("MOVSP", Kind.MOTION, D, rights=True),
     _c("HOME", Kind.MOTION, D, rights=True),
     _c("RUN", Kind.MOTION, T, rights=True),
+    # HOT<program>;<variable>=<value>: write a variable of a running program [R-protocol
+    # manual; sent by ctu-mitsubishi to a real RV-6S, which moves it with J1=(…)].
+    _c("HOT", Kind.MOTION, C),
     # program slots
     _c("PRGLOAD=", Kind.PROGRAM, C, rights=True),
     _c("PRGUP", Kind.PROGRAM, D, rights=True),
@@ -185,9 +188,12 @@ def lookup(command: str) -> CommandSpec | None:
     """The spec of ``command`` (its text after ``<robot>;<slot>;``), or None if unknown.
 
     The longest matching name wins (``OVRD=`` before ``OVRD``, ``ERRORMES`` before
-    ``ERROR``); an exact command followed by an argument does not match.
+    ``ERROR``); an exact command followed by an argument does not match, but a trailing
+    ``.`` is no argument (``JPOSF.`` was answered by a real RV-1A [issue 24]).
     """
     upper = command.upper()
+    if upper.endswith(".") and not upper.startswith("HOT"):
+        upper = upper[:-1]
     for spec in _BY_LENGTH:
         if upper.startswith(spec.name):
             if spec.exact and upper[len(spec.name) :].strip():

@@ -81,6 +81,15 @@ class LineSplitter:
                 raise RemoteProtocolError(f"line of {len(line)} bytes exceeds {self.max_size}")
             return line
 
+    def take_pending(self) -> bytes:
+        """Hand over the bytes held without a terminator (a peer that sends none)."""
+        if self._discarding or len(self._buffer) > self.max_size:
+            self.clear()
+            return b""
+        data = bytes(self._buffer)
+        self._buffer.clear()
+        return data
+
     def clear(self) -> None:
         """Forget everything held (after a resynchronisation)."""
         self._buffer.clear()

@@ -106,6 +106,20 @@ class KeySwitch(enum.Enum):
         return {"teach": "TEACH", "auto-op": "AUTO (Op.)", "auto-ext": "AUTO (Ext.)"}[self.value]
 
 
+class Terminator(enum.Enum):
+    """What ends the controller's replies: its ``CTERM232`` parameter [DOC S5], 0 = CR
+    (factory setting, every recorded reply [TRACE K9b-RAW]), 1 = CR LF (what ctu-mitsubishi's
+    ``readline()`` needs to return at once; its lab must have had it)."""
+
+    CR = "0"
+    CRLF = "1"
+
+    @property
+    def wire(self) -> bytes:
+        """The bytes after each reply."""
+        return b"\r\n" if self is Terminator.CRLF else b"\r"
+
+
 @dataclass(frozen=True, slots=True)
 class SimConfig:
     """Options of the virtual controller. Every [GUESS] of protocol.md that changes what a
@@ -168,6 +182,15 @@ class SimConfig:
     """Refuse (6010, in the real form) every command no real controller was seen to answer:
     only commands with recorded answers or sent by real serial clients are served (the list:
     docs/simulator.md). Default: `$MELFA_SIM_STRICT` (the test suite sets it)."""
+
+    open_required: bool = False
+    """True: the manual's rule, 6010 to everything before ``OPEN=`` [DOC S1 §3.1]. False
+    (default, what was seen): three real serial clients never send OPEN and worked
+    (ctu-mitsubishi on an RV-6S, a CR1-571 client, an RV-1A client) [CLIENT, issue 24]."""
+
+    cterm: Terminator = Terminator.CR
+    """``CTERM232``: the reply terminator (requests may end in CR, LF, CR LF, NUL, or
+    nothing at all on a pause, as the Robotics Library sends them over TCP)."""
 
     free_bytes: int = 225536
     """[TRACE S21] Free program memory shown by PDIR on an empty controller."""

@@ -7,15 +7,17 @@ clock, tests pass numbers. Motion happens on a `SimulatedArm` advanced to `now` 
 answer.
 
 This module only dispatches. It finds the command in the protocol's one command table
-(`melfa.protocol.commands`), checks what every request needs (OPEN first: 6010; the
-operation rights and the MODE key: 6020; in strict mode, real evidence: 6010), calls the
+(`melfa.protocol.commands`), checks what every request needs (OPEN first, only with
+`open_required`: 6010; the operation rights and the MODE key: 6020; in strict mode, real
+evidence: 6010), calls the
 handler of the command (`melfa.sim.handlers`, one module per job) and writes the refusal in
 the configured form (9 digits like a real CRn-5xx, or the manual's 4) and `Qok`/`Qer` while
 an alarm is active. The state lives in `melfa.sim.core.ControllerCore`.
 
->>> c = VirtualController()
->>> c.handle(b"1;1;STATE\\r", now=0.0)
+>>> from melfa.sim.config import SimConfig
+>>> VirtualController(SimConfig(open_required=True)).handle(b"1;1;STATE\\r", now=0.0)
 b'QeR601000000\\r'
+>>> c = VirtualController()
 >>> c.handle(b"1;1;OPEN=NARCUSR\\r", now=0.0)[:12]
 b'QoK3F;3F;7,0'
 >>> c.handle(b"1;1;SRVON\\r", now=0.1)
@@ -66,7 +68,7 @@ class VirtualController(ControllerCore):
 
     def handle(self, request: bytes | str, now: float) -> bytes:
         """Answer one request line (with or without its CR) at time `now`."""
-        return encode_reply(self.respond(request, now))
+        return encode_reply(self.respond(request, now), self.config.cterm.wire)
 
     def respond(self, request: bytes | str, now: float) -> Reply:
         """Like `handle`, as a typed reply."""
@@ -97,7 +99,7 @@ class VirtualController(ControllerCore):
 
     def _admit(self, spec: CommandSpec, req: Request) -> int | None:
         """The error number that refuses `req` before its handler runs, or None."""
-        if spec.name != "OPEN=" and not self.is_open:
+        if spec.name != "OPEN=" and not self.is_open and self.config.open_required:
             return err.ILLEGAL_COMMAND
         if self.config.strict and (
             spec.evidence not in STRICT_EVIDENCE or self._slot_form(req) not in spec.slots

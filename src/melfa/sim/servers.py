@@ -157,6 +157,9 @@ class PtyServer(_Base):
             while not self._stop.is_set():
                 ready, _, _ = select.select([port.master], [], [], POLL_S)
                 if not ready:
+                    received = self._clock()
+                    for answer in port.session.receive_idle(self.now()):
+                        self._send(lambda b: _write_all(port.master, b), answer, received)
                     continue
                 try:
                     data = os.read(port.master, 4096)
@@ -275,6 +278,9 @@ class TcpServer(_Base):
                 try:
                     data = conn.recv(4096)
                 except TimeoutError:
+                    received = self._clock()
+                    for answer in session.receive_idle(self.now()):
+                        self._send(conn.sendall, answer, received)
                     continue
                 if not data:
                     break

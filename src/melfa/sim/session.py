@@ -5,8 +5,9 @@ one read, line noise), hands them to a `WireSession` with the time, and writes b
 replies it returns, paced by `Pacing`. Like h11's trio server example, each choice about bad
 input is made here, once, for every transport:
 
-- Lines end at CR; an LF right after a CR is dropped, and empty lines are ignored (a terminal
-  or a CR LF client) [protocol.md §1.1].
+- Lines end at CR, LF or CR LF (empty lines are ignored) [protocol.md §1.1]; bytes with no
+  terminator at all are one request once the line falls quiet (`receive_idle`): the
+  Robotics Library's MitsubishiR3 sends none over TCP.
 - A line longer than `MAX_LINE_BYTES` without a CR is answered once with the too-long error
   and the rest up to the next CR is thrown away; the session never holds unbounded input.
 - Bytes that are not a request (non-ASCII, NUL …) get the controller's answer to garbage,
@@ -57,7 +58,7 @@ class WireSession:
 
     def receive(self, data: bytes, now: float) -> list[Answer]:
         """Feed received bytes; return the answers to every complete request, in order."""
-        self._lines.feed(data.replace(b"\x00", b"\r"))
+        self._lines.feed(data.replace(b"\x00", b"\r").replace(b"\n", b"\r"))
         answers: list[Answer] = []
         while True:
             try:
@@ -69,11 +70,20 @@ class WireSession:
                 continue
             if line is None:
                 return answers
-            if not line.strip(b"\n"):
+            if not line:
                 continue
             with self.lock:
-                reply = self.controller.handle(line.lstrip(b"\n"), now)
+                reply = self.controller.handle(line, now)
             answers.append(Answer(reply, len(line) + 1))
+
+    def receive_idle(self, now: float) -> list[Answer]:
+        """The line fell quiet: bytes held without a terminator are one request."""
+        line = self._lines.take_pending()
+        if not line.strip():
+            return []
+        with self.lock:
+            reply = self.controller.handle(line, now)
+        return [Answer(reply, len(line))]
 
     def disconnect(self, now: float) -> None:
         """The client went away: its session ends (it must OPEN again), a jog stops."""

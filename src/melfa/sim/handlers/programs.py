@@ -15,6 +15,7 @@ from melfa.protocol.error_table import NOT_PSA, ORIGIN_NOT_SET
 from melfa.protocol.messages import VT, EditRefused, Ok, Refused, Reply, Request
 from melfa.sim import errors as err
 from melfa.sim.core import ControllerCore, Handler, Slot, SlotState
+from melfa.sim.runner import StatementExecutor
 from melfa.sim.store import EditBuffer, EditError, classify_item, program_name
 from melfa.sim.syntax import first_syntax_error
 
@@ -73,6 +74,28 @@ def run(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     slot.runner.start(now, cycle=cycle)
     # A program starts executing at the RUN, not at the next request.
     c.run_slot(slot, now)
+    return Ok()
+
+
+_TRAILING_COMMA = re.compile(r",\s*\)")
+
+
+def hot(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
+    """``HOT<program>[.MB4];<variable>=<value>``: write a variable of a program that runs
+    (or is paused) in a slot, while it runs [R-protocol manual; ctu-mitsubishi sends
+    ``HOTMoveit;J1=(0.00,…,0.00,)`` to a real RV-6S: the trailing comma is accepted].
+    Refused with 4140 when no slot holds the program."""
+    target, _, assignment = arg.partition(";")
+    name = program_name(target.strip().upper().removesuffix(".MB4"))
+    if name is None or "=" not in assignment:
+        return Refused(err.ILLEGAL_COMMAND)
+    slot = next(
+        (s for s in c.slots.values() if s.program == name and s.state is not SlotState.IDLE),
+        None,
+    )
+    if slot is None or not isinstance(slot.runner, StatementExecutor):
+        return Refused(err.PROGRAM_NOT_FOUND)
+    slot.runner.execute(_TRAILING_COMMA.sub(")", assignment.strip()), now)
     return Ok()
 
 
@@ -321,6 +344,7 @@ def fcheck(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 HANDLERS: dict[str, Handler] = {
     "PRGLOAD=": prgload,
     "RUN": run,
+    "HOT": hot,
     "RSTPRG": rstprg,
     "SLOTINIT": slotinit,
     "LOAD=": load,

@@ -1,6 +1,7 @@
 """Session and rights: OPEN/CLOSE, CNTLON/CNTLOFF, KEYWD, the PRTVER handshake, parameters.
 
-[DOC S1 §3.1] OPEN must come first (6010 before it); the client name is arbitrary. The
+[DOC S1 §3.1] OPEN must come first (6010 before it) where `open_required` says so; real
+clients that never sent it were answered. The client name is arbitrary. The
 operation rights (CNTLON) are what the `rights=True` commands of the table need (6020).
 """
 
@@ -72,7 +73,7 @@ def parameters(c: ControllerCore) -> dict[str, tuple[str, ...]]:
         "CBAU232": ("9600",),
         "CPRTY232": ("2",),
         "CSTOP232": ("2",),
-        "CTERM232": ("0",),
+        "CTERM232": (c.config.cterm.value,),
         "CPRC232": ("0",),
         "TASKMAX": (str(c.config.banner.taskmax),),
     }
