@@ -35,7 +35,7 @@ def open_sim_link(
 
     >>> from melfa.protocol import Request
     >>> link = open_sim_link()
-    >>> link.exchange(Request("STATE"))
+    >>> link.exchange(Request("FROBNICATE"))
     Refused(error=6010, alarm=False, detail='00000')
     >>> link.close()
     """
