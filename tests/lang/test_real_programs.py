@@ -203,3 +203,48 @@ def test_a_v_construct_used_again_is_named_at_its_first_use() -> None:
     assert [d.line for d in ds] == [1, 5]
     assert ds[0].message.endswith("(also on lines 3, 4)")
     assert "every P_Fs…, M_Fs… name" in ds[1].message
+
+
+# --- mistakes that are cheap to catch -----------------------------------------------------
+
+
+def test_a_position_stored_in_a_numeric_name() -> None:
+    # `DEF POS FP` commented out: the simulator stops with L4390 at line 20.
+    (d,) = found("10 ' DEF POS FP\n20 FP = (400,0,600,180,0,180)(7,0)\n30 MOV FP\n")
+    assert (d.line, d.rule, d.code, d.severity) == (
+        2,
+        "position-in-number",
+        "L4390",
+        Severity.ERROR,
+    )
+    assert d.suggestion == "Declare it first with DEF POS FP, or give it a name that starts with P."
+    assert rules("10 DEF POS FP\n20 FP = (400,0,600,180,0,180)(7,0)\n") == []
+    assert rules("10 PX = (400,0,600,180,0,180)(7,0)\n20 P_01 = PX\n") == []
+
+
+def test_degrees_written_into_a_radian_element() -> None:
+    (d,) = found("10 PH1 = P_CURR\n20 PH1.C = 70\n")
+    assert (d.line, d.rule, d.severity) == (2, "angle-in-degrees", Severity.WARNING)
+    assert d.suggestion == "Convert it: RAD(70) gives 1.2217 rad."
+    assert rules("10 PH1 = P_CURR\n20 PH1.C = RAD(70)\n30 PH1.A = -3.1\n40 PH1.X = 700\n") == []
+
+
+def test_a_goto_that_leaves_a_gosub_routine() -> None:
+    text = (
+        "10 *LOOP\n20 GOSUB *SUB\n30 GOTO *LOOP\n"
+        "40 *SUB\n50 IF M_IN(1) = 1 THEN GOTO *LOOP\n60 IF M_IN(2) = 1 THEN *SKIP\n"
+        "70 RETURN\n80 *SKIP\n90 M1 = 2\n100 RETURN\n"
+    )
+    (d,) = found(text)
+    assert (d.line, d.column, d.rule, d.severity) == (5, 29, "goto-out-of-gosub", Severity.WARNING)
+    assert "*SUB" in d.message
+    # A GOSUB used as a loop has no RETURN: not a routine.
+    assert rules("10 *MAIN\n20 M1 = M1 + 1\n30 GOSUB *MAIN\n40 GOTO *MAIN\n") == []
+
+
+def test_leaving_a_routine_for_code_that_stops_the_program_leaks_nothing() -> None:
+    text = (
+        "10 GOSUB *TAKE\n20 END\n30 *TAKE\n40 IF M1 <= 0 THEN *EMPTY\n50 RETURN\n"
+        "60 *EMPTY\n70 ERROR 9100\n"
+    )
+    assert rules(text) == []

@@ -125,6 +125,7 @@ class _Analyzer(NameChecks, VChecks):
         self.statements(labels)
         self.duplicates()
         self.interrupt_returns()
+        self.gotos_leaving_routines()
         broken = self.broken_structure()
         for problem in match_blocks(self.program).problems:
             if _RULE_FAMILY.get(problem.rule) not in broken:
@@ -403,6 +404,10 @@ class _Analyzer(NameChecks, VChecks):
         vt = self.symbols.kind_of(node.value)
         if node.pulse is not None:
             self.dly_range(node.pulse)
+        if tt is Kind.NUM:
+            self.angle_in_degrees(node)
+        if tt is None and self.position_in_number(node, vt):
+            return
         if tt is None or vt is None or tt is vt:
             return
         if {tt, vt} == {Kind.POS, Kind.JNT}:

@@ -11,6 +11,7 @@ those of melfa-basic-iv.md.
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Iterable
 
 from melfa.lang import ast as A  # noqa: N812
@@ -35,6 +36,8 @@ _ARITHMETIC = frozenset(
 )  # fmt: skip
 _SYSTEM_NAMES = tuple(SYSTEM_VARIABLES)
 _FUNCTION_NAMES = tuple(FUNCTIONS)
+_ANGLES = frozenset({A.ElementKind.A, A.ElementKind.B, A.ElementKind.C})
+_FULL_TURN = 2 * math.pi
 _EXAMPLE = {Kind.NUM: "M1", Kind.STR: "C1$", Kind.POS: "P1", Kind.JNT: "J1"}
 
 
@@ -133,6 +136,49 @@ class NameChecks:
             f"Assign your own variable instead, e.g. {_EXAMPLE[var.kind]} = …",
         )
         return True
+
+    def position_in_number(self, node: A.Assign, value_kind: Kind | None) -> bool:
+        """``FP = (…)(7,0)`` with no DEF POS FP: FP is a number (§2.1), and storing a
+        position in it stops the program with L4390 (the simulator does). True if reported."""
+        target = node.target
+        if value_kind not in (Kind.POS, Kind.JNT) or not isinstance(target, A.Name):
+            return False
+        name = target.name
+        if name in self.symbols.declared or is_external(name) or name[:1] in ("P", "J"):
+            return False
+        kind, letter, word = (
+            ("position", "P", "POS") if value_kind is Kind.POS else ("joint position", "J", "JNT")
+        )
+        self.add(
+            node.value.span,
+            E,
+            f"{target.written} is a number (its name does not start with {letter} and no "
+            f"DEF {word} declares it), so it cannot hold a {kind}",
+            "position-in-number",
+            "L4390",
+            f"Declare it first with DEF {word} {target.written}, or give it a name that "
+            f"starts with {letter}.",
+        )
+        return True
+
+    def angle_in_degrees(self, node: A.Assign) -> None:
+        """``PH1.C = 70``: A, B and C hold radians in a program (§2.3 [S2 p.145 note 1]); a
+        constant beyond a full turn was surely meant in degrees."""
+        target = node.target
+        if not isinstance(target, A.Element) or target.element not in _ANGLES:
+            return
+        value = A.constant_number(node.value)
+        if value is None or abs(value) <= _FULL_TURN:
+            return
+        shown = node.value.span
+        self.add(
+            shown,
+            W,
+            f"{target.element.value} holds radians in a program; {value:g} rad is "
+            f"{abs(value) / _FULL_TURN:.1f} turns, so this looks like degrees",
+            "angle-in-degrees",
+            suggestion=f"Convert it: RAD({value:g}) gives {math.radians(value):.4f} rad.",
+        )
 
     def act_variable(self, node: A.Assign) -> None:
         """``ACT1 = 1``: without the space, ACT1 is a variable, and interrupt 1 stays off
@@ -416,6 +462,67 @@ class NameChecks:
                     suggestion="Write a plain RETURN.",
                 )
 
+    def gotos_leaving_routines(self) -> None:
+        """A GOTO from inside a GOSUB routine to a line outside it: the RETURN never runs,
+        so each pass leaves a return address on the stack until GOSUB's depth (about 800)
+        is exceeded ("leaving a GOSUB with GOTO leaks stack", §4.5 [S1 RETURN, GOSUB]).
+        A routine runs from its entry to its last RETURN before another routine's entry."""
+        lines = self.program.lines
+        where = self._line_index()
+        starts: set[int] = set()
+        for line in lines:
+            stmt = line.statement
+            if isinstance(stmt, A.Gosub):
+                targets: tuple[A.JumpTarget, ...] = (stmt.target,)
+            elif isinstance(stmt, A.OnJump) and stmt.kind is A.JumpKind.GOSUB:
+                targets = stmt.targets
+            else:
+                continue
+            starts.update(at for at in (where.get(_key(t)) for t in targets) if at is not None)
+        if not starts:
+            return
+        entries = starts | {
+            at
+            for at in (where.get(_key(t)) for t in self.symbols.interrupt_targets)
+            if at is not None
+        }
+        for start in sorted(starts):
+            end = None
+            for index in range(start, len(lines)):
+                if index != start and index in entries:
+                    break
+                if _returns(lines[index].statement):
+                    end = index
+            if end is None:
+                continue  # no RETURN: a GOSUB used as a loop, not a routine
+            line = lines[start]
+            name = f"*{line.label_text}" if line.label_text else f"at step {line.number}"
+            for index in range(start, end + 1):
+                for target in _gotos(lines[index].statement):
+                    at = where.get(_key(target))
+                    if at is None or start <= at <= end or _ends(lines, at):
+                        continue
+                    self.add(
+                        target.span,
+                        W,
+                        f"This jump leaves the subroutine {name} before its RETURN: every "
+                        "pass leaves a return address behind, and after about 800 the "
+                        "program stops",
+                        "goto-out-of-gosub",
+                        suggestion="End the routine with RETURN and jump from where it was "
+                        "called, or keep the jump inside the routine.",
+                    )
+
+    def _line_index(self) -> dict[str | int, int]:
+        """Label or step number -> the index of its line (the first, if repeated)."""
+        where: dict[str | int, int] = {}
+        for index, line in enumerate(self.program.lines):
+            if line.label is not None:
+                where.setdefault(line.label, index)
+            if line.number is not None:
+                where.setdefault(line.number, index)
+        return where
+
     def _first_return(self, start: int) -> A.Return | None:
         entries = self._entries
         for index in range(start, len(self.program.lines)):
@@ -429,3 +536,47 @@ class NameChecks:
                     if isinstance(branch, A.Return):
                         return branch
         return None
+
+
+def _key(target: A.JumpTarget) -> str | int:
+    return target.name if isinstance(target, A.LabelRef) else target.number
+
+
+_STOPS = frozenset({A.CommandKind.END, A.CommandKind.ERROR})
+
+
+def _ends(lines: tuple[A.Line, ...], at: int) -> bool:
+    """The code from line `at` stops the program (END, ERROR) before any jump: leaving a
+    routine for it leaks nothing (``IF MPILA <= 0 THEN *EMPTY`` … ``ERROR 9100``)."""
+    for line in lines[at:]:
+        stmt = line.statement
+        if isinstance(stmt, A.Command) and stmt.kind in _STOPS:
+            return True
+        if isinstance(stmt, A.Goto | A.Gosub | A.OnJump | A.Return | A.If | A.For | A.While):
+            return False
+    return True
+
+
+def _returns(stmt: A.Statement | None) -> bool:
+    if isinstance(stmt, A.Return):
+        return True
+    return isinstance(stmt, A.If) and (
+        isinstance(stmt.then, A.Return) or isinstance(stmt.else_, A.Return)
+    )
+
+
+def _gotos(stmt: A.Statement | None) -> tuple[A.JumpTarget, ...]:
+    """Where a statement may jump with GOTO (not GOSUB, which comes back)."""
+    if isinstance(stmt, A.Goto):
+        return (stmt.target,)
+    if isinstance(stmt, A.OnJump) and stmt.kind is A.JumpKind.GOTO:
+        return stmt.targets
+    if isinstance(stmt, A.If):
+        found: list[A.JumpTarget] = []
+        for branch in (stmt.then, stmt.else_):
+            if isinstance(branch, A.LabelRef | A.LineRef):
+                found.append(branch)
+            elif isinstance(branch, A.Goto):
+                found.append(branch.target)
+        return tuple(found)
+    return ()
