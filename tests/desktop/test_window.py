@@ -20,11 +20,11 @@ pytest.importorskip("PySide6.QtWidgets", reason="the desktop extra (PySide6) is 
 from PySide6.QtCore import QEvent, Qt
 from PySide6.QtGui import QFocusEvent, QKeyEvent
 from PySide6.QtTest import QTest
-from PySide6.QtWidgets import QApplication, QWidget
+from PySide6.QtWidgets import QApplication, QMessageBox, QWidget
 
 from melfa.desktop.api import ApiClient
 from melfa.desktop.app import application
-from melfa.desktop.dialogs import Notice, NoticeKind
+from melfa.desktop.dialogs import Notice, NoticeKind, QtDialogs
 from melfa.desktop.files import FileKind
 from melfa.desktop.live import FeedStatus
 from melfa.desktop.login import LoginDialog
@@ -43,6 +43,12 @@ LOOP_PROGRAM = """10 SERVO ON
 NUMBERED_PROGRAM = "5 SERVO ON\n7 OVRD 20\n100 MOV Pa\n230 MOV Pb\n999 END\n"
 """Numbered by the student, not in tens: the window must map steps through the real text."""
 FAULTY_PROGRAM = "10 SERVO ON\n20 MOV Pa\n30 FOO 1\n40 MOVE Pb\n"
+LONG_PROGRAM = (
+    "10 SERVO ON\n20 OVRD 20\n"
+    + "".join(f"{30 + 10 * n} M1 = {n}\n" for n in range(80))
+    + "900 *LOOP\n910 MOV Pa\n920 MOV Pb\n930 GOTO *LOOP\n"
+)
+"""Its moves at lines 84–85, far below what the program view shows at first."""
 
 
 class RecordingDialogs:
@@ -88,6 +94,7 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (folder / "numbered.MB4").write_text(NUMBERED_PROGRAM)
     (folder / "faulty.MB4").write_text(FAULTY_PROGRAM)
     (folder / "notes.txt").write_text("10 END\n")
+    (folder / "long.MB4").write_text(LONG_PROGRAM)
     return folder
 
 
@@ -366,8 +373,35 @@ def test_a_held_key_jogs_and_its_auto_repeat_is_ignored(ui: Ui, observer: ApiCli
         assert observer.state().jogging
     finally:
         QTest.keyRelease(pad, Qt.Key.Key_S)
-    assert not ui.presenter.hold.active
+    wait_until(lambda: not ui.presenter.hold.active, timeout=5)
     stays_put(ui, observer)
+
+
+def test_x_auto_repeat_not_marked_as_repeat_is_still_one_jog(ui: Ui, observer: ApiClient) -> None:
+    """X sends a held key's repeats as a key-up and a key-down at once, and Qt's xcb does
+    not always mark them as repeats: each pair must not end the jog and start another."""
+    ui.take_notices()
+    wait_until(lambda: still(observer))
+    pad = ui.window.jog_pad
+    jogs = log_text(ui).count("Jog X+ (held)")
+    QTest.keyPress(pad, Qt.Key.Key_W)
+    start_id = ui.presenter.hold.start_id
+    assert start_id is not None
+    try:
+        wait_until(lambda: observer.state().jogging, timeout=30)
+        for _ in range(5):
+            for kind in (QEvent.Type.KeyRelease, QEvent.Type.KeyPress):
+                event = QKeyEvent(kind, Qt.Key.Key_W, Qt.KeyboardModifier.NoModifier, "w")
+                QApplication.sendEvent(pad, event)
+            QApplication.processEvents()
+        assert ui.presenter.hold.active and ui.presenter.hold.start_id == start_id
+        assert pad.buttons[(0, 1)].isDown()
+    finally:
+        QTest.keyRelease(pad, Qt.Key.Key_W)
+    wait_until(lambda: not ui.presenter.hold.active, timeout=5)  # a real let-go stops it
+    assert not pad.buttons[(0, 1)].isDown()
+    stays_put(ui, observer)
+    assert log_text(ui).count("Jog X+ (held)") == jogs + 1
 
 
 def test_losing_the_keyboard_stops_a_held_jog(ui: Ui, observer: ApiClient) -> None:
@@ -504,6 +538,50 @@ def test_the_log_speaks_the_students_words(ui: Ui, files: Path, observer: ApiCli
     for internal in ("load_project", "jog_step", "reset_alarm", "1;1;", "Traceback", "None"):
         assert internal not in text
     assert "(step " not in text and "slot 1" not in text and "items" not in text
+
+
+def test_the_running_line_is_scrolled_into_view(ui: Ui, files: Path, observer: ApiClient) -> None:
+    ui.take_notices()
+    wait_until(lambda: still(observer))
+    ui.choose(FileKind.PROGRAM, files / "long.MB4")
+    ui.choose(FileKind.POINTS, files / "sample.POS")
+    view = ui.window.program_view
+    assert view.firstVisibleBlock().blockNumber() == 0  # the top shows, the moves do not
+    ui.window.load_button.click()
+    ui.idle()
+    ui.window.run_button.click()
+    ui.idle()
+    assert ui.take_notices() == []
+    try:
+
+        def marked_and_visible() -> bool:
+            marks = view.extraSelections()
+            if not marks or marks[0].cursor.block().text() not in ("910 MOV Pa", "920 MOV Pb"):
+                return False
+            block = marks[0].cursor.block()
+            shown = view.blockBoundingGeometry(block).translated(view.contentOffset())
+            return view.viewport().rect().contains(shown.toRect())
+
+        wait_until(marked_and_visible, timeout=60)
+        assert view.firstVisibleBlock().blockNumber() > 40
+    finally:
+        ui.presenter.stop()
+        wait_until(lambda: observer.state().running is False, timeout=30)
+        wait_until(lambda: still(observer), timeout=30)
+
+
+def test_notices_keep_coming_after_one_is_closed(qapp: QApplication) -> None:
+    """The real dialogs (offscreen): a notice closed with OK, then the next, and the next."""
+    dialogs = QtDialogs()
+    parent = QWidget()
+    for n in range(3):
+        dialogs.show(Notice(NoticeKind.ERROR, f"Load refused {n}", "Fix line 2."), parent)
+        [box] = [b for b in dialogs.open_boxes if b.windowTitle() == f"Load refused {n}"]
+        assert box.isVisible()
+        box.button(QMessageBox.StandardButton.Ok).click()  # the student closes it
+        QApplication.processEvents()
+        QApplication.sendPostedEvents(None, QEvent.Type.DeferredDelete.value)  # deleted now
+        assert dialogs.open_boxes == []
 
 
 def test_stop_stays_enabled_while_busy(ui: Ui) -> None:

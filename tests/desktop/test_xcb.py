@@ -4,8 +4,9 @@ at 1366×700, driven by real key events from xdotool, against the served virtual
 A user's whole first run, by keyboard: the password typed into the sign-in dialog, the
 program and points chosen in Qt's real file dialogs, Load, Run (the running line of the
 file on screen), a refused instruction whose notice stays open while STOP is clicked behind
-it, then a jog with W held down (xdotool keydown … keyup): the arm moves while the key is
-held and stops when it is let go; Esc stops a jog whose key is still down. A second
+it and two more notices in a row, then a jog with W held down past X's auto-repeat delay
+(xdotool keydown … keyup, auto-repeat on): one jog on the server, moving while the key is
+held and stopping when it is let go; Esc stops a jog whose key is still down. A second
 session of the same user watches the robot through the API, so each step is proven on the
 robot, not on the screen. The screenshot in docs/desktop.png is this window
 (MELFA_DESKTOP_SCREENSHOT=docs/desktop.png saves it there).
@@ -31,6 +32,8 @@ from tests.waiting import wait_until
 
 XVFB = shutil.which("Xvfb")
 XDOTOOL = shutil.which("xdotool")
+XSET = shutil.which("xset")
+"""Sets X's key auto-repeat (Debian's x11-xserver-utils); without it, Xvfb's default (on)."""
 pytestmark = [
     pytest.mark.skipif(
         XVFB is None or XDOTOOL is None,
@@ -104,6 +107,9 @@ class Desktop:
         window = self.windows(name)[-1]
         self.xdo("windowfocus", "--sync", window)
         return window
+
+    def run(self, *command: str) -> None:
+        subprocess.run(command, env=self.env, check=True, timeout=30)
 
     def key(self, *keys: str) -> None:
         self.xdo("key", "--clearmodifiers", *keys)
@@ -239,6 +245,23 @@ def stop_works_behind_a_notice(desktop: Desktop, observer: ApiClient) -> None:
     wait_for(lambda: not desktop.windows("Instruction refused"), "the notice to close")
 
 
+def notices_keep_coming_after_one_is_closed(desktop: Desktop, observer: ApiClient) -> None:
+    """Two more refusals in a row, each notice shown and closed with OK (the second notice
+    after a closed one once failed: "Internal C++ object already deleted")."""
+    for _ in range(2):
+        desktop.focus("melfa desktop")
+        desktop.key("alt+i")
+        desktop.key("ctrl+a")
+        desktop.type("MOVV P1")  # not a statement: refused, with its reason, in a notice
+        desktop.key("Return")
+        desktop.focus("Instruction refused")
+        desktop.key("Return")
+        wait_for(lambda: not desktop.windows("Instruction refused"), "the notice to close")
+    if observer.state().alarm is not None:
+        observer.reset_alarm()
+    assert "Traceback" not in desktop.log.read_text(errors="replace")
+
+
 def pose(observer: ApiClient) -> tuple[float, ...]:
     value = observer.state().pose
     assert value is not None
@@ -257,20 +280,34 @@ def stays_put(observer: ApiClient) -> None:
     assert max(abs(a - b) for a, b in zip(before, after, strict=True)) < 0.2, (before, after)
 
 
+def jog_starts(observer: ApiClient) -> set[object]:
+    """The jogs the server audited (each as accepted and as ended: one command id)."""
+    reply = observer._call("GET", "/api/audit?action=robot.jog&limit=500")
+    return {entry["details"]["command_id"] for entry in reply["entries"]}
+
+
 def a_held_w_key_jogs_only_while_held(desktop: Desktop, observer: ApiClient) -> None:
+    """W held well past X's auto-repeat delay, with auto-repeat on (X's default; the rate
+    set so the repeats surely come): one jog on the server, from key-down to key-up."""
+    if XSET is not None:
+        desktop.run(XSET, "r", "on")
+        desktop.run(XSET, "r", "rate", "250", "30")  # repeats after 0.25 s, 30 a second
     desktop.focus("melfa desktop")
     desktop.key("alt+j")  # the jog pad takes the keyboard
     start = pose(observer)
+    before = jog_starts(observer)
     desktop.xdo("keydown", "w")
     try:
         wait_for(lambda: observer.state().jogging, "the jog to start while W is held")
         wait_for(lambda: pose(observer)[0] > start[0] + 5, "X to grow while W is held")
+        desktop.xdo("sleep", "1.5")  # the key stays down past the repeat delay (the stimulus)
         assert observer.state().jogging  # still held: still jogging (auto-repeat ignored)
     finally:
         desktop.xdo("keyup", "w")
     wait_for(lambda: not observer.state().jogging, "the jog to end when W is let go")
     stays_put(observer)
     assert pose(observer)[0] > start[0] + 5
+    assert len(jog_starts(observer) - before) == 1  # one hold, one jog: never restarted
 
 
 def escape_stops_a_jog_whose_key_is_still_down(desktop: Desktop, observer: ApiClient) -> None:
@@ -298,6 +335,7 @@ def test_a_first_run_by_keyboard_on_a_real_display(
         sign_in_by_typing_the_password(desktop, server)
         choose_load_and_run_by_keyboard(desktop, observer, shot)
         stop_works_behind_a_notice(desktop, observer)
+        notices_keep_coming_after_one_is_closed(desktop, observer)
         a_held_w_key_jogs_only_while_held(desktop, observer)
         escape_stops_a_jog_whose_key_is_still_down(desktop, observer)
     except AssertionError as exc:  # what the screen showed, for whoever reads the failure

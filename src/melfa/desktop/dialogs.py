@@ -85,15 +85,22 @@ class QtDialogs:
         }[notice.kind]
         box = QMessageBox(icon, notice.title, notice.text, QMessageBox.StandardButton.Ok, parent)
         box.setWindowModality(Qt.WindowModality.NonModal)  # STOP stays clickable behind it
-        box.setAttribute(Qt.WidgetAttribute.WA_DeleteOnClose)
         if notice.lines:
             box.setInformativeText(notice.listing)
         if notice.fix_label and on_fix is not None:
             fix = box.addButton(notice.fix_label, QMessageBox.ButtonRole.AcceptRole)
             box.setDefaultButton(fix)
             fix.clicked.connect(lambda: on_fix())
-        self.open_boxes = [b for b in self.open_boxes if b.isVisible()] + [box]
+        # Forgotten (and deleted) when closed, by the box's own signal: a box deleted on close
+        # and asked later whether it is visible raised "Internal C++ object already deleted".
+        box.finished.connect(lambda _result, closed=box: self._closed(closed))
+        self.open_boxes.append(box)
         box.show()
+
+    def _closed(self, box: QMessageBox) -> None:
+        if box in self.open_boxes:
+            self.open_boxes.remove(box)
+        box.deleteLater()
 
     def open_file(self, title: str, filters: str, parent: QWidget | None) -> Path | None:
         name, _ = QFileDialog.getOpenFileName(parent, title, self.folder, filters)

@@ -4,6 +4,9 @@ A jog moves only while its key or button is held: the pad asks the presenter to 
 key (or mouse) down and to stop on key up, when it loses the keyboard focus, when the window
 is deactivated and when the frame changes. The keyboard's auto-repeat is ignored (the
 presenter's heartbeat keeps a held jog alive, not the repeat), so a held key is one jog.
+X's auto-repeat arrives as a key-up and a key-down at the same instant, which Qt does not
+always mark as a repeat; so a key-up waits `REPEAT_GRACE_MS` for its key to come down
+again before the jog stops (a real let-go stops that much later; focus loss stops at once).
 The pad takes the keyboard when clicked; its border says so, and W, A, S, D and the arrows
 then jog instead of typing.
 """
@@ -12,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
-from PySide6.QtCore import QEvent, QObject, Qt
+from PySide6.QtCore import QEvent, QObject, Qt, QTimer
 from PySide6.QtGui import QFocusEvent, QKeyEvent
 from PySide6.QtWidgets import (
     QCheckBox,
@@ -39,6 +42,9 @@ KEYS: dict[Qt.Key, tuple[int, int, str]] = {
 FRAMES = (("Base XYZ", "xyz"), ("Tool XYZ", "tool"), ("Joints", "joint"))
 HINT_IDLE = "Click the pad, then hold W/S, A/D or ↑/↓ (or hold a button): moves only while held."
 HINT_KEYS = "Keys jog now: hold W/S, A/D or ↑/↓. Let go to stop. Esc is STOP."
+REPEAT_GRACE_MS = 30
+"""How long a key-up waits for the same key's auto-repeat key-down (sent with it at once by
+X) before it stops the jog: short against the server's 0.3 s heartbeat bound."""
 
 
 class JogPad(QFrame):
@@ -56,6 +62,10 @@ class JogPad(QFrame):
         self.setAccessibleName("Jog pad: hold a key or button to move")
         self._press, self._release, self._step = press, release, step
         self._held_key: Qt.Key | None = None
+        self._let_go = QTimer(self)
+        self._let_go.setSingleShot(True)
+        self._let_go.setInterval(REPEAT_GRACE_MS)
+        self._let_go.timeout.connect(self._key_let_go)
 
         self.frame_box = QComboBox()
         self.frame_box.setAccessibleName("Jog frame")
@@ -144,8 +154,17 @@ class JogPad(QFrame):
         self._release()
 
     def _release_held(self) -> None:
+        self._let_go.stop()
         self._held_key = None
         self._release()
+
+    def _key_let_go(self) -> None:
+        """The held key stayed up for `REPEAT_GRACE_MS`: it was let go, not repeated."""
+        key = self._held_key
+        if key is not None:
+            slot, direction, _ = KEYS[key]
+            self.buttons[(slot, direction)].setDown(False)
+            self._release_held()
 
     def keyPressEvent(self, event: QKeyEvent) -> None:  # noqa: N802 (Qt's name)
         key = Qt.Key(event.key())
@@ -154,7 +173,9 @@ class JogPad(QFrame):
             return
         event.accept()
         if event.isAutoRepeat() or key == self._held_key:
+            self._let_go.stop()  # the key-up just before was the repeat's, not a let-go
             return  # the heartbeat keeps a held jog alive, not the keyboard's repeat
+        self._let_go.stop()
         slot, direction, _ = KEYS[key]
         self._held_key = key
         self.buttons[(slot, direction)].setDown(True)
@@ -168,10 +189,11 @@ class JogPad(QFrame):
         event.accept()
         if event.isAutoRepeat():
             return
+        if key == self._held_key:
+            self._let_go.start()  # stops unless the same key comes down again at once
+            return
         slot, direction, _ = KEYS[key]
         self.buttons[(slot, direction)].setDown(False)
-        if key == self._held_key:
-            self._release_held()
 
     def focusInEvent(self, event: QFocusEvent) -> None:  # noqa: N802 (Qt's name)
         self.hint.setText(HINT_KEYS)

@@ -148,6 +148,8 @@ class MainWindow(QMainWindow):
         self.progress.setVisible(False)
         self.feed_label = QLabel(FEED_WORDS[FeedStatus.CONNECTING])
         self._busy_text = ""
+        self._followed_line: int | None = None
+        """The running line last scrolled into view (scrolled again only when it moves)."""
         self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.feed_label)
         self.statusBar().showMessage(f"Signed in as {user}.")
@@ -569,7 +571,8 @@ class MainWindow(QMainWindow):
         self._mark_line(state)
 
     def _mark_line(self, state: RobotState) -> None:
-        """Highlight the running (or paused) line in the program, when it is the loaded file."""
+        """Highlight the running (or paused) line in the program, when it is the loaded file,
+        and scroll it into view when it changes (a long program's line is followed)."""
         p = self.presenter
         shows = state.activity in ("running", "paused") or bool(state.running and state.line)
         line = file_line(state.line, p.loaded) if shows else None
@@ -584,6 +587,10 @@ class MainWindow(QMainWindow):
                 mark.format.setProperty(QTextFormat.Property.FullWidthSelection, True)
                 mark.cursor = QTextCursor(block)
                 selections.append(mark)
+                if line != self._followed_line:
+                    self.program_view.setTextCursor(QTextCursor(block))
+                    self.program_view.ensureCursorVisible()
+        self._followed_line = line if selections else None
         self.program_view.setExtraSelections(selections)
 
     def append_log(self, line: str) -> None:
