@@ -6,20 +6,25 @@ from __future__ import annotations
 
 import base64
 import json
+import logging
 import os
 import socket
 import struct
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
+from websockets.exceptions import ConnectionClosed, InvalidStatus
+from websockets.sync.client import connect
 
+from melfa.ros.rosbridge import MAX_FRAGMENTS, MIN_FRAGMENT_CHARS
 from melfa.web import WebSettings
 from melfa.web.limits import Limits
 from tests.waiting import wait_until
 from tests.web.conftest import PASSWORDS, fast_service, make_store
 from tests.web.live_server import Live, live_server
-from tests.web.test_hardening import auth, open_ws, until_type
+from tests.web.test_hardening import auth, open_ws, until_type, ws_url
 
 
 @pytest.fixture
@@ -131,3 +136,133 @@ def test_a_client_that_does_not_read_still_has_its_stop_read(live: Live) -> None
         wait_until(stopped, 30, what="the STOP of a socket that does not read")
     finally:
         ws.close()
+
+
+# ---------------------------------------------------------------- /rosbridge
+
+
+def bridge(live: Live, token: str | None = None) -> Any:
+    query = f"?token={token}" if token else ""
+    return connect(ws_url(live, "/rosbridge") + query, legacy=True, max_size=None)
+
+
+def replies(ws: Any, op: str, limit: int = 2000) -> dict[str, Any]:
+    for _ in range(limit):
+        message: dict[str, Any] = json.loads(ws.recv(timeout=30))
+        if message.get("op") == op:
+            return message
+    raise AssertionError(f"no {op}")
+
+
+def closed_with(ws: Any) -> int | None:
+    try:
+        for _ in range(1000):
+            ws.recv(timeout=30)
+    except ConnectionClosed as closed:
+        return closed.rcvd.code if closed.rcvd is not None else None
+    raise AssertionError("the socket stayed open")
+
+
+def test_deep_json_before_sign_in_is_refused_with_a_close_code(
+    live: Live, caplog: pytest.LogCaptureFixture
+) -> None:
+    ws = bridge(live)
+    ws.send("[" * 100_000 + "]" * 100_000)
+    assert closed_with(ws) == 1008
+    assert not [r for r in caplog.records if r.levelno >= logging.ERROR], caplog.text
+
+
+def test_sockets_signing_in_are_capped_and_counted(live: Live) -> None:
+    """Sockets that never sign in take at most `max_sockets_signing_in` places; a signed-in
+    client still gets in, and the places are given back when they go."""
+    cap = live.context.settings.limits.max_sockets_signing_in
+    waiting = [bridge(live) for _ in range(cap)]
+    try:
+        with pytest.raises(InvalidStatus):
+            bridge(live)
+        assert live.context.guard.signing_in == cap
+        token, _ = live.login("ann")
+        signed_in = bridge(live, token)
+        signed_in.send(json.dumps({"op": "call_service", "service": "/rosapi/nodes", "id": 1}))
+        assert replies(signed_in, "service_response")["result"] is True
+        signed_in.close()
+    finally:
+        for ws in waiting:
+            ws.close()
+    wait_until(lambda: live.context.guard.signing_in == 0, what="the places given back")
+
+
+def test_refused_service_calls_are_not_logged_as_errors(
+    live: Live, caplog: pytest.LogCaptureFixture
+) -> None:
+    caplog.set_level(logging.INFO, logger="melfa.ros")
+    token, _ = live.login("ann")
+    ws = bridge(live, token)
+    try:
+        for n in range(5):
+            ws.send(json.dumps({"op": "call_service", "service": "/melfa/run", "id": n}))
+            reply = replies(ws, "service_response")
+            assert reply["values"]["success"] is False, reply
+    finally:
+        ws.close()
+    refusals = [r for r in caplog.records if "service run" in r.getMessage()]
+    assert len(refusals) == 5, caplog.text
+    assert all(r.levelno == logging.INFO for r in refusals), caplog.text
+
+
+def test_fragment_size_1_is_not_an_amplifier(live: Live) -> None:
+    token, _ = live.login("ann")
+    ws = bridge(live, token)
+    try:
+        ws.send(json.dumps({"op": "subscribe", "topic": "/joint_states", "fragment_size": 1}))
+        parts: list[dict[str, Any]] = []
+        while not parts or len(parts) < parts[0]["total"]:
+            message = replies(ws, "fragment")
+            if message["num"] == 0:
+                parts = []
+            parts.append(message)
+    finally:
+        ws.close()
+    assert len(parts) <= MAX_FRAGMENTS
+    assert all(len(p["data"]) >= MIN_FRAGMENT_CHARS for p in parts[:-1])
+    whole = json.loads("".join(p["data"] for p in parts))
+    assert whole["topic"] == "/joint_states"
+
+
+def set_param(ws: Any, name: str, chars: int) -> dict[str, Any]:
+    value = json.dumps("v" * chars)
+    ws.send(
+        json.dumps(
+            {
+                "op": "call_service",
+                "service": "/rosapi/set_param",
+                "args": {"name": name, "value": value},
+                "id": name,
+            }
+        )
+    )
+    return replies(ws, "service_response")
+
+
+def test_rosapi_parameters_are_bounded_and_given_back_on_close(tmp_path: Path) -> None:
+    store = make_store(tmp_path / "data")
+    limits = Limits(rosapi_param_chars=100_000, rosapi_param_chars_total=200_000)
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), limits=limits)
+    with live_server(store, settings) as live:
+        token, _ = live.login("ann")
+        budget = live.context.rosapi_params
+        first = bridge(live, token)
+        assert set_param(first, "/a", 60_000)["result"] is True
+        refused = set_param(first, "/b", 60_000)
+        assert refused["result"] is False and "per connection" in refused["values"]
+        assert set_param(first, "/a", 90_000)["result"] is True, "a value replaced"
+        others = [bridge(live, token) for _ in range(2)]
+        assert [set_param(ws, "/a", 70_000)["result"] for ws in others] == [True, False]
+        assert budget.used == 90_002 + 70_002, "each value's JSON text counted"
+        first.close()
+        wait_until(lambda: budget.used == 70_002, what="the closed socket's parameters freed")
+        assert set_param(others[1], "/a", 70_000)["result"] is True
+        for ws in others:
+            ws.close()
+        wait_until(lambda: budget.used == 0, what="every parameter freed")
+    store.close()

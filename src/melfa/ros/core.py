@@ -26,12 +26,13 @@ from typing import Protocol
 
 from melfa.lang.encoding import decode_text
 from melfa.lang.plan import plan_upload
-from melfa.robot import UploadReport
+from melfa.robot import RobotError, UploadReport
 from melfa.ros import interface as ri
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, StreamMessages
 from melfa.service import (
     Actor,
     RobotService,
+    ServiceError,
     StateSnapshot,
     ThesisMessages,
     ThesisOutput,
@@ -40,6 +41,16 @@ from melfa.service.service import describe_error
 from melfa.service.thesis import MELFA, Dialect
 
 log = logging.getLogger(__name__)
+
+
+REFUSALS = (ServiceError, RobotError, ValueError)
+"""A call refused for the caller's situation (no lease, servo off, a bad program, the
+controller's refusal): answered, and logged at INFO; anything else is a fault (ERROR)."""
+
+
+def log_level(exc: BaseException) -> int:
+    """The log level of a failed call: a refusal is no error of the server's."""
+    return logging.INFO if isinstance(exc, REFUSALS) else logging.ERROR
 
 
 class RosOutput(Protocol):
@@ -176,7 +187,7 @@ class RosCore:
         """A failure, on ``/execute_error`` and in the node's log (whose fault it is)."""
         self.errors += 1
         reason = describe_error(exc)
-        self.output.log(logging.ERROR, f"{what}: {reason}")
+        self.output.log(log_level(exc), f"{what}: {reason}")
         self.output.text(ri.EXECUTE_ERROR, reason)
 
     async def _answers(self) -> None:
@@ -185,7 +196,7 @@ class RosCore:
             async for event in sub:
                 if isinstance(event, ThesisOutput) and event.actor == self.actor:
                     if event.topic == ri.EXECUTE_ERROR:
-                        self.output.log(logging.ERROR, f"jog step: {event.text}")
+                        self.output.log(logging.INFO, f"jog step: {event.text}")
                     self.output.text(event.topic, event.text)
 
     async def stream(self) -> None:
@@ -229,7 +240,7 @@ class RosCore:
         try:
             message = await self._call(name, data, texts or {})
         except Exception as exc:
-            self.output.log(logging.ERROR, f"service {name}: {describe_error(exc)}")
+            self.output.log(log_level(exc), f"service {name}: {describe_error(exc)}")
             return ServiceReply(False, describe_error(exc))
         return ServiceReply(True, message)
 

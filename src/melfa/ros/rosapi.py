@@ -96,15 +96,77 @@ def typedefs(kind: str) -> list[dict[str, Any]]:
     return [_typedef(name) for name in seen]
 
 
-class Rosapi:
-    """One connection's rosapi: the graph of `melfa.ros.interface`, its own parameters."""
+PARAM_BYTES = 4 * 1024 * 1024
+"""Most characters of parameter values one connection may hold (`set_param`)."""
+PARAM_BYTES_TOTAL = 32 * 1024 * 1024
+"""Most characters of parameter values all connections together may hold."""
 
-    def __init__(self, namespace: str, clock: Callable[[], dt.datetime] | None = None) -> None:
+
+class ParamBudget:
+    """How much parameter text the connections of one server hold, against a total, so
+    stored parameters cannot grow the process that drives the arm without bound."""
+
+    def __init__(self, per_connection: int = PARAM_BYTES, total: int = PARAM_BYTES_TOTAL) -> None:
+        self.per_connection = per_connection
+        self.total = total
+        self.used = 0
+
+    def change(self, held: int, old: int, new: int) -> None:
+        """A connection holding ``held`` characters replaces a value of ``old`` by one of
+        ``new``; `RosapiError` (nothing charged) when either limit would be passed.
+
+        >>> budget = ParamBudget(per_connection=10, total=15)
+        >>> budget.change(0, 0, 8); budget.change(0, 0, 6); budget.used
+        14
+        >>> budget.change(8, 8, 11)  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        melfa.ros.rosapi.RosapiError: parameters are limited to 10 characters per connection ...
+        """
+        if held - old + new > self.per_connection:
+            raise RosapiError(
+                f"parameters are limited to {self.per_connection} characters per connection"
+                f" ({held} held): delete some first"
+            )
+        if new > old and self.used - old + new > self.total:
+            raise RosapiError("the server holds all the parameters it can; try again later")
+        self.used += new - old
+
+    def give_back(self, amount: int) -> None:
+        self.used = max(0, self.used - amount)
+
+
+class Rosapi:
+    """One connection's rosapi: the graph of `melfa.ros.interface`, its own parameters
+    (within a `ParamBudget`; `clear` when the connection closes)."""
+
+    def __init__(
+        self,
+        namespace: str,
+        clock: Callable[[], dt.datetime] | None = None,
+        budget: ParamBudget | None = None,
+    ) -> None:
         self.namespace = namespace.strip("/")
         self.params: dict[str, Any] = {"/robot_description": rv6s_urdf()}
         """Per connection; ``/robot_description`` is the RV-6S URDF, as on a ROS master
         where `melfa ros` runs (roslibjs's UrdfClient reads it)."""
+        self._sizes: dict[str, int] = {}
+        """Characters charged to the budget per parameter set by the client."""
+        self.budget = budget if budget is not None else ParamBudget()
         self._now = clock or (lambda: dt.datetime.now(dt.UTC))
+
+    @property
+    def held(self) -> int:
+        """Characters of parameter values this connection holds."""
+        return sum(self._sizes.values())
+
+    def clear(self) -> None:
+        """Forget every parameter set by the client and give its budget back."""
+        for name in list(self._sizes):
+            self._forget(name)
+
+    def _forget(self, name: str) -> None:
+        self.budget.give_back(self._sizes.pop(name, 0))
+        self.params.pop(name, None)
 
     @property
     def node(self) -> str:
@@ -221,15 +283,18 @@ class Rosapi:
         return {"exists": param_name(args.get("name")) in self.params}
 
     def _delete_param(self, args: dict[str, Any]) -> dict[str, Any]:
-        self.params.pop(param_name(args.get("name")), None)
+        self._forget(param_name(args.get("name")))
         return {}
 
     def _set_param(self, args: dict[str, Any]) -> dict[str, Any]:
         param = param_name(args.get("name"))
         raw = args.get("value")
+        size = len(raw) if isinstance(raw, str) else len(json.dumps(raw))
+        self.budget.change(self.held, self._sizes.get(param, 0), size)  # raises: not stored
+        self._sizes[param] = size
         try:
             self.params[param] = json.loads(raw) if isinstance(raw, str) else raw
-        except json.JSONDecodeError:
+        except (json.JSONDecodeError, RecursionError):
             self.params[param] = raw  # a bare string, as rosapi also accepts
         return {}
 
@@ -274,4 +339,14 @@ def param_name(name: object) -> str:
     return "/" + name.strip().strip("/")
 
 
-__all__ = ["MESSAGE_FIELDS", "NOT_SUPPORTED", "Rosapi", "RosapiError", "param_name", "typedefs"]
+__all__ = [
+    "MESSAGE_FIELDS",
+    "NOT_SUPPORTED",
+    "PARAM_BYTES",
+    "PARAM_BYTES_TOTAL",
+    "ParamBudget",
+    "Rosapi",
+    "RosapiError",
+    "param_name",
+    "typedefs",
+]

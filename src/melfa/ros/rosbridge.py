@@ -30,7 +30,7 @@ from typing import Any, ClassVar
 from melfa.ros import interface as ri
 from melfa.ros.core import RosCore, ServiceReply
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, Stamp
-from melfa.ros.rosapi import Rosapi, RosapiError
+from melfa.ros.rosapi import ParamBudget, Rosapi, RosapiError
 from melfa.service import Actor, RobotService
 from melfa.service.thesis import MELFA, Dialect
 
@@ -41,6 +41,8 @@ Send = Callable[[dict[str, Any], str | None, int | None], None]
 STATE_TOPICS = frozenset({ri.JOINT_STATES, ri.TOOL_POSE_STAMPED, ri.TOOL_POSE, ri.JOINT_STATE_TEXT})
 """Topics fed by the state stream (a subscriber to any of them starts the stream)."""
 LEVELS = ("none", "error", "warning", "info")
+FRAGMENTS_PER_S = 50.0
+"""Fragments a second of one topic when the session has no rate limit of its own."""
 
 
 class ProtocolError(Exception):
@@ -91,20 +93,35 @@ class _Subscribed:
     ids: dict[str | None, float] = dataclasses.field(default_factory=dict)
     """Subscription id → throttle (s); the topic goes out at the smallest."""
     last: float = -float("inf")
+    not_before: float = -float("inf")
+    """A fragmented message pays for its parts: the next one waits (see `_publish`)."""
     queue_length: int | None = None
     """Most messages of this topic waiting for the client (None: no own limit)."""
     fragment_size: int | None = None
 
 
+MIN_FRAGMENT_CHARS = 64
+"""The smallest fragment sent, whatever ``fragment_size`` asks: one character per
+fragment would turn a 400-character message into 400 messages (amplification)."""
+MAX_FRAGMENTS = 16
+"""The most fragments one message is cut into; longer fragments beyond that."""
+
+
 def fragments(message: dict[str, Any], size: int | None, ids: Any) -> list[dict[str, Any]]:
     """``message`` itself, or rosbridge ``fragment`` ops of at most ``size`` characters
-    of its JSON when it is longer.
+    of its JSON when it is longer (at least `MIN_FRAGMENT_CHARS` each, at most
+    `MAX_FRAGMENTS` of them: clients reassemble fragments of any size).
 
-    >>> [f["data"] for f in fragments({"op": "x"}, 5, iter(["f1"]))]
-    ['{"op"', ': "x"', '}']
+    >>> [len(f["data"]) for f in fragments({"op": "x" * 70}, 1, iter(["f1"]))]
+    [64, 16]
+    >>> len(fragments({"op": "x" * 5000}, 1, iter(["f1"])))
+    16
     """
     text = json.dumps(message)
     if size is None or len(text) <= size:
+        return [message]
+    size = max(size, MIN_FRAGMENT_CHARS, -(-len(text) // MAX_FRAGMENTS))
+    if len(text) <= size:
         return [message]
     parts = [text[i : i + size] for i in range(0, len(text), size)]
     number = next(ids)
@@ -142,13 +159,15 @@ class RosbridgeSession:
         max_rate_hz: float | None = None,
         dialect: Dialect = MELFA,
         clock: Callable[[], float] = time.monotonic,
+        params: ParamBudget | None = None,
     ) -> None:
         self.service = service
         self.actor = actor
         self._raw_send = send
         self.namespace = namespace.strip("/")
         self._clock = clock
-        self.rosapi = Rosapi(self.namespace)
+        self._parts_hz = max_rate_hz or FRAGMENTS_PER_S
+        self.rosapi = Rosapi(self.namespace, budget=params)
         self.params = self.rosapi.params
         self.level = "error"
         self.advertised: dict[str, str] = {}
@@ -177,6 +196,7 @@ class RosbridgeSession:
     async def close(self) -> None:
         for task in list(self._calls):
             task.cancel()
+        self.rosapi.clear()
         await self.core.close()
 
     # ----------------------------------------------------------- RosOutput / ParamSource
@@ -201,11 +221,15 @@ class RosbridgeSession:
         if sub is None:
             return
         now = self._clock()
-        if now - sub.last < min(sub.ids.values(), default=0.0):
+        if now - sub.last < min(sub.ids.values(), default=0.0) or now < sub.not_before:
             return
         sub.last = now
         message = {"op": "publish", "topic": f"/{topic}", "msg": msg()}
-        for part in fragments(message, sub.fragment_size, self._fragment_ids):
+        parts = fragments(message, sub.fragment_size, self._fragment_ids)
+        # A topic in k fragments goes out k times less often: fragmenting never sends more
+        # messages a second than the unfragmented topic would.
+        sub.not_before = now + (len(parts) - 1) / self._parts_hz
+        for part in parts:
             self._send(part, topic, sub.queue_length)
 
     # ----------------------------------------------------------- protocol
@@ -397,6 +421,8 @@ def _positive(message: dict[str, Any], key: str) -> int | None:
 
 
 __all__ = [
+    "MAX_FRAGMENTS",
+    "MIN_FRAGMENT_CHARS",
     "ProtocolError",
     "RosbridgeSession",
     "fragments",

@@ -10,8 +10,10 @@ Authentication, before anything else, by the first that is given:
 - rosbridge's ``auth`` op (rosauth's message) as the first message, the token in ``mac``;
   the other rosauth fields are accepted and ignored.
 
-Anything else first, a bad token, or nothing within ``auth_timeout_s``: an error status,
-then close 1008 (policy violation). The credential is checked again every
+Anything else first (or a first message longer than `AUTH_MESSAGE_CHARS`), a bad token,
+or nothing within ``auth_timeout_s``: an error status, then close 1008 (policy violation).
+The server may cap the sockets still signing in (``admit``): beyond, refused before the
+handshake. The credential is checked again every
 ``recheck_s`` and before each message: a revoked token or ended session closes the socket.
 
 ``?mode=thesis`` (or the router's ``mode``) makes the connection behave like the thesis's
@@ -33,12 +35,14 @@ import json
 import logging
 from collections import deque
 from collections.abc import Awaitable, Callable, Iterable
+from contextlib import AbstractContextManager, nullcontext
 from typing import Any, Generic, Protocol, TypeVar
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 
 from melfa.ros import interface as ri
 from melfa.ros.messages import BASE_FRAME
+from melfa.ros.rosapi import ParamBudget
 from melfa.ros.rosbridge import RosbridgeSession
 from melfa.service import Actor, RobotService
 from melfa.service.thesis import MELFA, Dialect, dialect_named
@@ -48,6 +52,8 @@ log = logging.getLogger(__name__)
 S = TypeVar("S")
 
 POLICY_VIOLATION = 1008
+AUTH_MESSAGE_CHARS = 4096
+"""Longest first message read before sign-in (an ``auth`` op is a few hundred)."""
 OUTGOING_MAXLEN = 256
 """Messages waiting for a slow client; beyond that the oldest are dropped (state is
 superseded anyway)."""
@@ -112,6 +118,8 @@ class Gate(Protocol):
 
 
 Gatekeeper = Callable[[WebSocket, str, Callable[[str], Awaitable[None]]], Awaitable[Gate | None]]
+Admission = Callable[[WebSocket], AbstractContextManager[bool]]
+"""Held while a socket signs in; False: too many are signing in, refuse it."""
 
 
 class _Endpoint(Generic[S]):
@@ -130,6 +138,8 @@ class _Endpoint(Generic[S]):
         auth_timeout_s: float,
         recheck_s: float,
         gate: Gatekeeper | None = None,
+        admit: Admission | None = None,
+        params: Callable[[WebSocket], ParamBudget] | None = None,
     ) -> None:
         self.service = service
         self.find_session = find_session
@@ -141,6 +151,9 @@ class _Endpoint(Generic[S]):
         self.auth_timeout_s = auth_timeout_s
         self.recheck_s = recheck_s
         self.gate = gate
+        self.admit = admit
+        self.params = params
+        self._budget = ParamBudget()
         self._numbers = itertools.count(1)
 
     def _service(self, websocket: WebSocket) -> RobotService:
@@ -166,9 +179,16 @@ class _Endpoint(Generic[S]):
         """The first message must be ``auth`` with a token in ``mac``; its token or None."""
         try:
             raw = await asyncio.wait_for(websocket.receive(), self.auth_timeout_s)
-            text = raw.get("text")
-            message = json.loads(text) if isinstance(text, str) else None
-        except (TimeoutError, json.JSONDecodeError, KeyError):
+        except TimeoutError:
+            return None
+        if raw.get("type") == "websocket.disconnect":
+            raise WebSocketDisconnect(raw.get("code", 1000))
+        text = raw.get("text")
+        if not isinstance(text, str) or len(text) > AUTH_MESSAGE_CHARS:
+            return None
+        try:
+            message = json.loads(text)
+        except (ValueError, RecursionError):
             return None
         if not isinstance(message, dict) or message.get("op") != "auth":
             return None
@@ -176,19 +196,34 @@ class _Endpoint(Generic[S]):
         return mac if isinstance(mac, str) else None
 
     async def __call__(self, websocket: WebSocket) -> None:
-        await websocket.accept()
+        token = websocket.query_params.get("token") or self._cookie(websocket)
+        waits = token is None and self.admit is not None  # for its auth op: a place is held
+        admission = self.admit(websocket) if waits and self.admit else nullcontext(True)
+        with admission as admitted:
+            if not admitted:
+                await websocket.close(POLICY_VIOLATION, "too many connections are signing in")
+                return
+            await websocket.accept()
+            signed_in = await self._sign_in(websocket, token)
+        if signed_in is not None:
+            await self._serve(websocket, self._service(websocket), *signed_in)
+
+    async def _sign_in(
+        self, websocket: WebSocket, token: str | None
+    ) -> tuple[Actor, str, Dialect] | None:
+        """The connection's actor, token and dialect (``token``: the URL's or the
+        cookie's, None to read the auth op); None after refusing it."""
         try:
             mode = dialect_named(websocket.query_params.get("mode") or self.mode.name)
         except ValueError as exc:
             await self._refuse(websocket, f"{exc} (in ?mode=)")
-            return
-        token = websocket.query_params.get("token") or self._cookie(websocket)
+            return None
         try:
             if token is None:
                 token = await self._from_auth_op(websocket)
             actor = await self._actor(websocket, token)
         except WebSocketDisconnect:
-            return
+            return None
         if actor is None or token is None:
             await self._refuse(
                 websocket,
@@ -196,10 +231,10 @@ class _Endpoint(Generic[S]):
                 'token`), sign in (session cookie), or send {"op": "auth", "mac": "<token>"} '
                 "first",
             )
-            return
+            return None
         number = next(self._numbers)
         actor = dataclasses.replace(actor, session_id=f"{actor.session_id}/rosbridge-{number}")
-        await self._serve(websocket, self._service(websocket), actor, token, mode)
+        return actor, token, mode
 
     async def _refuse(self, websocket: WebSocket, text: str) -> None:
         with contextlib.suppress(Exception):
@@ -237,7 +272,10 @@ class _Endpoint(Generic[S]):
             if gate is None:
                 await self._refuse(websocket, "too many connections")
                 return
-        session = RosbridgeSession(service, actor, outbox.put, dialect=mode, **self.options)
+        budget = self.params(websocket) if self.params is not None else self._budget
+        session = RosbridgeSession(
+            service, actor, outbox.put, dialect=mode, params=budget, **self.options
+        )
         session.start()
         service.connect(actor)  # the user's connections share one lease
         tasks = [
@@ -270,6 +308,9 @@ class _Endpoint(Generic[S]):
                     message = json.loads(text)
                 except json.JSONDecodeError as exc:
                     session.status("error", f"not JSON: {exc}")
+                    continue
+                except RecursionError:
+                    session.status("error", "the message nests too deep")
                     continue
                 if not isinstance(message, dict):
                     session.status("error", "a rosbridge message is a JSON object with an op")
@@ -305,6 +346,8 @@ def rosbridge_router(
     auth_timeout_s: float = 10.0,
     recheck_s: float = 2.0,
     gate: Gatekeeper | None = None,
+    admit: Admission | None = None,
+    params: Callable[[WebSocket], ParamBudget] | None = None,
 ) -> APIRouter:
     """A router with the rosbridge WebSocket at each of ``paths``.
 
@@ -319,6 +362,9 @@ def rosbridge_router(
     - ``gate(websocket, token, end)``: the web server's limits and revocation (a `Gate`,
       or None to refuse: too many connections); it calls ``end(reason)`` to close the
       socket at once when the session is revoked.
+    - ``admit(websocket)``: held while a socket signs in (False: refuse it, too many are).
+    - ``params(websocket)``: the `ParamBudget` the connections' rosapi parameters share
+      (None: one for this router).
     """
     endpoint: _Endpoint[S] = _Endpoint(
         service,
@@ -331,6 +377,8 @@ def rosbridge_router(
         auth_timeout_s=auth_timeout_s,
         recheck_s=recheck_s,
         gate=gate,
+        admit=admit,
+        params=params,
     )
     router = APIRouter()
 
@@ -343,4 +391,13 @@ def rosbridge_router(
     return router
 
 
-__all__ = ["OUTGOING_MAXLEN", "Gate", "Gatekeeper", "Outbox", "origin_allowed", "rosbridge_router"]
+__all__ = [
+    "AUTH_MESSAGE_CHARS",
+    "OUTGOING_MAXLEN",
+    "Admission",
+    "Gate",
+    "Gatekeeper",
+    "Outbox",
+    "origin_allowed",
+    "rosbridge_router",
+]

@@ -14,6 +14,7 @@ from starlette.middleware.gzip import GZipMiddleware
 
 from melfa import __version__
 from melfa.link import trace_file_sink
+from melfa.ros.rosapi import ParamBudget
 from melfa.service import RobotService
 from melfa.store import Store
 from melfa.web import errors
@@ -108,7 +109,12 @@ def create_app(
                 registry,
                 PreflightState(config.data_dir, require_simulation=config.require_simulation),
                 pools=Pools(config.pools),
-                guard=SocketGuard(limits.max_sockets_per_user, limits.max_sockets),
+                guard=SocketGuard(
+                    limits.max_sockets_per_user, limits.max_sockets, limits.max_sockets_signing_in
+                ),
+                rosapi_params=ParamBudget(
+                    limits.rosapi_param_chars, limits.rosapi_param_chars_total
+                ),
             )
             app.state.web = context
             reaper = asyncio.create_task(_reap(registry), name="melfa-private-reaper")

@@ -8,6 +8,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ParamSpec, TypeVar
 
+from melfa.ros.rosapi import ParamBudget
 from melfa.service import Actor, RobotService
 from melfa.store import Store
 from melfa.web.config import WebSettings
@@ -57,6 +58,8 @@ class WebContext:
     sockets: Sockets = field(default_factory=Sockets)
     pools: Pools = field(default_factory=Pools)
     guard: SocketGuard = field(default_factory=SocketGuard)
+    rosapi_params: ParamBudget = field(default_factory=ParamBudget)
+    """The rosapi parameters every /rosbridge socket holds, against one total."""
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
         """Run a store call off the event loop, in the store's own pool (never behind a

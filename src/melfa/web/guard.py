@@ -15,7 +15,7 @@ import asyncio
 import contextlib
 import datetime as dt
 import logging
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass, field
 
 from melfa.store import Session
@@ -54,8 +54,27 @@ class SocketHandle:
 class SocketGuard:
     max_per_user: int = 8
     max_total: int = 200
+    max_signing_in: int = 32
     handles: set[SocketHandle] = field(default_factory=set)
+    signing_in: int = 0
+    """Sockets accepted but not yet signed in (`before_sign_in`)."""
     _tasks: set[asyncio.Task[None]] = field(default_factory=set)
+
+    @contextlib.contextmanager
+    def before_sign_in(self) -> Iterator[bool]:
+        """Held while a socket signs in: False (refuse it) when too many are signing in or
+        the server's sockets are all taken, counting these."""
+        if (
+            self.signing_in >= self.max_signing_in
+            or len(self.handles) + self.signing_in >= self.max_total
+        ):
+            yield False
+            return
+        self.signing_in += 1
+        try:
+            yield True
+        finally:
+            self.signing_in -= 1
 
     def open(self, session: Session, token: str, close: Closer, kind: str = "ws") -> SocketHandle:
         """Register a socket (`TooManySockets` beyond the caps)."""

@@ -22,6 +22,8 @@ from typing import Any
 
 from starlette.exceptions import HTTPException
 
+from melfa.ros.rosapi import PARAM_BYTES, PARAM_BYTES_TOTAL
+
 Scope = MutableMapping[str, Any]
 Message = MutableMapping[str, Any]
 Receive = Callable[[], Awaitable[Message]]
@@ -64,7 +66,14 @@ class Limits:
     max_sockets_per_user: int = 8
     """Open /api/ws and /rosbridge sockets per user."""
     max_sockets: int = 200
-    """Open sockets overall."""
+    """Open sockets overall, those still signing in counted."""
+    max_sockets_signing_in: int = 32
+    """/rosbridge sockets open but not yet signed in (they have 10 s for their ``auth``);
+    beyond, refused before the handshake."""
+    rosapi_param_chars: int = PARAM_BYTES
+    """Characters of rosapi parameter values (``set_param``) one /rosbridge socket holds."""
+    rosapi_param_chars_total: int = PARAM_BYTES_TOTAL
+    """Characters of rosapi parameter values all sockets together hold."""
     ws_message_bytes: int = 1 * MIB
     """Largest WebSocket message the server reads at all (rosbridge may carry a program);
     /api/ws messages are further limited to 4096 characters."""

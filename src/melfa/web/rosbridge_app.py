@@ -57,6 +57,8 @@ def rosbridge_routes(
         allowed_origins=lambda ws: context(ws).settings.allowed_origins,
         mode=dialect_named(mode),
         gate=gate,
+        admit=lambda ws: context(ws).guard.before_sign_in(),
+        params=lambda ws: context(ws).rosapi_params,
     )
 
 
