@@ -1,4 +1,5 @@
-"""`melfa upload|run|stop|delete|exec|pose|hand|servo|reset|status|jog`: drive a controller.
+"""`melfa upload|run|stop|override|delete|exec|pose|hand|servo|reset|status|jog`: drive a
+controller.
 
 Thin: parse options, call `melfa.robot`, print. Every command takes ``--robot`` (a serial
 device such as ``/dev/ttyUSB0``, ``tcp://host:port``, a pyserial URL such as
@@ -224,6 +225,20 @@ def stop(
     with _session(target) as session:
         session.stop()
     _out.print("stopped")
+
+
+@robot_command()
+def override(
+    percent: Annotated[int, typer.Argument(min=1, max=100, help="Override in per cent, 1–100.")],
+    *,
+    target: Target,
+) -> None:
+    """Set the operation-panel override (OVRD=): it scales every speed, the program's own
+    OVRD included. `melfa exec "OVRD 10"` sets the program's override instead, which the
+    program's next OVRD statement replaces."""
+    with _session(target) as session:
+        value = session.override(percent)
+    _out.print(f"override {value} %")
 
 
 @robot_command()

@@ -21,6 +21,7 @@ from melfa.cli.typer_app import app
 from melfa.link import (
     DEFAULT_TIMEOUT_S,
     ROBOT_ENV,
+    LinkBusy,
     LinkError,
     LinkSettings,
     LinkTimeout,
@@ -283,6 +284,8 @@ def _session(target: Target) -> Iterator[Robot]:
             _err.print(f"[bold yellow]warning:[/] {escape(str(exc))}")
             raise typer.Exit(EXIT_UNCONFIRMED) from None
         except SaveOutcomeUnknown as exc:
+            raise _fail(str(exc), EXIT_LINK) from None
+        except LinkBusy as exc:
             raise _fail(str(exc), EXIT_LINK) from None
         except LinkTimeout as exc:
             raise _link_failure(target, f"no answer from {target.spec}: {exc}") from None

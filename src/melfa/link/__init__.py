@@ -8,7 +8,7 @@ cutting them at CR (that is `melfa.protocol`).
 """
 
 from melfa.link.base import POLL_S, Link
-from melfa.link.errors import LinkCancelled, LinkClosed, LinkError, LinkTimeout
+from melfa.link.errors import LinkBusy, LinkCancelled, LinkClosed, LinkError, LinkTimeout
 from melfa.link.memory import MemoryLink, Responder
 from melfa.link.opener import (
     ROBOT_ENV,
@@ -36,6 +36,7 @@ __all__ = [
     "STOPBITS",
     "TRACE_ENV",
     "Link",
+    "LinkBusy",
     "LinkCancelled",
     "LinkClosed",
     "LinkError",

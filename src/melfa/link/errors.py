@@ -17,3 +17,7 @@ class LinkClosed(LinkError):
 
 class LinkCancelled(LinkError):
     """A blocked read was woken by `Link.cancel_read` from another thread."""
+
+
+class LinkBusy(LinkError):
+    """The port is held by another process (another melfa command, a terminal program)."""

@@ -5,14 +5,20 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import termios
 
 import serial
 
 from melfa.link.base import POLL_S, Link
-from melfa.link.errors import LinkClosed, LinkError
+from melfa.link.errors import LinkBusy, LinkClosed, LinkError
 from melfa.link.settings import LinkSettings
 
 UNPLUGGED_HINT = "the adapter was unplugged, or the other end of the line went away"
+BUSY_HINT = (
+    "another program holds it (another melfa command, such as a `melfa run --wait` still "
+    "running, or `melfa serve`). To stop the robot, press Ctrl-C in that command or STOP in "
+    "the IDE; the emergency stop on the pendant always works"
+)
 
 
 class SerialLink(Link):
@@ -22,12 +28,25 @@ class SerialLink(Link):
         settings = settings or LinkSettings()
         super().__init__(settings, f"{url} ({settings.describe()})")
         self.url = url
+        # A device path is locked while open (pyserial's flock), so a second process is
+        # told the port is held rather than sharing the line and losing replies.
+        options = settings.pyserial_kwargs()
+        if "://" not in url:
+            options["exclusive"] = True
         try:
-            port = serial.serial_for_url(
-                url, do_not_open=True, timeout=POLL_S, **settings.pyserial_kwargs()
-            )
+            port = serial.serial_for_url(url, do_not_open=True, timeout=POLL_S, **options)
             port.open()
+        except termios.error as exc:
+            code, text = (*exc.args, None, str(exc))[:2]
+            if code == errno.EINVAL and url.startswith("/dev/pts/"):
+                # A pty another process holds refuses the line settings.
+                raise LinkBusy(f"cannot open {url}: {BUSY_HINT}") from None
+            raise LinkError(
+                f"cannot set {settings.describe()} on {url} ({text}): is it a serial port?"
+            ) from None
         except (serial.SerialException, OSError, ValueError) as exc:
+            if "exclusively lock" in str(exc) or getattr(exc, "errno", None) == errno.EBUSY:
+                raise LinkBusy(f"cannot open {url}: {BUSY_HINT}") from None
             raise LinkError(f"cannot open {url} at {settings.describe()}: {exc}") from None
         self.port = port
 
