@@ -16,14 +16,40 @@ import contextlib
 import functools
 import importlib
 import multiprocessing
+import os
 import signal
 import threading
+import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import ParamSpec, TypeVar
 
 P = ParamSpec("P")
 T = TypeVar("T")
+
+
+PARENT_CHECK_S = 0.5
+"""How often a worker process looks whether the server that started it still lives."""
+
+
+def start_worker(parent: int) -> None:
+    """A worker process's first step: ignore SIGINT (the server decides), follow
+    ``parent``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    follow_parent(parent)
+
+
+def follow_parent(parent: int) -> None:
+    """In a worker process: exit as soon as ``parent`` (the server) is gone, even when it
+    was killed with SIGKILL and could not shut its pool down (the worker would otherwise
+    wait on its queue for ever)."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(PARENT_CHECK_S)
+        os._exit(0)
+
+    threading.Thread(target=watch, name="melfa-follow-parent", daemon=True).start()
 
 
 class Busy(Exception):
@@ -70,7 +96,8 @@ class BoundedPool:
             self._executor = concurrent.futures.ProcessPoolExecutor(
                 workers,
                 mp_context=context,
-                initializer=functools.partial(signal.signal, signal.SIGINT, signal.SIG_IGN),
+                initializer=start_worker,
+                initargs=(os.getpid(),),
             )
             with _sigint_ignored():
                 for _ in range(workers):  # start and warm them now, not on a first check
@@ -131,4 +158,4 @@ class Pools:
             pool.shutdown()
 
 
-__all__ = ["BoundedPool", "Busy", "PoolSizes", "Pools"]
+__all__ = ["BoundedPool", "Busy", "PoolSizes", "Pools", "follow_parent", "start_worker"]
