@@ -240,6 +240,26 @@ def test_jog_moves_while_renewed_and_stops_by_itself(ready: Driver) -> None:
     assert stopped == pytest.approx(moving + per_second * 0.14, abs=0.02)
 
 
+def test_a_longer_watchdog_is_the_arms_and_the_controllers() -> None:
+    """`SimConfig.jog_watchdog_s` is one setting: the simulated arm keeps jogging exactly as
+    long as the controller says it is jogging, and both stop at its deadline."""
+    drive = Driver(VirtualController(SimConfig(jog_watchdog_s=0.5)))
+    for command in ("OPEN=TEST", "CNTLON", "SRVON", "JOG00;00;00;01;00"):
+        drive.ok(command)
+    drive.wait(0.1)
+    at_renewal = Position.parse(drive.ok("JPOSF"))["J1"]
+    drive.ok("JOG00;00;00;01;00")  # renewed at t = 0.1: the deadline is 0.6
+    drive.wait(0.3)  # past the controller's usual 140 ms, within this one's 500 ms
+    still = Position.parse(drive.ok("JPOSF"))["J1"]
+    assert drive.controller.jogging is not None and drive.controller.arm.is_moving
+    assert at_renewal is not None and still is not None and still > at_renewal
+    drive.wait(0.5)
+    stopped = Position.parse(drive.ok("JPOSF"))["J1"]
+    assert drive.controller.jogging is None and not drive.controller.arm.is_moving
+    per_second = at_renewal / 0.1
+    assert stopped == pytest.approx(at_renewal + per_second * 0.5, abs=0.02)
+
+
 def test_jog_minus_mask_comes_first(ready: Driver) -> None:
     ready.ok("JOG00;00;01;00;00")
     ready.wait(0.1)

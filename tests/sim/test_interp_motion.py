@@ -222,7 +222,7 @@ def test_wthif_skip_stops_the_move_when_the_input_comes() -> None:
 # --- motion errors ---------------------------------------------------------------------------
 
 
-def failed(text: str, points: list[str] | None = None) -> tuple[int, int | None, str]:
+def failed(text: str, points: list[str] | None = None) -> tuple[int, int | None, errors.ErrorLevel]:
     r = simulate(text, points or [])
     assert r.interp.status is RunnerStatus.FAILED
     err = r.interp.error
@@ -232,7 +232,7 @@ def failed(text: str, points: list[str] | None = None) -> tuple[int, int | None,
 
 def test_joint_limit_stops_with_h2160_and_servo_off() -> None:
     number, line, level = failed("10 SERVO ON\n20 J1 = (0, 150, 90, 0, 90, 0)\n30 MOV J1\n40 END\n")
-    assert (number, line, level) == (errors.JOINT_LIMIT, 30, "H")
+    assert (number, line, level) == (errors.JOINT_LIMIT, 30, errors.ErrorLevel.HIGH)
 
 
 def test_unreachable_point_stops_with_the_arms_number() -> None:

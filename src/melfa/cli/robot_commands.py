@@ -55,9 +55,12 @@ from melfa.cli.robot_session import (
 if TYPE_CHECKING:
     from melfa.cli.checking import SourceFile
 from melfa.protocol import (
+    HANDS,
     JOINT_NAMES,
+    OVERRIDE_PERCENT,
     POSE_NAMES,
     JogMode,
+    span_text,
 )
 from melfa.protocol.answers import DState
 from melfa.robot.status import Alarm
@@ -300,7 +303,9 @@ class HandAction(enum.StrEnum):
 @robot_command()
 def hand(
     action: Annotated[HandAction, typer.Argument(help="open or close.")],
-    number: Annotated[int, typer.Argument(min=1, max=8, help="Hand number 1–8.")] = 1,
+    number: Annotated[
+        int, typer.Argument(min=HANDS.start, max=HANDS[-1], help=f"Hand number {span_text(HANDS)}.")
+    ] = 1,
     *,
     target: Target,
 ) -> None:
@@ -458,9 +463,17 @@ JOG_KEY_MAP = (
 )
 def jog(
     override: Annotated[
-        int, typer.Option("--override", min=1, max=100, help="Jog speed override, %.")
+        int,
+        typer.Option(
+            "--override",
+            min=OVERRIDE_PERCENT.start,
+            max=OVERRIDE_PERCENT[-1],
+            help="Jog speed override, %.",
+        ),
     ] = 10,
-    hand_number: Annotated[int, typer.Option("--hand", min=1, max=8, help="Hand for space.")] = 1,
+    hand_number: Annotated[
+        int, typer.Option("--hand", min=HANDS.start, max=HANDS[-1], help="Hand for space.")
+    ] = 1,
     *,
     target: Target,
 ) -> None:

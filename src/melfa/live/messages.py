@@ -18,6 +18,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
 
 from melfa.protocol.advice import Fix
+from melfa.protocol.limits import HANDS
 from melfa.vocab.activity import Activity
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
@@ -327,7 +328,7 @@ class JogRelease(_Asked):
 
 class HandToggle(_Asked):
     type: Literal["hand_toggle"] = "hand_toggle"
-    hand: Annotated[int, Field(strict=True, ge=1, le=8)] = 1
+    hand: Annotated[int, Field(strict=True, ge=HANDS.start, le=HANDS[-1])] = 1
 
 
 class Stop(_Asked):

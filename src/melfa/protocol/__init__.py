@@ -1,8 +1,9 @@
 """The CR2B-574 R-protocol, sans-I/O: bytes in, typed values out, and back.
 
-What it does: hold the controller's facts in one place (error numbers and texts in
-`error_table`, the command table in `commands`, the JOG watchdog in `jog`, STATE fields in
-`answers`), build and check requests (``<robot>;<slot>;<COMMAND>`` + CR, ≤ 255 bytes),
+What it does: hold the controller's facts in one place (error numbers, levels, texts and
+their ``L2000`` form in `error_table`, the command table in `commands`, the JOG watchdog and
+modes in `jog`, hand numbers and the override range in `limits`, STATE fields and axis names
+in `answers`), build and check requests (``<robot>;<slot>;<COMMAND>`` + CR, ≤ 255 bytes),
 decode the four reply forms (QoK/Qok/QeR/Qer, 4- or 9-digit error numbers) and the edit
 refusal, read ERRORRD/PDIR/PAR answers (`listings`), cut a byte stream into
 replies (bounded), read the OPEN/JPOSF/PPOSF/STATE/DSTATE/ERROR answers, pack programs into
@@ -21,7 +22,6 @@ from melfa.protocol.answers import (
     POSE_NAMES,
     POSITION_UNKNOWN_TEXT,
     DState,
-    ErrorLevel,
     ErrorStatus,
     ModeKey,
     OpenBanner,
@@ -45,9 +45,18 @@ from melfa.protocol.commands import (
 )
 from melfa.protocol.connection import ClientConnection, ClientState
 from melfa.protocol.emdat import EmdatChunk, chunk_emdat
-from melfa.protocol.error_table import ERROR_MESSAGES, ErrorCode, ErrorInfo, error_text
+from melfa.protocol.error_table import (
+    ERROR_MESSAGES,
+    ErrorCode,
+    ErrorInfo,
+    ErrorLevel,
+    error_code,
+    error_level,
+    error_text,
+)
 from melfa.protocol.errors import LocalProtocolError, ProtocolError, RemoteProtocolError
 from melfa.protocol.jog import JOG_WATCHDOG_S, Jog, JogInch, JogMode, axis_mask
+from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT, span_text
 from melfa.protocol.listings import ErrorLogEntry, Parameter, ProgramEntry
 from melfa.protocol.messages import (
     CR,
@@ -72,10 +81,12 @@ __all__ = [
     "CR",
     "EDIT_SLOT",
     "ERROR_MESSAGES",
+    "HANDS",
     "JOG_WATCHDOG_S",
     "JOINT_NAMES",
     "MAX_COMMAND_BYTES",
     "MAX_REPLY_BYTES",
+    "OVERRIDE_PERCENT",
     "OVERTAKING_COMMANDS",
     "POSE_NAMES",
     "POSITION_UNKNOWN_TEXT",
@@ -124,8 +135,11 @@ __all__ = [
     "chunk_emdat",
     "decode_reply",
     "encode_reply",
+    "error_code",
+    "error_level",
     "error_text",
     "lookup",
     "needs_rights",
     "parse_request",
+    "span_text",
 ]

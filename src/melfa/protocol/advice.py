@@ -37,6 +37,7 @@ from melfa.protocol.error_table import (
     SYNTAX,
     TB_ENABLED,
     VARIABLE_NOT_DEFINED,
+    error_code,
 )
 
 
@@ -199,10 +200,6 @@ _TEXTS: dict[int, tuple[str, str, Fix | None]] = {
 }
 
 
-def error_code(number: int) -> str:
-    """``L2000``: the level letter and four digits, as the manual lists it."""
-    info = ERROR_MESSAGES.get(number)
-    return f"{info.level}{number:04d}" if info is not None else f"{number:04d}"
 
 
 def advice_for(number: int) -> Advice:

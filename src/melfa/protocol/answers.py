@@ -19,6 +19,7 @@ import math
 import re
 from dataclasses import dataclass, field
 
+from melfa.protocol.error_table import ErrorLevel
 from melfa.protocol.errors import RemoteProtocolError
 
 POSITION_UNKNOWN_TEXT = "position unknown (origin or encoder not set)"
@@ -418,19 +419,6 @@ class State:
 
 
 # ---------------------------------------------------------------------------------- ERROR
-
-
-class ErrorLevel(enum.IntEnum):
-    """The level field of the ``ERROR`` answer [DOC S1]."""
-
-    HIGH = 1  # H: servo off
-    LOW = 2  # L: operation stops
-    CAUTION = 3  # C: operation continues
-
-    @property
-    def letter(self) -> str:
-        """H, L or C, as in the troubleshooting manual's numbers."""
-        return "HLC"[self.value - 1]
 
 
 @dataclass(frozen=True)

@@ -9,9 +9,9 @@ traffic recorded them (``ERRORMES`` answers and ``ERRORRD`` entries in
 (`ErrorCode`: 4-digit number + 5 detail digits, ``602000000``).
 
 >>> ERROR_MESSAGES[6020]
-ErrorInfo(level='L', message='The Operation is disable')
->>> error_text(6020)
-'L6020 The Operation is disable'
+ErrorInfo(level=<ErrorLevel.LOW: 2>, message='The Operation is disable')
+>>> error_text(6020), error_code(2000), error_code(9100, ErrorLevel.HIGH)
+('L6020 The Operation is disable', 'L2000', 'H9100')
 >>> ErrorCode.parse("515000100")
 ErrorCode(number=5150, detail='00100')
 >>> ErrorCode.parse("6020").wire, ErrorCode(6020, "00000").wire
@@ -20,10 +20,33 @@ ErrorCode(number=5150, detail='00100')
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Final, NamedTuple
+
+
+class ErrorLevel(enum.IntEnum):
+    """An error's level: the ``ERROR`` answer's level field (1–3) [DOC S1], and the letter
+    the manual writes before the number (``L2000``)."""
+
+    HIGH = 1  # H: servo off
+    LOW = 2  # L: operation stops
+    CAUTION = 3  # C: operation continues
+
+    @property
+    def letter(self) -> str:
+        """H, L or C, as in the troubleshooting manual's numbers."""
+        return "HLC"[self.value - 1]
+
+    @classmethod
+    def from_letter(cls, letter: str) -> ErrorLevel:
+        """``"H"``, ``"L"`` or ``"C"``; `ValueError` for anything else."""
+        if len(letter) != 1 or letter not in "HLC":
+            raise ValueError(f"{letter[:5]!r} is not an error level (H, L or C)")
+        return cls("HLC".index(letter) + 1)
+
 
 # ------------------------------------------------------------------- named numbers
 # The numbers code branches on. [DOC S4] unless marked; [TRACE] = seen from a real controller.
@@ -56,8 +79,43 @@ JOG_REFUSED: Final = 2030
 """L2030 "JOG operation cannot be accepted" [DOC S4]."""
 JOINT_LIMIT: Final = 2160
 """H2160 "Joint angle exceeds the limit" [DOC S4]."""
+XYZ_LIMIT: Final = 2180
+"""H2180–H2193 "X/Y/Z data exceeds the limit" [DOC S4]."""
+POSITION_LIMIT: Final = 2600
+"""L2600–L2603 "Position data exceeds the limit" [DOC S4]."""
+ILLEGAL_POSITION_DATA: Final = 2800
+"""L2800–L2803 "Illegal position data" [DOC S4]."""
 ARGUMENT_OUT_OF_RANGE: Final = 3110
-"""[GUESS] an argument outside its range (OVRD=0, HNDON9…): no public list names the error."""
+"""[GUESS] an argument outside its range (OVRD=0, HNDON9, hand 9, SQR(-1)…): no public list
+names the error."""
+NUMERIC_OVERFLOW: Final = 3120
+"""[GUESS] DEF INTE overflow (outside -32768..32767) and real overflow."""
+GOSUB_NESTING_OVER: Final = 3220
+"""[GUESS] GOSUB nested deeper than the controller allows (about 800 [S2c])."""
+FOR_NEXT_UNMATCH: Final = 3230
+"""L3230 FOR/NEXT unmatch [melfa-basic-iv.md §8]."""
+NESTING_OVER: Final = 3240
+"""L3240 FOR/WHILE nesting exceeds 16 [melfa-basic-iv.md §8]."""
+WHILE_WEND_UNMATCH: Final = 3250
+"""L3250 WHILE/WEND unmatch [melfa-basic-iv.md §8]."""
+IF_ENDIF_UNMATCH: Final = 3252
+"""L3252 IF/ENDIF unmatch [melfa-basic-iv.md §8]."""
+SELECT_UNMATCH: Final = 3254
+"""L3254 SELECT/END SELECT unmatch [melfa-basic-iv.md §8]."""
+IF_ELSE_UNMATCH: Final = 3255
+"""L3255 IF/ELSE unmatch [melfa-basic-iv.md §8]."""
+DIVISION_BY_ZERO: Final = 3500
+"""[GUESS] division by zero ([S2 p.164] says it is an error but not which number)."""
+JUMP_DESTINATION_MISSING: Final = 3600
+"""L3600 "Jump destination does not exist" [melfa-basic-iv.md §8]."""
+UNDEFINED_VARIABLE: Final = 3700
+"""L3700 a variable read before it was given a value [melfa-basic-iv.md §8]."""
+RETURN_WITHOUT_GOSUB: Final = 3840
+"""L3840 RETURN without GOSUB [melfa-basic-iv.md §8]."""
+UNDEFINED_PALLET: Final = 3850
+"""L3850 undefined PLT [melfa-basic-iv.md §8]."""
+ILLEGAL_POSITION: Final = 3860
+"""L3860 illegal position data [melfa-basic-iv.md §8]."""
 BAD_PROGRAM_NAME: Final = 4120
 """L4120 illegal program name [melfa-basic-iv.md §8]."""
 PROGRAM_NOT_FOUND: Final = 4140
@@ -68,10 +126,18 @@ PROGRAM_RUNNING: Final = 4180
 """L4180 "Program is running": a paused or running program holds the slot [DOC S4]."""
 SYNTAX: Final = 4220
 """L4220 "Syntax error" [DOC S4]."""
+LINE_NOT_FOUND: Final = 4230
+"""L4230 "The line No. does not exist" [DOC S4]."""
 VARIABLE_NAME_TOO_LONG: Final = 4300
 """L4300 variable name too long [DOC S4; TRACE K9b-C3]."""
 VARIABLE_NOT_DEFINED: Final = 4340
 """L4340 "The variable is not defined" [DOC S4]."""
+DUPLICATE_DEFINITION: Final = 4350
+"""L4350 redefinition with DIM/DEF [melfa-basic-iv.md §8]."""
+ARRAY_ELEMENT: Final = 4370
+"""L4370 array element error (subscript out of range) [melfa-basic-iv.md §8]."""
+TYPE_COMBINATION: Final = 4390
+"""L4390 variable type combination [melfa-basic-iv.md §8]."""
 
 JOG_NOT_ACCEPTED: Final = frozenset({JOG_REFUSED, ILLEGAL_COMMAND})
 """Refusals of JOG meaning "this firmware does not take JOG here": fall back to steps."""
@@ -101,74 +167,101 @@ class ErrorCode:
 
 
 class ErrorInfo(NamedTuple):
-    """Level letter (H high: servo off, L low: operation stops, C caution) and message."""
+    """Level (H high: servo off, L low: operation stops, C caution) and message."""
 
-    level: str
+    level: ErrorLevel
     message: str
 
 
+_H, _L, _C = ErrorLevel.HIGH, ErrorLevel.LOW, ErrorLevel.CAUTION
+
 _TABLE: dict[int, ErrorInfo] = {
     # protocol.md §2.3
-    6010: ErrorInfo("L", "Illegal command"),
-    6020: ErrorInfo("L", "The Operation is disable"),
-    5640: ErrorInfo("L", "Cannot execute during RUN"),
-    5600: ErrorInfo("L", "Cannot execute during an error"),
-    5010: ErrorInfo("L", "AUTOENA signal is OFF"),
-    1630: ErrorInfo("C", "Cannot servo ON during an error"),
-    1640: ErrorInfo("C", "Cannot servo ON: DEADMAN OFF"),
-    2000: ErrorInfo("L", "The servo is OFF"),
-    2030: ErrorInfo("L", "JOG operation cannot be accepted"),
-    2160: ErrorInfo("H", "Joint angle exceeds the limit"),
-    **{n: ErrorInfo("H", "X/Y/Z data exceeds the limit") for n in range(2180, 2194)},
-    **{n: ErrorInfo("L", "Position data exceeds the limit") for n in range(2600, 2604)},
-    **{n: ErrorInfo("L", "Illegal position data") for n in range(2800, 2804)},
-    3270: ErrorInfo("L", "The command size is exceeded (256 single-byte characters)"),
-    4140: ErrorInfo("L", "The program was not found"),
-    4170: ErrorInfo("L", "The program is being edited"),
-    4180: ErrorInfo("L", "Program is running"),
-    4220: ErrorInfo("L", "Syntax error"),
-    4230: ErrorInfo("L", "The line No. does not exist"),
+    6010: ErrorInfo(_L, "Illegal command"),
+    6020: ErrorInfo(_L, "The Operation is disable"),
+    5640: ErrorInfo(_L, "Cannot execute during RUN"),
+    5600: ErrorInfo(_L, "Cannot execute during an error"),
+    5010: ErrorInfo(_L, "AUTOENA signal is OFF"),
+    1630: ErrorInfo(_C, "Cannot servo ON during an error"),
+    1640: ErrorInfo(_C, "Cannot servo ON: DEADMAN OFF"),
+    2000: ErrorInfo(_L, "The servo is OFF"),
+    2030: ErrorInfo(_L, "JOG operation cannot be accepted"),
+    2160: ErrorInfo(_H, "Joint angle exceeds the limit"),
+    **{n: ErrorInfo(_H, "X/Y/Z data exceeds the limit") for n in range(2180, 2194)},
+    **{n: ErrorInfo(_L, "Position data exceeds the limit") for n in range(2600, 2604)},
+    **{n: ErrorInfo(_L, "Illegal position data") for n in range(2800, 2804)},
+    3270: ErrorInfo(_L, "The command size is exceeded (256 single-byte characters)"),
+    4140: ErrorInfo(_L, "The program was not found"),
+    4170: ErrorInfo(_L, "The program is being edited"),
+    4180: ErrorInfo(_L, "Program is running"),
+    4220: ErrorInfo(_L, "Syntax error"),
+    4230: ErrorInfo(_L, "The line No. does not exist"),
     # The controller's own texts, from real ERRORMES answers / ERRORRD entries [TRACE K9b].
-    4300: ErrorInfo("L", "Too longvariable name"),
-    5000: ErrorInfo("H", "TB Enable key is ON"),
-    5120: ErrorInfo("L", "Cannot select program (not PSA)"),
-    5150: ErrorInfo("L", "The origin has not been set"),
-    4340: ErrorInfo("L", "The variable is not defined"),
-    6080: ErrorInfo("C", "Com mesg is too long"),
+    4300: ErrorInfo(_L, "Too longvariable name"),
+    5000: ErrorInfo(_H, "TB Enable key is ON"),
+    5120: ErrorInfo(_L, "Cannot select program (not PSA)"),
+    5150: ErrorInfo(_L, "The origin has not been set"),
+    4340: ErrorInfo(_L, "The variable is not defined"),
+    6080: ErrorInfo(_C, "Com mesg is too long"),
     # melfa-basic-iv.md §8
-    3220: ErrorInfo("L", "Nesting over (IF/FOR)"),
-    3230: ErrorInfo("L", "FOR/NEXT unmatch"),
-    3240: ErrorInfo("L", "FOR/WHILE nesting exceeds 16"),
-    3250: ErrorInfo("L", "WHILE/WEND unmatch"),
-    3251: ErrorInfo("L", "More than 32 jump destinations (ON GOTO)"),
-    3252: ErrorInfo("L", "IF/ENDIF unmatch"),
-    3253: ErrorInfo("L", "IF nesting exceeds 8"),
-    3254: ErrorInfo("L", "SELECT/END SELECT unmatch"),
-    3255: ErrorInfo("L", "IF/ELSE unmatch"),
-    3600: ErrorInfo("L", "Jump destination missing"),
-    3700: ErrorInfo("L", "Undefined (uninitialised) variable"),
-    3840: ErrorInfo("L", "RETURN without GOSUB"),
-    3850: ErrorInfo("L", "Undefined PLT"),
-    3860: ErrorInfo("L", "Illegal position data"),
-    4120: ErrorInfo("L", "Illegal program name"),
-    4130: ErrorInfo("L", "Illegal program name"),
-    4210: ErrorInfo("L", "Statement longer than 127 characters"),
-    4310: ErrorInfo("L", "Illegal character"),
-    4350: ErrorInfo("L", "Duplicate definition"),
-    4370: ErrorInfo("L", "Array element error"),
-    4390: ErrorInfo("L", "Variable type combination"),
-    4420: ErrorInfo("L", "Line No. exceeds 32767"),
-    4440: ErrorInfo("L", "Duplicate label"),
-    4910: ErrorInfo("L", "RLNG mismatch (1 = MELFA-BASIC IV, 0 = MOVEMASTER)"),
+    3220: ErrorInfo(_L, "Nesting over (IF/FOR)"),
+    3230: ErrorInfo(_L, "FOR/NEXT unmatch"),
+    3240: ErrorInfo(_L, "FOR/WHILE nesting exceeds 16"),
+    3250: ErrorInfo(_L, "WHILE/WEND unmatch"),
+    3251: ErrorInfo(_L, "More than 32 jump destinations (ON GOTO)"),
+    3252: ErrorInfo(_L, "IF/ENDIF unmatch"),
+    3253: ErrorInfo(_L, "IF nesting exceeds 8"),
+    3254: ErrorInfo(_L, "SELECT/END SELECT unmatch"),
+    3255: ErrorInfo(_L, "IF/ELSE unmatch"),
+    3600: ErrorInfo(_L, "Jump destination missing"),
+    3700: ErrorInfo(_L, "Undefined (uninitialised) variable"),
+    3840: ErrorInfo(_L, "RETURN without GOSUB"),
+    3850: ErrorInfo(_L, "Undefined PLT"),
+    3860: ErrorInfo(_L, "Illegal position data"),
+    4120: ErrorInfo(_L, "Illegal program name"),
+    4130: ErrorInfo(_L, "Illegal program name"),
+    4210: ErrorInfo(_L, "Statement longer than 127 characters"),
+    4310: ErrorInfo(_L, "Illegal character"),
+    4350: ErrorInfo(_L, "Duplicate definition"),
+    4370: ErrorInfo(_L, "Array element error"),
+    4390: ErrorInfo(_L, "Variable type combination"),
+    4420: ErrorInfo(_L, "Line No. exceeds 32767"),
+    4440: ErrorInfo(_L, "Duplicate label"),
+    4910: ErrorInfo(_L, "RLNG mismatch (1 = MELFA-BASIC IV, 0 = MOVEMASTER)"),
 }
 
 ERROR_MESSAGES: Mapping[int, ErrorInfo] = MappingProxyType(_TABLE)
 """Error number -> (level letter, message). Read-only."""
 
 
+USER_ERROR_LEVELS: Final = ((range(9000, 9100), _H), (range(9200, 9300), _C))
+"""A program's own ``ERROR 9xxx``: 9000–9099 are H, 9200–9299 C, the rest L [DOC S1 ERROR]."""
+
+
+def error_level(number: int) -> ErrorLevel | None:
+    """The level of `number`: the table's, a user error's by its range, else None."""
+    info = ERROR_MESSAGES.get(number)
+    if info is not None:
+        return info.level
+    for numbers, level in USER_ERROR_LEVELS:
+        if number in numbers:
+            return level
+    return None
+
+
+def error_code(number: int, level: ErrorLevel | None = None) -> str:
+    """The number as the manual and the teaching pendant write it: ``L2000`` (level letter
+    and four digits). The level defaults to `error_level`; ``2000`` when none is known.
+    The one place the text form is made."""
+    known = level if level is not None else error_level(number)
+    digits = f"{number:04d}"
+    return f"{known.letter}{digits}" if known is not None else digits
+
+
 def error_text(number: int) -> str:
     """``"L6020 The Operation is disable"``, or a plain fallback for unknown numbers."""
     info = ERROR_MESSAGES.get(number)
+    code = error_code(number)
     if info is None:
-        return f"error {number:04d} (not in melfa's table; see the controller manual BFP-A5993)"
-    return f"{info.level}{number:04d} {info.message}"
+        return f"error {code} (not in melfa's table; see the controller manual BFP-A5993)"
+    return f"{code} {info.message}"

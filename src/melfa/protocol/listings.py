@@ -20,8 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from melfa.protocol.answers import ErrorLevel
-from melfa.protocol.error_table import ErrorCode
+from melfa.protocol.error_table import ErrorCode, ErrorLevel
 from melfa.protocol.errors import RemoteProtocolError
 
 

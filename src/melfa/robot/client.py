@@ -22,6 +22,8 @@ from typing import TYPE_CHECKING, Final
 from melfa.link import Link, LinkError, LinkSettings
 from melfa.protocol import (
     EDIT_SLOT,
+    HANDS,
+    OVERRIDE_PERCENT,
     DState,
     ErrorCode,
     ErrorStatus,
@@ -36,7 +38,10 @@ from melfa.protocol import (
     Reply,
     Request,
     State,
+    error_code,
+    error_level,
     error_text,
+    span_text,
 )
 from melfa.protocol.answers import RunStatus
 from melfa.protocol.commands import needs_rights
@@ -307,17 +312,20 @@ class Robot:
             self._call("SRVON" if on else "SRVOFF")
 
     def override(self, percent: int) -> int:
-        """Set the operation-panel override, 1–100 % (``OVRD=``); returns the new value."""
-        if not 1 <= percent <= 100:
-            raise LocalProtocolError(f"override {percent} % is outside 1–100")
+        """Set the operation-panel override (`OVERRIDE_PERCENT`, ``OVRD=``); returns the new
+        value."""
+        if percent not in OVERRIDE_PERCENT:
+            raise LocalProtocolError(
+                f"override {percent} % is outside {span_text(OVERRIDE_PERCENT)}"
+            )
         with self._operation():
             answer = self._call(f"OVRD={percent}").answer
             return int(answer) if answer.isdigit() else percent
 
     def hand(self, open_: bool, number: int = 1) -> None:
-        """Open or close hand ``number`` (1–8). Default ``EXECHOPEN n``/``EXECHCLOSE n``."""
-        if not 1 <= number <= 8:
-            raise LocalProtocolError(f"hand {number} is outside 1–8")
+        """Open or close hand ``number`` (`HANDS`). Default ``EXECHOPEN n``/``EXECHCLOSE n``."""
+        if number not in HANDS:
+            raise LocalProtocolError(f"hand {number} is outside {span_text(HANDS)}")
         with self._operation():
             if self.settings.hand is HandMethod.EXEC:
                 self._call(f"EXEC{'HOPEN' if open_ else 'HCLOSE'} {number}")
@@ -528,8 +536,8 @@ class Robot:
         except Exception:
             return fallback
         if isinstance(reply, Ok) and reply.answer.strip():
-            letter = fallback[0] if fallback[:1] in ("H", "L", "C") else ""
-            return f"{letter}{number:04d} {reply.answer.strip()}" if letter else reply.answer
+            known = error_level(number) is not None
+            return f"{error_code(number)} {reply.answer.strip()}" if known else reply.answer
         return fallback
 
     def _release_rights(self) -> None:

@@ -6,6 +6,7 @@ import enum
 from dataclasses import dataclass
 
 from melfa.protocol.jog import JOG_WATCHDOG_S
+from melfa.protocol.limits import OVERRIDE_PERCENT, span_text
 from melfa.service.servo import ServoPolicy
 
 
@@ -91,12 +92,12 @@ class ServiceConfig:
         for name in ("pose_every", "state_every", "hand_every"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be ≥ 1")
-        if not 1 <= self.jog_override_step <= 100:
-            raise ValueError("jog_override_step must be 1–100 %")
+        if self.jog_override_step not in OVERRIDE_PERCENT:
+            raise ValueError(f"jog_override_step must be {span_text(OVERRIDE_PERCENT)} %")
         if self.lease_idle_timeout_s is not None and self.lease_idle_timeout_s <= 0:
             raise ValueError("lease_idle_timeout_s must be positive (or None)")
-        if not 1 <= self.jog_override_ceiling <= 100:
-            raise ValueError("jog_override_ceiling must be 1–100 %")
+        if self.jog_override_ceiling not in OVERRIDE_PERCENT:
+            raise ValueError(f"jog_override_ceiling must be {span_text(OVERRIDE_PERCENT)} %")
         if self.reconnect_initial_s <= 0 or self.reconnect_max_s < self.reconnect_initial_s:
             raise ValueError("reconnect delays must be positive and initial ≤ max")
         if self.jog_heartbeat_timeout_s <= 0 or self.poll_floor_s < 0 or self.idle_poll_s <= 0:

@@ -12,7 +12,6 @@ Its refusals are `melfa.sim.arm_errors.ArmError`s; what it did is kept by a
 
 from __future__ import annotations
 
-import enum
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
@@ -27,7 +26,8 @@ from melfa.kin import (
     ik,
     pose_mul,
 )
-from melfa.protocol.jog import JOG_WATCHDOG_S
+from melfa.protocol.jog import JOG_WATCHDOG_S, JogInch, JogMode
+from melfa.protocol.limits import HANDS, span_text
 from melfa.sim import motion
 from melfa.sim.arm_errors import (
     ArmBusy,
@@ -36,7 +36,7 @@ from melfa.sim.arm_errors import (
     ServoOff,
     from_kinematics,
 )
-from melfa.sim.motion import JogMode, Speeds
+from melfa.sim.motion import Speeds
 from melfa.sim.plans import Frames, Plan
 from melfa.sim.timing import Profile
 from melfa.sim.trajectory import (
@@ -48,17 +48,14 @@ from melfa.sim.trajectory import (
 )
 
 __all__ = [
-    "HAND_COUNT",
     "JOG_WATCHDOG_S",
-    "Inch",
+    "JogInch",
     "JogMode",
     "SimulatedArm",
     "directions_from_masks",
 ]
 
 
-HAND_COUNT = 8
-"""Hands 1..8 [DOC S1 HOPEN/HCLOSE]."""
 JOG_STEP_S = 0.02
 """Integration step of continuous jog (Cartesian jog solves IK at each step)."""
 INCH_HIGH = 1.0
@@ -70,14 +67,6 @@ OP_OVERRIDE_DEFAULT = 100.0
 
 
 # --- jog ---------------------------------------------------------------------------------
-
-
-class Inch(enum.Enum):
-    """JOG inching field [DOC S1 §5.2.59]."""
-
-    OFF = 0
-    HIGH = 1
-    LOW = 2
 
 
 def directions_from_masks(negative: int, positive: int) -> tuple[int, ...]:
@@ -119,11 +108,14 @@ class SimulatedArm:
         recorder: TrajectoryRecorder | None = None,
         interference: Interference = DEFAULT_INTERFERENCE,
         profile: Profile = Profile.TRAPEZOID,
+        jog_watchdog_s: float = JOG_WATCHDOG_S,
     ) -> None:
         self._joints = Joints.of(joints)
+        self.jog_watchdog_s = jog_watchdog_s
+        """A jog not renewed within this long stops (the controller's, `SimConfig`'s)."""
         self._time = now
         self._servo = servo_on
-        self._hands: list[HandState | None] = [None] * HAND_COUNT
+        self._hands: list[HandState | None] = [None] * len(HANDS)
         self._op_override = OP_OVERRIDE_DEFAULT
         self._profile = profile
         self._speeds = Speeds(op_override=self._op_override, profile=profile)
@@ -260,9 +252,9 @@ class SimulatedArm:
         self._servo = on
 
     def set_hand(self, hand: int, open_: bool, now: float) -> None:
-        """HOPEN/HCLOSE (hand 1..8). Recorded as a hand event."""
-        if not 1 <= hand <= HAND_COUNT:
-            raise ValueError(f"hand number {hand} is outside 1..{HAND_COUNT}")
+        """HOPEN/HCLOSE (a hand number in `HANDS`). Recorded as a hand event."""
+        if hand not in HANDS:
+            raise ValueError(f"hand number {hand} is outside {span_text(HANDS)}")
         self.advance(now)
         state = HandState.OPEN if open_ else HandState.CLOSED
         self._hands[hand - 1] = state
@@ -309,7 +301,7 @@ class SimulatedArm:
         if self._plan is not None:
             return self._plan_end
         if self._jog is not None:
-            return self._jog.last_command + JOG_WATCHDOG_S
+            return self._jog.last_command + self.jog_watchdog_s
         return None
 
     def stop(self, now: float, *, immediate: bool = False) -> None:
@@ -422,10 +414,10 @@ class SimulatedArm:
         directions: Sequence[int],
         now: float,
         *,
-        inch: Inch = Inch.OFF,
+        inch: JogInch = JogInch.OFF,
     ) -> None:
         """One JOG command: keep moving in `mode` along `directions` (-1/0/+1 per axis,
-        X/J1 first) until `jog_stop`, or until no JOG arrives for `JOG_WATCHDOG_S`.
+        X/J1 first) until `jog_stop`, or until no JOG arrives for `jog_watchdog_s`.
         All-zero directions stop. With inching, one small step (`INCH_HIGH`/`INCH_LOW`)."""
         self.advance(now)
         if not self._servo:
@@ -438,9 +430,9 @@ class SimulatedArm:
         if not any(dirs):
             self._jog = None
             return
-        if inch is not Inch.OFF:
+        if inch is not JogInch.OFF:
             self._jog = None
-            self._inch(mode, dirs, INCH_HIGH if inch is Inch.HIGH else INCH_LOW, now)
+            self._inch(mode, dirs, INCH_HIGH if inch is JogInch.HIGH else INCH_LOW, now)
             return
         if self._jog is not None and (self._jog.mode, self._jog.directions) == (mode, dirs):
             self._jog.last_command = now
@@ -476,7 +468,7 @@ class SimulatedArm:
     def _advance_jog(self, now: float) -> None:
         jog = self._jog
         assert jog is not None
-        deadline = jog.last_command + JOG_WATCHDOG_S
+        deadline = jog.last_command + self.jog_watchdog_s
         end = min(now, deadline)
         t = self._time
         while t < end:

@@ -18,22 +18,31 @@ the limit) for unreachable targets: the latter read like the XYZ operating-range
 from __future__ import annotations
 
 from melfa.kin import InterferenceLimitExceeded, JointLimitExceeded, KinematicsError, Unreachable
-from melfa.protocol.error_table import BUSY, JOG_REFUSED, JOINT_LIMIT, SERVO_OFF
+from melfa.protocol.error_table import (
+    BUSY,
+    ILLEGAL_POSITION_DATA,
+    JOG_REFUSED,
+    JOINT_LIMIT,
+    POSITION_LIMIT,
+    SERVO_OFF,
+    ErrorLevel,
+    error_code,
+)
 from melfa.sim.paths import IllegalMove
 
 ERR_SERVO_OFF = SERVO_OFF
 ERR_JOG_REFUSED = JOG_REFUSED
 ERR_JOINT_LIMIT = JOINT_LIMIT
-ERR_OUT_OF_RANGE = 2600
-ERR_ILLEGAL_POSITION = 2800
+ERR_OUT_OF_RANGE = POSITION_LIMIT
+ERR_ILLEGAL_POSITION = ILLEGAL_POSITION_DATA
 ERR_BUSY = BUSY
 
 
 class ArmError(Exception):
-    """A refusal by the (simulated) controller, with its error number and level letter."""
+    """A refusal by the (simulated) controller, with its error number and level."""
 
     number: int = 0
-    level: str = "L"
+    level: ErrorLevel = ErrorLevel.LOW
 
     def __init__(self, message: str, number: int | None = None) -> None:
         if number is not None:
@@ -44,7 +53,7 @@ class ArmError(Exception):
     @property
     def code(self) -> str:
         """Number with its level letter, as the error list writes it: "H2160"."""
-        return f"{self.level}{self.number}"
+        return error_code(self.number, self.level)
 
 
 class ServoOff(ArmError):
@@ -59,7 +68,7 @@ class JointLimitError(ArmError):
     """`joint` is 1-based, or None for an interference limit (several joints together)."""
 
     number = ERR_JOINT_LIMIT
-    level = "H"
+    level = ErrorLevel.HIGH
 
     def __init__(self, message: str, joint: int | None = None, value: float | None = None) -> None:
         self.joint = joint

@@ -13,8 +13,7 @@ import enum
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from melfa.protocol.answers import ErrorLevel
-from melfa.protocol.error_table import ERROR_MESSAGES, ORIGIN_NOT_SET
+from melfa.protocol.error_table import ERROR_MESSAGES, ORIGIN_NOT_SET, ErrorLevel, error_level
 from melfa.protocol.jog import Jog
 from melfa.protocol.messages import Reply, Request
 from melfa.sim.config import KeySwitch, SimConfig
@@ -92,14 +91,6 @@ class JogState:
     last: float  # time of the last JOG request
 
 
-def error_level(number: int, letter: str | None = None) -> ErrorLevel:
-    """The level of an error number (from its letter, else the error table, else L)."""
-    if letter is None:
-        info = ERROR_MESSAGES.get(number)
-        letter = info.level if info is not None else "L"
-    return {"H": ErrorLevel.HIGH, "C": ErrorLevel.CAUTION}.get(letter, ErrorLevel.LOW)
-
-
 def error_message(number: int) -> str:
     """The controller's text for an error number (`ERRORMES`), or a plain fallback."""
     info = ERROR_MESSAGES.get(number)
@@ -125,7 +116,7 @@ class ControllerCore:
         programs: Mapping[str, str] | None = None,
     ) -> None:
         self.config = config or SimConfig()
-        self.arm: ControllerArm = arm if arm is not None else make_arm()
+        self.arm: ControllerArm = arm if arm is not None else make_arm(self.config.jog_watchdog_s)
         self.io = IOState()
         """The controller's I/O signals: every program (RUN) and EXEC read and write these."""
         self.runner_factory = runner_factory or _default_runner_factory(self.arm, self.io)
@@ -212,7 +203,7 @@ class ControllerCore:
         *,
         program: str = "",
         line: int = 0,
-        level: str | None = None,
+        level: ErrorLevel | None = None,
         message: str | None = None,
         detail: int = 0,
     ) -> None:
@@ -223,7 +214,9 @@ class ControllerCore:
         its own (user ERROR 9xxx numbers have no table entry)."""
         known = ERROR_MESSAGES.get(number)
         text = known.message if known is not None else (message or error_message(number))
-        alarm = Alarm(number, error_level(number, level), text, now, program, line, detail)
+        if level is None:
+            level = error_level(number) or ErrorLevel.LOW
+        alarm = Alarm(number, level, text, now, program, line, detail)
         self.alarm = alarm
         self.error_log.insert(0, alarm)
         self.jogging = None

@@ -13,8 +13,8 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from melfa.kin import JOINT_LIMITS, Pose
-from melfa.protocol.jog import Jog
-from melfa.sim.arm import Inch, JogMode, SimulatedArm, directions_from_masks
+from melfa.protocol.jog import JOG_WATCHDOG_S, Jog
+from melfa.sim.arm import SimulatedArm, directions_from_masks
 from melfa.sim.arm_errors import ArmError
 from melfa.sim.motion import Speeds
 
@@ -138,10 +138,10 @@ class SimArm:
     def jog(self, jog: Jog, now: float) -> None:
         try:
             self.arm.jog(
-                JogMode(int(jog.mode)),
+                jog.mode,
                 directions_from_masks(jog.negative, jog.positive),
                 now,
-                inch=Inch(int(jog.inch)),
+                inch=jog.inch,
             )
         except ArmError as exc:
             raise ArmFault(exc.number, exc.message) from None
@@ -165,6 +165,7 @@ class SimArm:
             )
 
 
-def make_arm() -> SimArm:
-    """The arm a new controller drives: the RV-6S at its home pose, servo off."""
-    return SimArm()
+def make_arm(jog_watchdog_s: float = JOG_WATCHDOG_S) -> SimArm:
+    """The arm a new controller drives: the RV-6S at its home pose, servo off, stopping a
+    jog after the controller's watchdog (`SimConfig.jog_watchdog_s`)."""
+    return SimArm(SimulatedArm(jog_watchdog_s=jog_watchdog_s))

@@ -26,7 +26,6 @@ Errors are those of `melfa.kin` (`Unreachable`, `JointLimitExceeded`,
 
 from __future__ import annotations
 
-import enum
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -54,6 +53,7 @@ from melfa.kin import (
     unwrap_j6,
 )
 from melfa.kin.pose import FloatArray, matrix_to_pose, rotation_angle_deg
+from melfa.protocol.jog import JogMode
 from melfa.sim.paths import (
     Arc,
     IllegalMove,
@@ -467,16 +467,6 @@ def _shift(p: Pose, d: Pose) -> Pose:
 
 
 # --- jog ------------------------------------------------------------------------------------
-
-
-class JogMode(enum.Enum):
-    """JOG command modes [DOC S1 §5.2.59]; value = the protocol's mode number."""
-
-    JOINT = 0
-    XYZ = 1
-    TOOL = 2
-    XYZ3 = 4
-    CYLINDRICAL = 5
 
 
 JOG_JOINT_FRACTION = 0.1

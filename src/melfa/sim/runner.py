@@ -21,6 +21,8 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
+from melfa.protocol.error_table import ErrorLevel
+
 
 class RunnerStatus(enum.Enum):
     """Where a slot's program is."""
@@ -34,12 +36,12 @@ class RunnerStatus(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class RunnerError:
-    """A run-time error: the controller's number, its level letter (H/L/C), line, text."""
+    """A run-time error: the controller's number, its level (H/L/C), line, text."""
 
     number: int
     message: str
     line: int | None = None
-    level: str = "L"
+    level: ErrorLevel = ErrorLevel.LOW
 
 
 @runtime_checkable
@@ -92,7 +94,7 @@ class ProgramRunner(Protocol):
 class StepError(Exception):
     """A statement (EXEC or program step) refused with the controller's error number."""
 
-    def __init__(self, number: int, message: str, *, level: str = "L") -> None:
+    def __init__(self, number: int, message: str, *, level: ErrorLevel = ErrorLevel.LOW) -> None:
         super().__init__(message)
         self.number = number
         self.message = message

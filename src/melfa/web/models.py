@@ -12,6 +12,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, FiniteFloat
 from melfa.live.messages import ActorOut as ActorOut
 from melfa.live.messages import AlarmOut as AlarmOut
 from melfa.live.messages import StateOut as StateOut
+from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT
 from melfa.store import MAX_TEXT_CHARS
 
 
@@ -260,7 +261,7 @@ class ExecIn(Input):
 
 
 class HandIn(Input):
-    hand: Annotated[int, Field(ge=1, le=8)] = 1
+    hand: Annotated[int, Field(ge=HANDS.start, le=HANDS[-1])] = 1
     action: Literal["open", "close", "toggle"]
 
 
@@ -295,7 +296,7 @@ class ServoIn(Input):
 
 
 class OverrideIn(Input):
-    percent: Annotated[int, Field(ge=1, le=100)]
+    percent: Annotated[int, Field(ge=OVERRIDE_PERCENT.start, le=OVERRIDE_PERCENT[-1])]
 
 
 class OverrideOut(BaseModel):

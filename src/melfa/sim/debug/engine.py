@@ -33,7 +33,7 @@ from melfa.lang.lexer import tokenize
 from melfa.lang.numbering import number_tokens
 from melfa.lang.parser import parse
 from melfa.lang.points import PointDef, parse_points
-from melfa.protocol.error_table import ERROR_MESSAGES
+from melfa.protocol.error_table import ERROR_MESSAGES, error_code
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.debug.view import VarView, mark_changes, melfa_text, snapshot
 from melfa.sim.interp import errors
@@ -251,9 +251,8 @@ def error_report(err: RunnerError, location: Location) -> ErrorReport:
     """The controller's number and message for `err`, with the simulator's explanation."""
     known = ERROR_MESSAGES.get(err.number)
     message = known.message if known is not None else err.message
-    return ErrorReport(
-        err.number, err.level, f"{err.level}{err.number:04d}", message, err.message, location
-    )
+    code = error_code(err.number, err.level)
+    return ErrorReport(err.number, err.level.letter, code, message, err.message, location)
 
 
 class Debugger:
@@ -295,7 +294,7 @@ class Debugger:
         except errors.RunError as exc:
             err = exc.to_error()
             where = f"line {exc.line}: " if getattr(exc, "line", None) else ""
-            raise DebugError(f"{where}{err.level}{err.number:04d} {err.message}") from None
+            raise DebugError(f"{where}{error_code(err.number, err.level)} {err.message}") from None
         self.points = load_points(points)
         for p in self.points:
             self.interp.set_point(p.key, point_value(p))

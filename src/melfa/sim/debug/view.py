@@ -11,7 +11,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass
 
-from melfa.sim.arm import HAND_COUNT
+from melfa.protocol.limits import HANDS
 from melfa.sim.interp.builtins import format_number
 from melfa.sim.interp.errors import RunError
 from melfa.sim.interp.io import IOState
@@ -119,7 +119,7 @@ def snapshot(
             rows.append(VarView(name, VarKind.ROBOT, melfa_text(read())))
         except RunError as exc:
             rows.append(VarView(name, VarKind.ROBOT, f"({exc.message})"))
-    for hand in range(1, HAND_COUNT + 1):
+    for hand in HANDS:
         is_open = robot.hand_open(hand)
         if is_open is not None:
             rows.append(VarView(f"HAND {hand}", VarKind.ROBOT, "open" if is_open else "closed"))

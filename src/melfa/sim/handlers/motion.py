@@ -9,6 +9,7 @@ from __future__ import annotations
 from melfa.protocol.error_table import ORIGIN_NOT_SET
 from melfa.protocol.errors import RemoteProtocolError
 from melfa.protocol.jog import Jog
+from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT
 from melfa.protocol.messages import Ok, Refused, Reply, Request
 from melfa.sim import errors as err
 from melfa.sim.core import ControllerCore, Handler, JogState, Slot
@@ -41,7 +42,7 @@ def srvoff(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 
 def ovrd_set(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     value = arg.strip()
-    if not value.isdigit() or not 1 <= int(value) <= 100:
+    if not value.isdigit() or int(value) not in OVERRIDE_PERCENT:
         return Refused(err.ARGUMENT_OUT_OF_RANGE)
     c.arm.set_op_override(int(value), now)
     return Ok(str(int(value)))
@@ -88,7 +89,7 @@ def out_set(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 
 def _hand(c: ControllerCore, arg: str, on: bool, now: float) -> Reply:
     value = arg.strip()
-    if not value.isdigit() or not 1 <= int(value) <= 8:
+    if not value.isdigit() or int(value) not in HANDS:
         return Refused(err.ARGUMENT_OUT_OF_RANGE)
     opened = on == c.config.hand_on_opens
     c.arm.set_hand(int(value), opened, now)
@@ -107,7 +108,7 @@ def hndsts(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     # [DOC S1 §5.2.56] 8 x `<signal no>;<1 open, 2 closed>;<0 single / 1 double>`,
     # e.g. `900;2;1;902;1;1;…`: hand n uses output signals 900 + 2(n-1).
     parts = []
-    for hand in range(1, 9):
+    for hand in HANDS:
         parts += [str(900 + 2 * (hand - 1)), "1" if c.arm.hand_open(hand) else "2", "1"]
     return Ok(";".join(parts))
 

@@ -13,6 +13,7 @@ from typing import TypeVar
 
 from melfa.kin import Joints as KJoints
 from melfa.kin import Pose
+from melfa.protocol.limits import HANDS, span_text
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.arm_errors import ArmError
 from melfa.sim.interp import errors
@@ -52,8 +53,7 @@ def _call(fn: Callable[[], T]) -> T:
     try:
         return fn()
     except ArmError as exc:
-        level = errors.ErrorLevel(exc.level) if exc.level in "HLC" else None
-        raise errors.RunError(exc.number, exc.message, level=level) from None
+        raise errors.RunError(exc.number, exc.message, level=exc.level) from None
     except ValueError as exc:
         raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, str(exc)) from None
 
@@ -140,8 +140,10 @@ class ArmPort:
         _call(lambda: self.arm.set_hand(hand, open_, now))
 
     def hand_open(self, hand: int) -> bool | None:
-        if not 1 <= hand <= 8:
-            raise errors.RunError(errors.ARGUMENT_OUT_OF_RANGE, f"hand number {hand} is not 1..8")
+        if hand not in HANDS:
+            raise errors.RunError(
+                errors.ARGUMENT_OUT_OF_RANGE, f"hand number {hand} is not {span_text(HANDS)}"
+            )
         return self.arm.hand_open(hand)
 
     def tool(self) -> Position:

@@ -11,6 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from melfa.lang import ast
+from melfa.protocol.limits import HANDS, span_text
 from melfa.sim.interp import errors, posmath
 from melfa.sim.interp.robot import ArcKind, set_speed
 from melfa.sim.interp.state import Delay
@@ -198,9 +199,10 @@ class MotionStatements(CompilerBase):
 
             def hand() -> None:
                 n = integer(arg(0, "a hand number"), "hand")
-                if not 1 <= n <= 8:
+                if n not in HANDS:
                     raise errors.RunError(
-                        errors.ARGUMENT_OUT_OF_RANGE, f"hand number must be 1..8, got {n}"
+                        errors.ARGUMENT_OUT_OF_RANGE,
+                        f"hand number must be {span_text(HANDS)}, got {n}",
                     )
                 robot.set_hand(n, opening, st.now)
 
