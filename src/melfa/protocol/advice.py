@@ -200,8 +200,6 @@ _TEXTS: dict[int, tuple[str, str, Fix | None]] = {
 }
 
 
-
-
 def advice_for(number: int) -> Advice:
     """What error ``number`` means for a student, with its fix if one action fixes it."""
     text = _TEXTS.get(number)

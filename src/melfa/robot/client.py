@@ -56,7 +56,7 @@ from melfa.robot.channel import Channel
 from melfa.robot.edit import Progress, UploadReport
 from melfa.robot.errors import ControllerError, RobotError, Stopped
 from melfa.robot.settings import HandMethod, JogMethod, RobotSettings
-from melfa.robot.status import Alarm, ControllerStatus, error_level
+from melfa.robot.status import Alarm, ControllerStatus
 from melfa.robot.upload import sendable
 
 if TYPE_CHECKING:

@@ -4,15 +4,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from melfa.protocol import ERROR_MESSAGES, ErrorLevel, State
+from melfa.protocol import ErrorLevel, State
 from melfa.protocol.answers import RunStatus, StopStatus
 from melfa.robot.errors import describe
-
-
-def error_level(number: int) -> ErrorLevel | None:
-    """The level of an error from melfa's table (STATE carries the number only)."""
-    info = ERROR_MESSAGES.get(number)
-    return next((level for level in ErrorLevel if info and level.letter == info.level), None)
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,13 @@ from melfa.kin import (
     pose_mul,
 )
 from melfa.protocol.jog import JOG_WATCHDOG_S, JogInch, JogMode
-from melfa.protocol.limits import HANDS, span_text
+from melfa.protocol.limits import (
+    HANDS,
+    OVERRIDE_PERCENT,
+    PROGRAM_OVERRIDE_TEXT,
+    is_program_override,
+    span_text,
+)
 from melfa.sim import motion
 from melfa.sim.arm_errors import (
     ArmBusy,
@@ -201,7 +207,7 @@ class SimulatedArm:
         return self._op_override
 
     def set_op_override(self, percent: float) -> None:
-        """OP (panel) override, 1..100 % (the protocol's ``OVRD=``)."""
+        """OP (panel) override, `OVERRIDE_PERCENT` (the protocol's ``OVRD=``)."""
         _check_percent("OP override", percent)
         self._op_override = float(percent)
         self._speeds = replace(self._speeds, op_override=float(percent))
@@ -523,12 +529,11 @@ class SimulatedArm:
 
 
 def _check_percent(name: str, value: float) -> None:
-    if not 1 <= value <= 100:
-        raise ValueError(f"{name} must be 1..100 %, got {value}")
+    if value not in OVERRIDE_PERCENT:
+        raise ValueError(f"{name} must be {span_text(OVERRIDE_PERCENT)} %, got {value}")
 
 
 def _check_program_percent(name: str, value: float) -> None:
-    """A program's OVRD/JOVRD: any value above 0 up to 100 runs (0.5 %: resolution 0.1 %);
-    "if 0 or a value over 100 is set, an error will occur" [S1 OVRD, JOVRD]."""
-    if not 0 < value <= 100:
-        raise ValueError(f"{name} must be above 0 and at most 100 %, got {value}")
+    """A program's OVRD/JOVRD (`melfa.protocol.limits.is_program_override`)."""
+    if not is_program_override(value):
+        raise ValueError(f"{name} must be {PROGRAM_OVERRIDE_TEXT}, got {value}")

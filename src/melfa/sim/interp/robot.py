@@ -13,6 +13,7 @@ import enum
 from collections.abc import Callable
 from typing import Protocol
 
+from melfa.protocol.limits import PROGRAM_OVERRIDE_TEXT, is_program_override
 from melfa.sim.interp import errors
 from melfa.sim.interp.values import Joints, Position, Value, type_name
 
@@ -111,10 +112,9 @@ def set_speed(robot: RobotPort, what: str, value: Value) -> None:
         raise errors.RunError(errors.TYPE_COMBINATION, f"{what} needs a number")
     v = float(value)
     if what in ("OVRD", "JOVRD"):
-        if not 0 < v <= 100:  # OVRD 0 or >100 is an error [S1 OVRD]
+        if not is_program_override(v):  # OVRD 0 or >100 is an error [S1 OVRD]
             raise errors.RunError(
-                errors.ARGUMENT_OUT_OF_RANGE,
-                f"{what} must be above 0 and at most 100 %, got {value}",
+                errors.ARGUMENT_OUT_OF_RANGE, f"{what} must be {PROGRAM_OVERRIDE_TEXT}, got {value}"
             )
         if what == "OVRD":
             robot.set_speeds(ovrd=v)
