@@ -63,6 +63,15 @@ def test_version_is_the_installed_packages() -> None:
     assert done.stdout.strip() == f"melfa {version('melfa')}"
 
 
+def test_a_usage_mistake_is_one_message_and_status_2_never_a_traceback() -> None:
+    for words in (["debug", "X.MB4", "extra"], ["serve", "--port", "high"], ["no-such"]):
+        done = subprocess.run(
+            [*MELFA, *words], capture_output=True, text=True, env=clean_env(), check=False
+        )
+        assert done.returncode == 2, (words, done.stderr)
+        assert "Traceback" not in done.stderr and "Error" in done.stderr, (words, done.stderr)
+
+
 def commands(group: object, prefix: tuple[str, ...] = ()) -> Iterator[tuple[str, ...]]:
     for name, command in getattr(group, "commands", {}).items():
         yield (*prefix, name)

@@ -51,19 +51,10 @@ def _run(args: list[str]) -> int:
         from melfa.cli.checking import check_main
 
         return check_main(args[1:])
-    import click
-
     from melfa.cli.typer_app import app
 
-    try:
-        # Not standalone: Click would turn Ctrl-C into "Aborted!" and exit status 1.
-        result = app(prog_name="melfa", standalone_mode=False)
-    except click.exceptions.Abort:
-        raise KeyboardInterrupt from None
-    except click.ClickException as exc:
-        exc.show()
-        return exc.exit_code
-    return result if type(result) is int else 0
+    app(prog_name="melfa")  # Typer ends a Ctrl-C in a command with status 130 itself
+    return 0
 
 
 app: OnDemandTyper

@@ -75,32 +75,55 @@ def load_trace(lines: Iterable[str]) -> list[TraceEvent]:
 
 class TraceLink(_Wrapper):
     """Logs both directions as text and hex: ``  0.125 -> 1;1;JPOSF<CR>  [31 3b 31 …]``
-    (`load_trace` reads it back)."""
+    (`load_trace` reads it back). One line per request and one per reply: a serial port
+    hands a reply over a few bytes at a time, so received bytes are held until their
+    ``<CR>`` (stamped then); a reply cut short shows as it is before the next request or
+    when the link closes."""
 
     def __init__(self, inner: Link, sink: Callable[[str], None] | None = None) -> None:
         super().__init__(inner)
         self._sink = sink or (lambda line: print(line, file=sys.stderr, flush=True))
         self._start = time.monotonic()
+        self._partial = b""
+        self._trace_lock = threading.Lock()
 
     def _log(self, arrow: str, data: bytes) -> None:
         stamp = time.monotonic() - self._start
         self._sink(f"{stamp:8.3f} {arrow} {render(data)}  [{data.hex(' ')}]")
 
+    def _received(self, data: bytes) -> None:
+        with self._trace_lock:
+            self._partial += data
+            while b"\r" in self._partial:
+                reply, _, self._partial = self._partial.partition(b"\r")
+                self._log("<-", reply + b"\r")
+
+    def _flush_partial(self) -> None:
+        with self._trace_lock:
+            if self._partial:
+                self._log("<-", self._partial)
+                self._partial = b""
+
     def _write(self, data: bytes) -> None:
+        self._flush_partial()
         self._log("->", data)
         super()._write(data)
 
     def _read(self, timeout: float) -> bytes:
         data = super()._read(timeout)
         if data:
-            self._log("<-", data)
+            self._received(data)
         return data
 
     def _read_ready(self) -> bytes:
         data = super()._read_ready()
         if data:
-            self._log("<-", data)
+            self._received(data)
         return data
+
+    def _close(self) -> None:
+        self._flush_partial()
+        super()._close()
 
 
 class PacedLink(_Wrapper):
