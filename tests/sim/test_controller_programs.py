@@ -11,7 +11,7 @@ from melfa.sim import VirtualController
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
-from melfa.sim.interp.interpreter import Interpreter
+from melfa.sim.interp.interpreter import STEP_TIME_S, Interpreter
 from melfa.sim.machine import SimArm
 from melfa.sim.runner import RunnerStatus
 from melfa.sim.trajectory import HandState
@@ -163,7 +163,8 @@ def test_program_timing_does_not_depend_on_polling(ready: Driver) -> None:
     assert not state(ready).status.run & 0x40
     (event,) = sim_arm(ready.controller).recorder.hand_events
     assert event.state is HandState.OPEN
-    assert event.time - start == pytest.approx(15.0, abs=1e-6)
+    # 1500 DLYs of 0.01 s, and FOR and 1500 NEXTs of one step time each
+    assert event.time - start == pytest.approx(15.0 + 1501 * STEP_TIME_S, abs=1e-6)
 
 
 def test_one_interpreter_advance_keeps_the_timing_of_many_steps() -> None:
@@ -174,7 +175,7 @@ def test_one_interpreter_advance_keeps_the_timing_of_many_steps() -> None:
     it.advance(100.0)
     assert it.status is RunnerStatus.FINISHED
     (event,) = arm.recorder.hand_events
-    assert event.time == pytest.approx(15.0, abs=1e-6)
+    assert event.time == pytest.approx(15.0 + 1501 * STEP_TIME_S, abs=1e-6)
 
 
 def test_dly_after_dly_in_one_poll(ready: Driver) -> None:

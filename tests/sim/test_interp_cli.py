@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from melfa.sim.interp.cli_trace import STATEMENT_WIDTH, run_and_trace
+from melfa.sim.interp.interpreter import STEP_TIME_S
 
 PROGRAM = "10 SERVO ON\n20 SPD 20\n30 OVRD 20\n40 MOV Pa\n50 MOV Pb\n60 HOPEN 1\n70 END\n"
 POINTS = (
@@ -74,7 +75,7 @@ def test_each_row_is_a_step_after_it_ran(tmp_path: Path) -> None:
     assert mov_pa.pose[:3] == [584.73, 141.04, 385.25]  # where MOV Pa left the tool
     assert mov_pa.took > 0 and mov_pb.start == pytest.approx(mov_pa.start + mov_pa.took, abs=2e-3)
     assert (mov_pa.hands, hopen.hands) == ("----", "O---")
-    assert got[0].took == 0.0  # SERVO ON takes no time
+    assert got[0].took == pytest.approx(STEP_TIME_S, abs=1e-3)  # SERVO ON: one step time
 
 
 def test_summary_gives_simulated_time_final_pose_and_hands(tmp_path: Path) -> None:
@@ -123,7 +124,8 @@ def test_run_time_error_gives_line_source_number_and_message(tmp_path: Path) -> 
     code, text = trace(prog, None)
     assert code == 1
     lines = text.splitlines()
-    assert lines[-3].startswith("stopped by an error at line 40 after 0.000 s")
+    # three steps ran before line 40 (SERVO ON, OVRD, SPD)
+    assert lines[-3].startswith(f"stopped by an error at line 40 after {3 * STEP_TIME_S:.3f} s")
     assert lines[-2] == (
         f"{prog}:4: error in line 40: L3700 Undefined (uninitialised) variable "
         "(variable PA has no value)"

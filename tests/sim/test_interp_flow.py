@@ -6,6 +6,7 @@ import pytest
 
 from melfa.sim.interp import errors
 from melfa.sim.interp.fast import Run, simulate
+from melfa.sim.interp.interpreter import STEP_TIME_S
 from melfa.sim.interp.io import IOState
 from melfa.sim.interp.values import Value
 from melfa.sim.runner import RunnerStatus
@@ -347,7 +348,7 @@ def test_def_io_variables() -> None:
 
 def test_timer_is_settable_and_counts_simulated_seconds() -> None:
     v = variables("M_TIMER(1) = 0", "DLY 2.5", "M1 = M_TIMER(1)", "END")
-    assert v["M1"] == pytest.approx(2.5)
+    assert v["M1"] == pytest.approx(2.5 + STEP_TIME_S)  # the setting step took its time
 
 
 # --- valid IV the interpreter refused (issue 25) ----------------------------------------
@@ -357,3 +358,13 @@ def test_plain_relm_fractional_overrides_and_a_suffixed_declared_name_run() -> N
     v = variables("GETM 1", "RELM", "OVRD 0.5", "JOVRD 0.01", "DEF INTE KPAT", "KPAT% = 3", "END")
     assert v["KPAT%"] == 3
     assert fails("OVRD 0", "END") == (errors.ARGUMENT_OUT_OF_RANGE, 10)
+
+
+def test_a_busy_wait_loop_takes_a_step_time_per_step() -> None:
+    # *L / M1 = M1 + 1 / IF M_IN(3)=0 THEN GOTO *L: one minute of program time is about
+    # 2,800 passes (three steps each, the label's line too, at STEP_TIME_S), not the
+    # millions a free clock ran (--max-time 60 took a quarter of an hour).
+    text = "5 M1 = 0\n10 *L\n20 M1 = M1 + 1\n30 IF M_IN(3) = 0 THEN GOTO *L\n"
+    r = simulate(text, max_time=60)
+    assert r.interp.status is RunnerStatus.RUNNING
+    assert r.interp.state.vars["M1"] == pytest.approx(60 / (3 * STEP_TIME_S), rel=0.01)

@@ -171,7 +171,7 @@ def test_joint_constants_take_their_type_from_the_variable() -> None:
     it = interp()
     it.load("10 J1 = (10, 20, 30, 40, 50, 60)\n20 M1 = J1.J3\n30 END\n")
     it.start(0.0)
-    it.advance(0.0)
+    it.advance(1.0)
     assert isinstance(it.state.vars["J1"], Joints)
     assert it.state.vars["M1"] == pytest.approx(math.radians(30))
 

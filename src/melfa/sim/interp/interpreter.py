@@ -42,6 +42,14 @@ MAX_STATEMENTS_PER_ADVANCE = 2000
 """Statements one `advance` call may run at one instant of program time (a loop with no
 motion or DLY) before giving the controller back its loop."""
 
+STEP_TIME_S = 0.0071
+"""[GUESS] Program time one executed step takes: one line per control period of the
+controller, 7.1 ms (the period MXT real-time control runs at, protocol.md §5 S13), as
+PRIORITY 1 runs one line per turn [S1 PRIORITY]. No source gives a CR2B's time per line;
+this keeps a busy loop (``10 *L`` / ``20 IF M_IN(3)=0 THEN GOTO *L``) at about 70 passes a
+second of program time in every mode, instead of the hundreds of thousands a free clock
+gave. Moves, DLY and WAIT take their own time on top."""
+
 MAX_EVENTS_PER_ADVANCE = 10000
 """Move/DLY ends one `advance` call may step through; past it the program falls behind (only
 a client that polls less than every few minutes with a program of very short DLYs sees it)."""
@@ -59,10 +67,12 @@ class Interpreter:
         io: IOState | None = None,
         *,
         max_statements: int = MAX_STATEMENTS_PER_ADVANCE,
+        step_time: float = STEP_TIME_S,
     ) -> None:
         self.robot = robot
         self.io = io if io is not None else IOState()
         self.max_statements = max_statements
+        self.step_time = step_time
         self.state = ProgramState()
         self.sysvars = SystemVariables(self.state, robot, self.io)
         self.rnd = builtins.Rnd()
@@ -235,6 +245,7 @@ class Interpreter:
         budget = self.max_statements
         events = MAX_EVENTS_PER_ADVANCE
         set_line = self.robot.set_line
+        step_time = self.step_time
         while budget > 0:
             if st.block is not None:
                 before = st.now
@@ -281,6 +292,11 @@ class Interpreter:
             budget -= 1
             if st.status is not RunnerStatus.RUNNING:
                 break
+            if step_time and st.block is None:
+                # The step took its time; what follows runs when the clock gets there.
+                st.now += step_time
+                if st.now > target:
+                    break
 
     def _ready(self, blk: Blocker, target: float) -> bool:
         """Whether the program may go on by `target`; moves the program clock to when."""
