@@ -10,7 +10,9 @@ import pytest
 from melfa.desktop.api import ApiClient, ApiError, ServerUnreachable
 from melfa.desktop.files import FileKind, FileRefused, read_file
 from melfa.desktop.live import FeedStatus, LiveFeed
-from melfa.desktop.messages import LinkStatus, LiveMessage, RobotState
+from melfa.desktop.messages import LiveMessage
+from melfa.live.messages import StateMessage
+from melfa.vocab.link import LinkStatus
 from tests.desktop.conftest import Server
 from tests.serving import free_port
 
@@ -85,7 +87,7 @@ def test_live_feed_delivers_state_and_is_refused_without_a_session(server: Serve
 
     def on_message(message: LiveMessage) -> None:
         messages.append(message)
-        if isinstance(message, RobotState):
+        if isinstance(message, StateMessage):
             got_state.set()
 
     feed = LiveFeed(

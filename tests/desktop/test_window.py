@@ -28,9 +28,10 @@ from melfa.desktop.dialogs import Notice, NoticeKind, QtDialogs
 from melfa.desktop.files import FileKind
 from melfa.desktop.live import FeedStatus
 from melfa.desktop.login import LoginDialog
-from melfa.desktop.messages import LinkStatus, UploadProgress
+from melfa.desktop.messages import LiveMessage, parse_message
 from melfa.desktop.presenter import Presenter
 from melfa.desktop.window import MainWindow
+from melfa.vocab.link import LinkStatus
 from tests.desktop.conftest import EXAMPLES, Server
 
 LOOP_PROGRAM = """10 SERVO ON
@@ -659,9 +660,17 @@ def test_load_and_run_from_a_workspace(ui: Ui, observer: ApiClient, files: Path)
 
 
 def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> None:
-    ui.presenter._on_live(UploadProgress("load_project", 300, 1724, "someone-else"))
+    def progress(sent: int, user: str) -> LiveMessage:
+        message = parse_message({"type": "progress", "actor": {"user": user, "role": "student"},
+                              "at": "2026-11-24T09:00:00Z", "command_id": 1,
+                              "command": "load_project", "label": "Load project", "sent": sent,
+                              "total": 1724})  # fmt: skip
+        assert message is not None
+        return message
+
+    ui.presenter._on_live(progress(300, "someone-else"))
     assert not ui.window.progress.isVisibleTo(ui.window)  # not ours: no bar
-    ui.presenter._on_live(UploadProgress("load_project", 862, 1724, "admin"))
+    ui.presenter._on_live(progress(862, "admin"))
     assert ui.window.progress.isVisibleTo(ui.window) and ui.window.progress.value() == 50
     assert ui.window.statusBar().currentMessage() == "Sending to the robot: 50 %"
     state = ui.presenter.state

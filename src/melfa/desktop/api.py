@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 from http.cookies import SimpleCookie
 from typing import Any
 
-from melfa.desktop.messages import RobotState, parse_fix
+from melfa.desktop.messages import parse_fix, read_state
+from melfa.live.messages import StateOut
 from melfa.protocol.advice import Fix
 
 SESSION_COOKIE = "melfa_session"
@@ -432,10 +433,10 @@ class ApiClient:
             str(reply.get("points") or ""),
         )
 
-    def state(self) -> RobotState:
+    def state(self) -> StateOut:
         """`GET /api/robot/state`: the latest snapshot (no round trip to the robot)."""
         reply = self._call("GET", "/api/robot/state")
-        return RobotState.from_json(reply if isinstance(reply, Mapping) else {})
+        return read_state(reply)
 
 
 __all__ = [

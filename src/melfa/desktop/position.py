@@ -6,8 +6,9 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QGridLayout, QGroupBox, QLabel
 
-from melfa.desktop.messages import JOINT_NAMES, POSE_NAMES, RobotState
+from melfa.desktop.messages import JOINT_NAMES, POSE_NAMES
 from melfa.desktop.style import ValueLabel, fmt_number
+from melfa.live.messages import StateOut
 
 
 class PositionBox(QGroupBox):
@@ -40,7 +41,7 @@ class PositionBox(QGroupBox):
         self.flags_label.setObjectName("muted")
         grid.addWidget(self.flags_label, 4, 0, 1, 7)
 
-    def show_state(self, state: RobotState) -> None:
+    def show_state(self, state: StateOut) -> None:
         for labels, values in ((self.pose_values, state.pose), (self.joint_values, state.joints)):
             for i, label in enumerate(labels):
                 label.setText(fmt_number(values[i]) if values and i < len(values) else "—")

@@ -36,32 +36,32 @@ from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import ChosenFile, FileKind, FileRefused, from_workspace, read_file
 from melfa.desktop.hold import JogHold, JogKey
 from melfa.desktop.live import FeedStatus, LiveFeed
-from melfa.desktop.messages import (
-    Acked,
-    CommandFinished,
-    Hello,
-    JogChanged,
-    LinkChanged,
-    LinkStatus,
-    LiveMessage,
-    Refused,
-    RobotState,
-    UploadProgress,
-)
+from melfa.desktop.messages import LiveMessage, actor_name, error_fix
 from melfa.desktop.view import NoView, View
 from melfa.desktop.words import (
-    LINK_WORDS,
     Loaded,
     count,
     describe_failure,
     diagnostic_lines,
-    jog_end_words,
     jog_label,
+    link_words,
     sentence,
     upload_progress,
 )
+from melfa.live.messages import (
+    CommandResultMessage,
+    ErrorMessage,
+    Hello,
+    JogHeartbeatAck,
+    JogMessage,
+    LinkMessage,
+    ProgressMessage,
+    StateOut,
+)
 from melfa.protocol.advice import Fix
-from melfa.vocab.commands import command_label
+from melfa.vocab.commands import Command, command_label
+from melfa.vocab.jog import JogEnd
+from melfa.vocab.link import LinkStatus
 
 _log = logging.getLogger(__name__)
 FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
@@ -80,11 +80,12 @@ class Presenter:
         self.view: View = NoView()
         self.program: ChosenFile | None = None
         self.points: ChosenFile | None = None
-        self.state: RobotState | None = None
+        self.state: StateOut | None = None
         self.last_upload: UploadReport | None = None
         self.loaded: Loaded | None = None
         """What this client loaded (the file's name, its step -> line map)."""
-        self.link = LinkStatus.UNKNOWN
+        self.link: LinkStatus | None = None
+        """None until the server has said."""
         self.feed_status = FeedStatus.CLOSED
         self.busy = ""
         self._anchor = QObject()
@@ -245,40 +246,43 @@ class Presenter:
         return self._feed is not None and self._feed.send(message)
 
     def _on_live(self, message: LiveMessage) -> None:
-        if isinstance(message, RobotState):
+        if isinstance(message, StateOut):
             self._on_state(message)
-        elif isinstance(message, LinkChanged):
+        elif isinstance(message, LinkMessage):
             if message.status is not self.link:
-                self._log(LINK_WORDS[message.status])
+                self._log(link_words(message.status))
             self._set_link(message.status, message.detail)
         elif isinstance(message, Hello):
             self._set_link(message.link, "")
-        elif isinstance(message, CommandFinished):
+        elif isinstance(message, CommandResultMessage):
             # This client logs its own commands when their answer comes; others' here.
-            if message.actor != self.me:
-                who = message.actor or "the server"
+            who = actor_name(message.actor)
+            if who != self.me:
                 result = "done" if message.ok else sentence(message.error)
-                if message.command == "run" and message.ok:
+                if message.command == Command.RUN and message.ok:
                     result = "started"
-                self._log(f"{command_label(message.command)} by {who}: {result}")
-        elif isinstance(message, UploadProgress) and message.total and message.actor == self.me:
-            text, percent = upload_progress(message.sent, message.total)
-            self.view.show_status(text)
-            self.view.show_progress(percent)
-        elif isinstance(message, JogChanged):
+                self._log(f"{command_label(message.command)} by {who or 'the server'}: {result}")
+        elif isinstance(message, ProgressMessage):
+            if message.total and actor_name(message.actor) == self.me:
+                text, percent = upload_progress(message.sent, message.total)
+                self.view.show_status(text)
+                self.view.show_progress(percent)
+        elif isinstance(message, JogMessage):
             self._on_jog_changed(message)
-        elif isinstance(message, Acked):
-            if message.op == "jog_heartbeat" and message.jogging is False and self.hold.active:
+        elif isinstance(message, JogHeartbeatAck):
+            if self.hold.active:
                 self._jog_ended("the server ended it")
-        elif isinstance(message, Refused):
+        elif isinstance(message, ErrorMessage):
             self._on_refused(message)
 
-    def _on_jog_changed(self, message: JogChanged) -> None:
-        if message.active or not self.hold.active or message.actor not in (self.me, None):
+    def _on_jog_changed(self, message: JogMessage) -> None:
+        if message.active or not self.hold.active:
             return
-        if message.reason in ("released", "") or message.reason.startswith("jog refused"):
+        if actor_name(message.actor) not in (self.me, None):
+            return
+        if message.end is None or message.end.expected or message.end is JogEnd.REFUSED:
             return  # our own release, or a refusal the error reply explains
-        self._jog_ended(jog_end_words(message.reason))
+        self._jog_ended(message.end.words(message.by))
 
     def _jog_ended(self, why: str) -> None:
         self.hold.ended()
@@ -286,27 +290,28 @@ class Presenter:
         self._log(f"Jog stopped: {why}")
         self.view.show_status(f"Jog stopped: {why}.")
 
-    def _on_refused(self, message: Refused) -> None:
+    def _on_refused(self, message: ErrorMessage) -> None:
         if message.id is None or message.id != self.hold.start_id:
             return
         self.hold.ended()
         self.view.show_jog(None)
-        text = sentence(message.message)
+        text = sentence(message.error.message)
         self._log(f"Jog refused: {text}")
         self.view.show_status(f"Jog refused: {text}")
-        fix = message.fix if message.fix in FIXES_OFFERED else None
+        fix = error_fix(message)
+        fix = fix if fix in FIXES_OFFERED else None
         # With the servo fix, the servo comes on; the student presses the key again to move.
         self._tell(NoticeKind.ERROR, "Could not jog", text, fix=fix)
 
-    def _on_state(self, state: RobotState) -> None:
+    def _on_state(self, state: StateOut) -> None:
         self.state = state
-        if state.link is not LinkStatus.UNKNOWN and state.link is not self.link:
+        if state.link is not self.link:
             self._set_link(state.link, "")
         if not state.busy:
             self.view.show_progress(None)
         self.view.show_state(state)
 
-    def _set_link(self, status: LinkStatus, detail: str) -> None:
+    def _set_link(self, status: LinkStatus | None, detail: str) -> None:
         self.link = status
         self.view.show_link(status, detail)
 

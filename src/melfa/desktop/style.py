@@ -7,15 +7,15 @@ from PySide6.QtCore import Qt
 from PySide6.QtGui import QFontDatabase, QFontMetrics
 from PySide6.QtWidgets import QLabel, QWidget
 
-from melfa.desktop.messages import LinkStatus
+from melfa.vocab.link import LinkStatus
 
-LINK_LEVEL = {
+LINK_LEVEL: dict[LinkStatus | None, str] = {
     LinkStatus.CONNECTED: "ok",
     LinkStatus.CONNECTING: "warn",
     LinkStatus.RECONNECTING: "warn",
     LinkStatus.LOST: "bad",
     LinkStatus.CLOSED: "bad",
-    LinkStatus.UNKNOWN: "idle",
+    None: "idle",  # not known yet
 }
 
 STYLE = """

@@ -10,14 +10,15 @@ from melfa.desktop.api import CheckResult, WorkspaceInfo
 from melfa.desktop.dialogs import Notice
 from melfa.desktop.hold import JogKey
 from melfa.desktop.live import FeedStatus
-from melfa.desktop.messages import LinkStatus, RobotState
+from melfa.live.messages import StateOut
+from melfa.vocab.link import LinkStatus
 
 
 class View(Protocol):
     """What the presenter asks the window to show (always on the GUI thread)."""
 
-    def show_state(self, state: RobotState) -> None: ...
-    def show_link(self, status: LinkStatus, detail: str) -> None: ...
+    def show_state(self, state: StateOut) -> None: ...
+    def show_link(self, status: LinkStatus | None, detail: str) -> None: ...
     def show_feed(self, status: FeedStatus, detail: str) -> None: ...
     def show_busy(self, what: str) -> None: ...
     def show_files(self) -> None: ...
@@ -33,10 +34,10 @@ class View(Protocol):
 class NoView:
     """Shows nothing: the presenter before a window is attached."""
 
-    def show_state(self, state: RobotState) -> None:
+    def show_state(self, state: StateOut) -> None:
         pass
 
-    def show_link(self, status: LinkStatus, detail: str) -> None:
+    def show_link(self, status: LinkStatus | None, detail: str) -> None:
         pass
 
     def show_feed(self, status: FeedStatus, detail: str) -> None:

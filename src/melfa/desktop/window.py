@@ -56,19 +56,22 @@ from melfa.desktop.files import FileKind
 from melfa.desktop.hold import JogKey
 from melfa.desktop.jogpad import JogPad
 from melfa.desktop.live import FeedStatus
-from melfa.desktop.messages import LinkStatus, RobotState
+from melfa.desktop.messages import alarm_said
 from melfa.desktop.position import PositionBox
 from melfa.desktop.presenter import FIXES_OFFERED, Presenter
 from melfa.desktop.style import LINK_LEVEL, STYLE, ValueLabel, on_off, set_level
 from melfa.desktop.words import (
-    LINK_WORDS,
     activity_text,
     control_text,
     count,
     file_line,
     jog_label,
+    link_words,
 )
+from melfa.live.messages import StateOut
 from melfa.protocol.advice import FIX_LABELS
+from melfa.vocab.activity import Activity
+from melfa.vocab.link import LinkStatus
 
 FILE_FILTERS = {
     FileKind.PROGRAM: "MELFA BASIC IV programs (*.MB4 *.mb4);;All files (*)",
@@ -83,7 +86,12 @@ FEED_WORDS = {
     FeedStatus.REFUSED: "Live updates: refused (sign in again)",
     FeedStatus.CLOSED: "Live updates: off",
 }
-ACTIVITY_LEVEL = {"alarm": "alarm", "offline": "alarm", "running": "running", "idle": ""}
+ACTIVITY_LEVEL = {
+    Activity.ALARM: "alarm",
+    Activity.OFFLINE: "alarm",
+    Activity.RUNNING: "running",
+    Activity.IDLE: "",
+}
 
 
 class RefreshingCombo(QComboBox):
@@ -197,7 +205,7 @@ class MainWindow(QMainWindow):
         self.stop_button.setMinimumSize(170, 50)
         self.stop_button.setCursor(Qt.CursorShape.PointingHandCursor)
         layout.addWidget(self.stop_button)
-        self.show_link(LinkStatus.UNKNOWN, "")
+        self.show_link(None, "")
         return header
 
     def _target_chosen(self) -> None:
@@ -539,30 +547,29 @@ class MainWindow(QMainWindow):
             f"{count(total - errors, 'warning or note')}"
         )
 
-    def show_link(self, status: LinkStatus, detail: str) -> None:
-        self.link_pill.setText(LINK_WORDS[status])
-        self.link_pill.setToolTip(detail or LINK_WORDS[status])
+    def show_link(self, status: LinkStatus | None, detail: str) -> None:
+        self.link_pill.setText(link_words(status))
+        self.link_pill.setToolTip(detail or link_words(status))
         set_level(self.link_pill, LINK_LEVEL[status])
 
     def show_feed(self, status: FeedStatus, detail: str) -> None:
         self.feed_label.setText(FEED_WORDS[status])
         self.feed_label.setToolTip(detail)
 
-    def show_state(self, state: RobotState) -> None:
+    def show_state(self, state: StateOut) -> None:
         self.position.show_state(state)
         v = self.status_values
         loaded = self.presenter.loaded
         v["activity"].setText(activity_text(state, loaded))
-        activity = state.activity or ("running" if state.running else "idle")
-        set_level(v["activity"], ACTIVITY_LEVEL.get(activity, "busy"))
+        set_level(v["activity"], ACTIVITY_LEVEL.get(state.activity, "busy"))
         v["servo"].setText(on_off(state.servo))
         v["override"].setText("—" if state.override is None else f"{state.override} %")
         if state.override is not None and not self.override_spin.hasFocus():
             self.override_spin.setValue(state.override)  # what the robot has, until edited
         v["lease"].setText(control_text(state, self.presenter.me))
         alarm = state.alarm
-        v["alarm"].setText(alarm.said if alarm else "None")
-        v["alarm"].setToolTip(alarm.said if alarm else "")
+        v["alarm"].setText(alarm_said(alarm) if alarm else "None")
+        v["alarm"].setToolTip(alarm_said(alarm) if alarm else "")
         set_level(v["alarm"], "alarm" if alarm else "")
         fix = alarm.fix if alarm and alarm.fix in FIXES_OFFERED else None
         self.alarm_fix_button.setVisible(fix is not None)
@@ -570,11 +577,13 @@ class MainWindow(QMainWindow):
             self.alarm_fix_button.setText(FIX_LABELS[fix])
         self._mark_line(state)
 
-    def _mark_line(self, state: RobotState) -> None:
+    def _mark_line(self, state: StateOut) -> None:
         """Highlight the running (or paused) line in the program, when it is the loaded file,
         and scroll it into view when it changes (a long program's line is followed)."""
         p = self.presenter
-        shows = state.activity in ("running", "paused") or bool(state.running and state.line)
+        shows = state.activity in (Activity.RUNNING, Activity.PAUSED) or bool(
+            state.running and state.line
+        )
         line = file_line(state.line, p.loaded) if shows else None
         same_file = p.loaded is not None and p.program is not None
         same_file = same_file and p.program.path.name == p.loaded.name  # type: ignore[union-attr]

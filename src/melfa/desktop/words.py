@@ -1,10 +1,11 @@
 """What the desktop client says, in a student's words. Pure: no Qt, no I/O.
 
-The robot's activity (the service's one word, shared with the browser's header and jog pad),
-the line of the student's file instead of the controller's step number, upload progress in
-per cent, why a jog ended, and the name of each action in the activity log. Controller
-errors are not here: their sentences and fixes live in `melfa.protocol.advice`, and the
-server sends them ready to show.
+The robot's activity, why a jog ended and the link's state come as codes and are said in the
+words of `melfa.vocab` (the browser shows the same words from the served vocabulary); here
+is what only this client adds: the line of the student's file instead of the controller's
+step number, upload progress in per cent, who holds control. Controller errors are not
+here: their sentences and fixes live in `melfa.protocol.advice`, and the server sends them
+ready to show.
 """
 
 from __future__ import annotations
@@ -12,10 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from melfa.desktop.api import ApiError, CheckResult, ServerUnreachable
-from melfa.desktop.messages import LinkStatus, RobotState
+from melfa.desktop.messages import StateOut
+from melfa.vocab.activity import Activity, jog_detail, said, where
+from melfa.vocab.link import LINK_WORDS, LinkStatus
 
 JOG_AXES = {"xyz": ("X", "Y", "Z", "A", "B", "C"), "tool": ("X", "Y", "Z", "A", "B", "C")}
-FRAME_WORDS = {"xyz": "base", "tool": "tool", "joint": "joints"}
 
 
 @dataclass(frozen=True)
@@ -36,18 +38,6 @@ def jog_label(frame: str, axis: int, direction: int) -> str:
     return f"{name}{'+' if direction > 0 else '−'}"
 
 
-def jog_words(detail: str) -> str:
-    """The server's jog detail (``xyz X+``) as a student reads it.
-
-    >>> jog_words("xyz X+"), jog_words("tool Z-"), jog_words("joint J3+"), jog_words("")
-    ('X+ (base)', 'Z- (tool)', 'J3+', '')
-    """
-    frame, _, axis = detail.partition(" ")
-    if not axis:
-        return detail
-    return axis if frame == "joint" else f"{axis} ({FRAME_WORDS.get(frame, frame)})"
-
-
 def file_line(step: int | None, loaded: Loaded | None) -> int | None:
     """The line of the loaded file the controller's step number stands for, if known.
 
@@ -59,10 +49,10 @@ def file_line(step: int | None, loaded: Loaded | None) -> int | None:
     return loaded.step_lines.get(step)
 
 
-def where_in_program(state: RobotState, loaded: Loaded | None) -> str:
+def where_in_program(state: StateOut, loaded: Loaded | None) -> str:
     """``line 5 of pick.MB4``: the line of the student's file, never a bare step number.
 
-    >>> s = RobotState.from_json({"line": 50, "program": "1"})
+    >>> s = state_of(line=50, program="1")
     >>> where_in_program(s, Loaded("pick.MB4", {50: 5}))
     'line 5 of pick.MB4'
     >>> where_in_program(s, None)
@@ -70,46 +60,42 @@ def where_in_program(state: RobotState, loaded: Loaded | None) -> str:
     """
     line = file_line(state.line, loaded)
     if line is not None and loaded is not None:
-        return f"line {line} of {loaded.name}"
-    if state.line:
-        return f"the line numbered {state.line} (the program was loaded elsewhere)"
-    return ""
+        return where(line=line, file=loaded.name)
+    return where(step=state.line)
 
 
-def activity_text(state: RobotState, loaded: Loaded | None) -> str:
-    """What the robot does now, the same word the browser shows (docs/api.md ``activity``).
+def activity_text(state: StateOut, loaded: Loaded | None) -> str:
+    """What the robot does now, in the sentence the browser shows too (`melfa.vocab.activity`).
 
-    >>> activity_text(RobotState.from_json({"activity": "jogging",
-    ...                                     "activity_detail": "xyz X+"}), None)
+    >>> activity_text(state_of(activity="jogging", activity_detail="xyz X+"), None)
     'Jogging X+ (base)'
-    >>> activity_text(RobotState.from_json({"activity": "running", "line": 50}),
-    ...               Loaded("pick.MB4", {50: 5}))
+    >>> activity_text(state_of(activity="running", line=50), Loaded("pick.MB4", {50: 5}))
     'Running line 5 of pick.MB4'
-    >>> activity_text(RobotState.from_json({"activity": "alarm",
-    ...     "alarm": {"number": 2000, "code": "L2000", "message": "The servo is off."}}), None)
+    >>> activity_text(state_of(activity="alarm", alarm={"number": 2000, "text": "Servo off",
+    ...     "code": "L2000", "message": "The servo is off."}), None)
     'Alarm L2000'
     """
     activity = state.activity
-    if activity == "uploading" or (not activity and state.busy):
-        return "Sending a program to the robot…"
-    if activity == "alarm" or (not activity and state.alarm is not None):
-        return f"Alarm {state.alarm.code}" if state.alarm else "Alarm"
-    if activity == "jogging":
-        detail = jog_words(state.activity_detail)
-        return f"Jogging {detail}".strip()
-    if activity == "moving-to":
-        return f"Moving to {state.activity_detail or 'a point'}"
-    if activity == "running" or (not activity and state.running):
-        where = where_in_program(state, loaded)
-        return f"Running {where}".strip()
-    if activity == "paused":
-        where = where_in_program(state, loaded)
-        return f"Paused at {where}: Run continues" if where else "Paused: Run continues"
-    if activity == "moving":
-        return "Robot moving (not started by melfa)"
-    if activity == "offline" or state.link in (LinkStatus.LOST, LinkStatus.CLOSED):
-        return "Robot not connected"
-    return "Idle"
+    if activity in (Activity.RUNNING, Activity.PAUSED):
+        detail = where_in_program(state, loaded)
+    elif activity is Activity.JOGGING:
+        detail = jog_detail(state.activity_detail)
+    elif activity is Activity.ALARM:
+        detail = state.alarm.code if state.alarm else ""
+    else:
+        detail = state.activity_detail
+    return said(activity, detail)
+
+
+def state_of(**fields: object) -> StateOut:
+    """A snapshot with these fields and nothing known of the rest (for examples and tests)."""
+    empty: dict[str, object] = dict.fromkeys(
+        ("joints", "pose", "flags", "servo", "running", "moving", "line", "override", "speed",
+         "alarm", "busy", "lease_holder"),
+    )  # fmt: skip
+    base = {"seq": 0, "at": "2026-11-24T09:00:00Z", "link": "connected", "pose_measured": False,
+            "program": "", "hands": [], "jogging": False, **empty}  # fmt: skip
+    return StateOut.model_validate({**base, **fields})
 
 
 def upload_progress(sent: int, total: int) -> tuple[str, int]:
@@ -126,45 +112,14 @@ def upload_progress(sent: int, total: int) -> tuple[str, int]:
     return f"Sending to the robot: {percent} %", percent
 
 
-JOG_END_WORDS = {
-    "heartbeat lost": "the key's signal stopped reaching the server, so the arm stopped",
-    "client disconnected": "the connection closed, so the arm stopped",
-    "lease released": "control was given back",
-    "lease lost": "control ended",
-    "service closing": "the server is shutting down",
-}
-
-
-def jog_end_words(reason: str) -> str:
-    """Why a jog ended, for the log.
-
-    >>> jog_end_words("heartbeat lost")
-    "the key's signal stopped reaching the server, so the arm stopped"
-    >>> jog_end_words("stopped by ann"), jog_end_words("link lost")
-    ('STOP pressed by ann', 'the robot link was lost')
-    """
-    if reason in JOG_END_WORDS:
-        return JOG_END_WORDS[reason]
-    if reason.startswith("stopped by "):
-        return f"STOP pressed by {reason.removeprefix('stopped by ')}"
-    if reason.startswith("taken over by "):
-        return f"{reason.removeprefix('taken over by ')} took control"
-    if reason.startswith("link "):
-        return "the robot link was lost"
-    if reason.startswith("lease ended"):
-        return "control ended"
-    return "the server ended it"
-
-
-def control_text(state: RobotState, me: str) -> str:
+def control_text(state: StateOut, me: str) -> str:
     """Who holds control (the lease), since when, and the state of their connection.
 
-    >>> control_text(RobotState.from_json({}), "ann")
+    >>> control_text(state_of(), "ann")
     'Free: your first command takes it'
-    >>> control_text(RobotState.from_json({"lease_holder": "ann"}), "ann")
+    >>> control_text(state_of(lease_holder="ann"), "ann")
     'You'
-    >>> control_text(RobotState.from_json({"lease_holder": "bob",
-    ...                                    "lease_state": "no connection"}), "ann")
+    >>> control_text(state_of(lease_holder="bob", lease_state="no connection"), "ann")
     'bob — no connection'
     """
     holder = state.lease_holder
@@ -178,14 +133,13 @@ def control_text(state: RobotState, me: str) -> str:
     return text
 
 
-LINK_WORDS = {
-    LinkStatus.CONNECTED: "Robot connected",
-    LinkStatus.CONNECTING: "Connecting to the robot…",
-    LinkStatus.RECONNECTING: "Robot link lost; reconnecting…",
-    LinkStatus.LOST: "Robot link lost",
-    LinkStatus.CLOSED: "Robot link closed",
-    LinkStatus.UNKNOWN: "Robot link unknown",
-}
+def link_words(status: LinkStatus | None) -> str:
+    """The link's state in the student's words (None: not known yet).
+
+    >>> link_words(LinkStatus.LOST), link_words(None)
+    ('Robot link lost', 'Robot link unknown')
+    """
+    return LINK_WORDS[status] if status is not None else "Robot link unknown"
 
 
 def count(n: int, what: str) -> str:
@@ -199,11 +153,11 @@ def count(n: int, what: str) -> str:
 def diagnostic_lines(result: CheckResult, errors_only: bool = True) -> tuple[str, ...]:
     """``line:col  message`` for the dialog, program first, then points."""
     out: list[str] = []
-    for where, diags in (("", result.program), ("points ", result.points)):
+    for part, diags in (("", result.program), ("points ", result.points)):
         for d in diags:
             if errors_only and d.severity.value != "error":
                 continue
-            out.append(f"{where}{d.line}:{d.column}  {d.message}")
+            out.append(f"{part}{d.line}:{d.column}  {d.message}")
     return tuple(out)
 
 
@@ -234,8 +188,6 @@ def describe_failure(exc: BaseException) -> tuple[str, tuple[str, ...]]:
 
 
 __all__ = [
-    "JOG_END_WORDS",
-    "LINK_WORDS",
     "Loaded",
     "activity_text",
     "control_text",
@@ -243,10 +195,10 @@ __all__ = [
     "describe_failure",
     "diagnostic_lines",
     "file_line",
-    "jog_end_words",
     "jog_label",
-    "jog_words",
+    "link_words",
     "sentence",
+    "state_of",
     "upload_progress",
     "where_in_program",
 ]

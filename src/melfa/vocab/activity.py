@@ -15,7 +15,7 @@ import enum
 from dataclasses import dataclass
 
 
-class Activity(enum.Enum):
+class Activity(enum.StrEnum):
     OFFLINE = "offline"
     """The robot link is down."""
     UPLOADING = "uploading"
@@ -31,7 +31,7 @@ class Activity(enum.Enum):
     IDLE = "idle"
 
 
-class Tone(enum.Enum):
+class Tone(enum.StrEnum):
     """How a view marks the activity: a spinner (busy), red (error), plain (calm)."""
 
     CALM = "calm"

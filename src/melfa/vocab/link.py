@@ -9,7 +9,7 @@ from __future__ import annotations
 import enum
 
 
-class LinkStatus(enum.Enum):
+class LinkStatus(enum.StrEnum):
     """State of the line to the controller."""
 
     CONNECTING = "connecting"

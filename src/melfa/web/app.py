@@ -42,6 +42,7 @@ from melfa.web.routes import (
     targets,
     tokens,
     users,
+    vocab,
     workspaces,
 )
 from melfa.web.routes.pages import STATIC
@@ -167,6 +168,7 @@ def create_app(
     app.include_router(audit.pages)
     app.include_router(pages.router)
     app.include_router(model.router)
+    app.include_router(vocab.router)
     app.include_router(ws_router)
     app.include_router(rosbridge_routes())
     app.mount("/static", CachedStaticFiles(directory=STATIC), name="static")

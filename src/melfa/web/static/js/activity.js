@@ -1,34 +1,80 @@
 // One truth for what the robot does: the service's `activity` word (docs/api.md "state"),
-// told the same way by the header pill, the activity line, the jog pad and the 3D view.
+// told the same way by the header pill, the activity line, the jog pad and the 3D view, in
+// the words of the served vocabulary (/vocab.js, generated from melfa.vocab: the desktop
+// client reads the same). The codes the server sends are shown, never English parsed.
 // And the words for a jog direction in each frame: which way the hand really goes.
 
+import { ACTIVITY, COMMANDS, FRAME_WORDS, JOG_ENDS, LINK_WORDS, WHERE_WORDS } from "/vocab.js";
+
 /**
- * {text, pill, busy, error, hint} for a state message. `lineOf(step)` maps the controller's
- * step number to the editor's line when this browser knows the loaded text (then the words
- * name the line the editor marks); otherwise the step number of the loaded .MB4 is said.
+ * {text, pill, busy, error, hint} for a state message, in the words of melfa.vocab (the
+ * same sentence the desktop client shows). `lineOf(step)` maps the controller's step
+ * number to the editor's line when this browser knows the loaded text (then the words name
+ * the line the editor marks); otherwise the step number is said as such.
  */
 export function describeActivity(m, lineOf = null) {
-  let detail = m?.activity_detail || "";
-  const line = (m?.activity === "running" || m?.activity === "paused") && m.line && lineOf ? lineOf(m.line) : null;
-  if (line) detail = `line ${line}`;
-  const program = m?.program ? ` ${m.program}` : "";
-  switch (m?.activity) {
-    case "uploading": return { text: "Uploading…", pill: "uploading", busy: true };
-    case "alarm": return { text: `Alarm ${m.alarm?.code || m.alarm?.number || ""}`.trim(), pill: "alarm", error: true };
-    case "jogging": return { text: `Jogging${detail ? " " + jogWords(detail) : ""}`, pill: "jogging", busy: true };
-    case "moving-to": return { text: `Moving to ${detail || "a point"}`, pill: "moving", busy: true };
-    case "running": return { text: `Running${program}${detail ? " · " + detail : ""}`, pill: `running${detail ? " · " + detail : ""}`, busy: true };
-    case "paused": return { text: `Paused${detail ? " at " + detail : ""}`, pill: "paused", hint: "Run continues; Reset program starts over" };
-    case "moving": return { text: "Robot moving", pill: "moving", busy: true };
-    case "offline": return { text: "Robot not connected", pill: "offline", error: true };
-    default: return { text: "Idle", pill: "idle" };
+  const code = m?.activity in ACTIVITY ? m.activity : "idle";
+  const words = ACTIVITY[code];
+  return {
+    text: said(code, detailOf(code, m, lineOf)),
+    pill: words.pill,
+    busy: words.tone === "busy",
+    error: words.tone === "error",
+    hint: words.hint,
+  };
+}
+
+/** The activity's sentence with its detail, as `melfa.vocab.activity.said` fills it. */
+export function said(code, detail = "") {
+  const words = ACTIVITY[code] ?? ACTIVITY.idle;
+  return detail ? words.said.replace("{detail}", detail) : words.bare;
+}
+
+function detailOf(code, m, lineOf) {
+  switch (code) {
+    case "running":
+    case "paused": {
+      if (!m.line) return "";
+      const line = lineOf ? lineOf(m.line) : null;
+      return line ? fill(WHERE_WORDS.line, { line }) : fill(WHERE_WORDS.step, { step: m.line });
+    }
+    case "jogging": return jogDetail(m.activity_detail || "");
+    case "alarm": return m.alarm?.code || (m.alarm?.number != null ? String(m.alarm.number) : "");
+    default: return m?.activity_detail || "";
   }
 }
 
-function jogWords(label) {
-  // "xyz X+" → "X+ (base)"; "tool Z-" → "Z- (tool)"; "joint J3+" → "J3+".
-  const [frame, axis] = label.split(" ");
-  return frame === "joint" ? axis : `${axis} (${frame === "tool" ? "tool" : "base"})`;
+/** The service's jog detail ("xyz X+": a frame code and the key) as a student reads it. */
+export function jogDetail(detail) {
+  const [frame, axis] = detail.split(" ");
+  if (!axis) return detail;
+  return fill(FRAME_WORDS[frame] ?? "{axis}", { axis });
+}
+
+/** Why a jog ended (the `jog` message's `end` code, `by` whom), in the student's words. */
+export function jogEndWords(end, by = null) {
+  const words = JOG_ENDS[end]?.words ?? "the server ended it";
+  if (!words.includes("{by}")) return words;
+  return by ? fill(words, { by }) : words.replace(" by {by}", "").replace("{by} ", "someone ");
+}
+
+/** A jog end the student caused themselves (letting the key go): nothing to tell them. */
+export function jogEndExpected(end) {
+  return !!JOG_ENDS[end]?.expected;
+}
+
+/** A command's label (the `result`/`lease` messages' `command` code). */
+export function commandLabel(code) {
+  return COMMANDS[code]?.label ?? String(code ?? "").replace(/_/g, " ").replace(/^./, (c) => c.toUpperCase());
+}
+
+/** The link's state ("connected", "lost" …) in the student's words. */
+export function linkWords(status) {
+  return LINK_WORDS[status] ?? "Robot link unknown";
+}
+
+function fill(template, values) {
+  return template.replace(/\{(\w+)\}/g, (all, key) => (key in values ? String(values[key]) : all));
 }
 
 const WORDS = [["forward", "back"], ["left", "right"], ["up", "down"]];

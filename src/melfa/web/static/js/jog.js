@@ -5,7 +5,7 @@
 // still on the way. Step mode sends one increment per press (REST jog-step).
 
 import { api } from "./api.js";
-import { describeActivity, directionWords } from "./activity.js";
+import { describeActivity, directionWords, jogEndExpected, jogEndWords } from "./activity.js";
 import { motionBody } from "./fixes.js";
 import { $, showError, toast } from "./ui.js";
 
@@ -85,8 +85,10 @@ export class JogPad {
     const speed = $("jog-speed");
     speed.addEventListener("input", () => ($("jog-speed-out").textContent = `${speed.value} %`));
     app.live.on("jog", (m) => {
-      if (!m.active && this.held && m.actor?.user === app.user && m.reason && m.reason !== "released") {
-        toast("Jog stopped", { kind: "warning", text: m.reason });
+      // Why it ended comes as a code (`end`); letting the key go needs no word, and a
+      // refusal is told by the error reply of the jog_start.
+      if (!m.active && this.held && m.actor?.user === app.user && m.end && !jogEndExpected(m.end) && m.end !== "refused") {
+        toast("Jog stopped", { kind: "warning", text: jogEndWords(m.end, m.by) });
         this.stopHeartbeat();
         this.held = null;
         this.lit.clear();

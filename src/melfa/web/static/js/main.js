@@ -5,7 +5,7 @@
 import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
 import { ActionLog } from "./actionlog.js";
-import { describeActivity } from "./activity.js";
+import { commandLabel, describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, robotBadge, welcome } from "./first.js";
 import { Guide } from "./guide.js";
@@ -143,12 +143,13 @@ function wireLive(live) {
   live.on("state", (m) => onState(m));
   live.on("lease", (m) => {
     setLease(m.holder, m.since, m.holder_state);
-    if (m.reason === "taken over" && m.previous?.user === app.user) {
+    // Taken from us by someone else (only an instructor's take-over does that).
+    if (m.previous?.user === app.user && m.holder && m.holder.user !== app.user) {
       toast("Control taken over", { kind: "warning", text: `${m.holder?.user ?? "An instructor"} took control of the robot.` });
     }
     // Nothing takes control silently: a command that took the free lease says so.
-    if (m.holder?.user === app.user && m.reason?.startsWith("taken by ")) {
-      toast("You have control of the robot", { kind: "info", text: `Taken when you used ${m.reason.slice(9)}. Others can watch; press Release when you are done.` });
+    if (m.holder?.user === app.user && m.command) {
+      toast("You have control of the robot", { kind: "info", text: `Taken when you used ${commandLabel(m.command)}. Others can watch; press Release when you are done.` });
     }
   });
   live.on("progress", (m) => {

@@ -1,0 +1,56 @@
+"""The student's words for the browser, from `melfa.vocab` (one vocabulary for every
+client): ``/vocab.js``, an ES module the IDE imports. The server sends codes (an activity,
+why a jog ended, a command, the link's state); the browser shows the words of the code it
+was sent, filled the same way the desktop client fills them (`melfa.vocab.activity.said`)."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from fastapi import APIRouter
+from fastapi.responses import Response
+
+from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
+from melfa.vocab.commands import Command
+from melfa.vocab.jog import JogEnd
+from melfa.vocab.link import LINK_WORDS
+
+router = APIRouter(include_in_schema=False)
+
+
+def vocabulary() -> dict[str, Any]:
+    """Every family of words, keyed by its wire value."""
+    return {
+        "ACTIVITY": {
+            activity.value: {
+                "said": words.said,
+                "bare": words.bare,
+                "pill": words.pill,
+                "tone": words.tone.value,
+                "hint": words.hint,
+            }
+            for activity, words in ACTIVITY_WORDS.items()
+        },
+        "FRAME_WORDS": FRAME_WORDS,
+        "WHERE_WORDS": WHERE_WORDS,
+        "LINK_WORDS": {status.value: words for status, words in LINK_WORDS.items()},
+        "COMMANDS": {c.value: {"label": c.label, "moves": c.moves} for c in Command},
+        "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
+    }
+
+
+def vocab_module() -> str:
+    """The ES module text: one ``export const`` per family."""
+    lines = ["// Generated from melfa.vocab (the words every client shows for the server's codes)."]
+    for name, table in vocabulary().items():
+        lines.append(f"export const {name} = {json.dumps(table, ensure_ascii=False)};")
+    return "\n".join(lines) + "\n"
+
+
+@router.get("/vocab.js")
+async def vocab_js() -> Response:
+    return Response(vocab_module(), media_type="text/javascript")
+
+
+__all__ = ["router", "vocab_module", "vocabulary"]
