@@ -13,7 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from melfa.desktop.api import ApiError, CheckResult, ServerUnreachable
-from melfa.desktop.messages import StateOut
+from melfa.live.messages import StateOut
 from melfa.vocab.activity import Activity, jog_detail, said, where
 from melfa.vocab.link import LINK_WORDS, LinkStatus
 
