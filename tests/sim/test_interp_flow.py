@@ -294,8 +294,25 @@ def test_structure_errors_stop_at_their_line() -> None:
     assert fails("FOR I = 1 TO 2", "END") == (errors.FOR_NEXT_UNMATCH, 10)
 
 
-def test_syntax_error_line_stops_with_l4220() -> None:
-    assert fails("M1 = 1", "MOV ,,,", "END")[0] == errors.SYNTAX_ERROR
+def refused_at_load(text: str) -> tuple[int, int | None]:
+    with pytest.raises(errors.RunError) as caught:
+        simulate(text)
+    return caught.value.number, caught.value.line
+
+
+def test_lines_the_checker_refuses_are_refused_at_load() -> None:
+    # As the controller refuses them when the program is written to it: nothing runs.
+    assert refused_at_load("10 M1 = 1\n20 MOV ,,,\n30 END\n") == (errors.SYNTAX_ERROR, 20)
+    assert refused_at_load("10 SERVO ON (remark)\n20 END\n") == (errors.SYNTAX_ERROR, 10)
+    assert refused_at_load("0 M1 = 1\n10 END\n") == (errors.LINE_NUMBER_RANGE, 0)
+    long_step = "10 M1 = " + "1 + " * 40 + "1\n20 END\n"
+    assert refused_at_load(long_step) == (errors.STATEMENT_TOO_LONG, 10)
+
+
+def test_the_last_of_two_lines_with_one_step_number_is_kept() -> None:
+    r = simulate("10 M1 = 1\n20 M1 = 2\n20 M1 = 3\n30 END\n")
+    assert r.interp.state.vars["M1"] == 3
+    assert [s.number for s in r.interp.state.steps] == [10, 20, 30]
 
 
 def test_user_error() -> None:

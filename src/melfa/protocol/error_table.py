@@ -124,6 +124,8 @@ PROGRAM_BEING_EDITED: Final = 4170
 """L4170 "The program is being edited" [DOC S4]."""
 PROGRAM_RUNNING: Final = 4180
 """L4180 "Program is running": a paused or running program holds the slot [DOC S4]."""
+STATEMENT_TOO_LONG: Final = 4210
+"""L4210 "Too long statement": a step over 127 characters [melfa-basic-iv.md §1, §8]."""
 SYNTAX: Final = 4220
 """L4220 "Syntax error" [DOC S4]."""
 LINE_NOT_FOUND: Final = 4230
@@ -138,6 +140,8 @@ ARRAY_ELEMENT: Final = 4370
 """L4370 array element error (subscript out of range) [melfa-basic-iv.md §8]."""
 TYPE_COMBINATION: Final = 4390
 """L4390 variable type combination [melfa-basic-iv.md §8]."""
+LINE_NUMBER_RANGE: Final = 4420
+"""L4420 "Line No exceeds 32767" [melfa-basic-iv.md §1, §8]."""
 
 JOG_NOT_ACCEPTED: Final = frozenset({JOG_REFUSED, ILLEGAL_COMMAND})
 """Refusals of JOG meaning "this firmware does not take JOG here": fall back to steps."""

@@ -5,7 +5,10 @@ executes them [S2 §4.3.4]), matches FOR/NEXT, WHILE/WEND, IF/ELSE/ENDIF and
 SELECT/CASE/END SELECT once, and turns every statement into a closure over the
 interpreter's state. A structure error (a NEXT without FOR, a jump to a missing line) is
 not a load failure: like the controller, the program stops with its error number when it
-reaches that line.
+reaches that line. A line the controller refuses when the program is written to it is a
+load failure, as the checker reports it: a syntax error (``SERVO ON (remark)``), a step
+number outside 1…32767, a step longer than 127 characters. Of two lines with one step
+number the last is kept, as the controller does [S2 §4.3.4].
 
 The statement compilers live in one module per subject and are mixed in here:
 `variables` (assignment, PRINT), `flow` (jumps, IF, loops, SELECT, WAIT), `motion_stmts`
@@ -18,8 +21,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from melfa.lang import ast
+from melfa.lang.model import MAX_LINE_LENGTH, MAX_LINE_NUMBER
 from melfa.sim.interp import errors
 from melfa.sim.interp.definitions import DefinitionStatements
+from melfa.sim.interp.errors import LINE_NUMBER_RANGE, STATEMENT_TOO_LONG
 from melfa.sim.interp.flow import FlowStatements
 from melfa.sim.interp.motion_stmts import MotionStatements
 from melfa.sim.interp.state import Step
@@ -38,6 +43,7 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
         numbered = any(ln.number is not None for ln in lines)
         executable: list[ast.Line] = []
         for ln in lines:
+            _refuse_at_load(ln)
             if numbered and ln.number is None:
                 if ln.statement is not None and self._is_point(ln.statement):
                     self.take_point(ln.statement, points, ln.span.line)
@@ -51,7 +57,9 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
                 )
             executable.append(ln)
         if numbered:
-            executable.sort(key=lambda ln: ln.number or 0)
+            # One step a number, the last line written with it (the controller overwrites).
+            last = {ln.number: ln for ln in executable}
+            executable = sorted(last.values(), key=lambda ln: ln.number or 0)
         self.numbers = {}
         self.labels = {}
         for i, ln in enumerate(executable):
@@ -130,6 +138,27 @@ class Compiler(FlowStatements, MotionStatements, DefinitionStatements, VariableS
 
     def _noop(self, s: ast.Statement, i: int) -> Run:
         return nothing
+
+
+def _refuse_at_load(ln: ast.Line) -> None:
+    """A line the controller would not take: its syntax error, a step number out of range,
+    a step too long (the checker's rules and numbers, `melfa.lang.check`)."""
+    shown = ln.number if ln.number is not None else ln.span.line
+    if ln.issues:
+        issue = ln.issues[0]
+        number = int(issue.code[1:]) if issue.code else errors.SYNTAX_ERROR
+        raise errors.RunError(number, f"syntax error: {issue.message}", line=shown)
+    if ln.number is not None and not 1 <= ln.number <= MAX_LINE_NUMBER:
+        raise errors.RunError(
+            LINE_NUMBER_RANGE, f"step number {ln.number} is out of range", line=shown
+        )
+    length = ln.span.end_column - 1
+    if length > MAX_LINE_LENGTH:
+        raise errors.RunError(
+            STATEMENT_TOO_LONG,
+            f"the step is {length} characters long; the controller allows {MAX_LINE_LENGTH}",
+            line=shown,
+        )
 
 
 _DISPATCH: dict[type, Callable[..., Run]] = {
