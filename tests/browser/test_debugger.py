@@ -119,6 +119,14 @@ def test_a_student_runs_and_debugs_on_their_simulator_while_the_lab_is_held(
     # A WAIT on an input: the panel offers to set it, and the program goes on.
     page.click("#dbg-continue")
     expect(page.locator("#dbg-wait")).to_contain_text("WAIT M_IN(8)")
+    # The offer stays the same button while the waiting program's status keeps arriving, so a
+    # press and its release land on one element (a rebuilt button never gets the click).
+    page.evaluate("() => { window.__release = document.getElementById('dbg-release'); }")
+    first = page.locator("#dbg-status").text_content()
+    page.wait_for_function(
+        "(t) => document.getElementById('dbg-status').textContent !== t", arg=first
+    )
+    assert page.evaluate("() => document.getElementById('dbg-release') === window.__release")
     page.click("#dbg-release")
     expect(page.locator("#dbg-status")).to_have_attribute("data-state", "finished")
     expect(variable(page, "M2").locator("td")).to_have_text("20")

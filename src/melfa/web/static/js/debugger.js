@@ -328,7 +328,10 @@ export class DebugPanel {
     // A WAIT on an input: say which and offer to set it.
     const waitInput = s?.waiting ? /M_IN\s*\(\s*(\d+)\s*\)/i.exec(loc?.source ?? "") : null;
     this.waitBox.hidden = !s?.waiting;
-    if (s?.waiting) {
+    // Rebuilt only when what it says changes: status events arrive many times a second while
+    // the program waits, and a button replaced between press and release never gets the click.
+    const waitKey = s?.waiting ? `${loc?.line}|${loc?.source ?? ""}` : "";
+    if (s?.waiting && waitKey !== this.waitKey) {
       const parts = [el("span", {}, `The program waits at line ${loc?.line}: ${loc?.source ?? ""}`)];
       if (waitInput) {
         const bit = Number(waitInput[1]);
@@ -339,6 +342,7 @@ export class DebugPanel {
       }
       this.waitBox.replaceChildren(...parts);
     }
+    this.waitKey = waitKey;
   }
 
   renderVariables() {
