@@ -266,3 +266,31 @@ def test_rosapi_parameters_are_bounded_and_given_back_on_close(tmp_path: Path) -
             ws.close()
         wait_until(lambda: budget.used == 0, what="every parameter freed")
     store.close()
+
+
+# ---------------------------------------------------------------- slowloris
+
+
+def test_slow_heads_cannot_hold_every_connection(tmp_path: Path) -> None:
+    """More slow-header connections than the server's connection limit, held open (as an
+    attacker who reopens each one cut keeps them): the oldest waiting ones make room, and
+    /api/health answers every probe."""
+    store = make_store(tmp_path / "data")
+    limits = Limits(max_connections=100, max_connections_waiting=20)
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), limits=limits)
+    slow: list[socket.socket] = []
+    with live_server(store, settings) as live:
+        try:
+            for _ in range(150):
+                s = socket.socket()
+                s.bind(("127.0.0.2", 0))
+                s.connect(("127.0.0.1", live.port))
+                s.sendall(b"GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ")
+                slow.append(s)
+            with live.client() as c:
+                probes = [c.get("/api/health").status_code for _ in range(5)]
+        finally:
+            for s in slow:
+                s.close()
+    store.close()
+    assert probes == [200] * 5

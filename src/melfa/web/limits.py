@@ -61,6 +61,10 @@ class Limits:
     """An idle kept-alive HTTP connection is closed after this long."""
     max_connections: int = 400
     """Open connections to the server overall; beyond, 503 (uvicorn ``limit_concurrency``)."""
+    max_connections_waiting: int = 64
+    """Connections still waiting for their first request head; beyond, once half of
+    ``max_connections`` are open, a new one closes the oldest of them (a slowloris attacker
+    who reconnects cannot hold every place)."""
     max_requests_per_client: int = 16
     """HTTP requests one session (or, signed out, one address) runs at once; beyond, 429."""
     max_sockets_per_user: int = 8

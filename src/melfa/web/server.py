@@ -7,7 +7,7 @@ connections, the largest WebSocket message, and which proxies' headers are belie
 from __future__ import annotations
 
 import asyncio
-from typing import Any
+from typing import Any, ClassVar
 
 import uvicorn
 from uvicorn.protocols.http.h11_impl import H11Protocol
@@ -15,33 +15,54 @@ from uvicorn.protocols.http.h11_impl import H11Protocol
 from melfa.web.limits import Limits
 
 
-def header_timeout_protocol(seconds: float) -> type[H11Protocol]:
+def header_timeout_protocol(
+    seconds: float, max_waiting: int = 64, crowded: int = 200
+) -> type[H11Protocol]:
     """uvicorn's h11 protocol, closing a connection whose first request head has not
-    arrived within ``seconds`` (slow-header attacks: uvicorn itself waits forever)."""
+    arrived within ``seconds`` (slow-header attacks: uvicorn itself waits forever), and,
+    once ``crowded`` connections are open and ``max_waiting`` of them are waiting for their
+    first head, the oldest of those for each new one (an attacker who reopens each dropped
+    connection would otherwise hold every place under the connection limit, and everyone
+    else gets 503; a burst of real clients below ``crowded`` is never cut)."""
 
     class HeaderTimeoutH11(H11Protocol):
         slow_closed = 0
+        """Connections closed for a head that did not come in time."""
+        evicted = 0
+        """Connections closed to make room while still waiting for their head."""
+        waiting: ClassVar[dict[HeaderTimeoutH11, None]] = {}
+        """Connections waiting for their first head, oldest first."""
 
         def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
             super().connection_made(transport)
+            waiting = type(self).waiting
+            while len(waiting) >= max_waiting and len(self.connections) >= crowded:
+                oldest = next(iter(waiting))
+                oldest._stop_waiting()
+                type(self).evicted += 1
+                oldest.transport.close()
             self._head_timer: asyncio.TimerHandle | None = self.loop.call_later(
                 seconds, self._head_too_slow
             )
+            waiting[self] = None
 
         def handle_events(self) -> None:
             super().handle_events()
             if self.headers is not None and self._head_timer is not None:
-                self._head_timer.cancel()
-                self._head_timer = None
+                self._stop_waiting()
 
         def connection_lost(self, exc: Exception | None) -> None:
+            self._stop_waiting()
+            super().connection_lost(exc)
+
+        def _stop_waiting(self) -> None:
             if self._head_timer is not None:
                 self._head_timer.cancel()
                 self._head_timer = None
-            super().connection_lost(exc)
+            type(self).waiting.pop(self, None)
 
         def _head_too_slow(self) -> None:
-            self._head_timer = None
+            self._stop_waiting()
             if self.headers is None and not self.transport.is_closing():
                 type(self).slow_closed += 1
                 self.transport.close()
@@ -65,7 +86,9 @@ def uvicorn_config(
         app,
         host=host,
         port=port,
-        http=header_timeout_protocol(lim.header_timeout_s),
+        http=header_timeout_protocol(
+            lim.header_timeout_s, lim.max_connections_waiting, lim.max_connections // 2
+        ),
         ws="websockets-sansio",
         h11_max_incomplete_event_size=lim.header_bytes,
         timeout_keep_alive=max(1, round(lim.keep_alive_s)),
