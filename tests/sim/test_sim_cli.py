@@ -179,3 +179,25 @@ def test_real_situation_options_reach_the_served_controller() -> None:
 def test_digits_other_than_4_or_9_are_a_usage_mistake() -> None:
     result = CliRunner().invoke(app, ["sim", "--digits", "5"])
     assert result.exit_code == 2 and "4 (manual) or 9 (real)" in result.output
+
+
+def test_pty_link_is_a_stable_name_and_the_baud_is_printed_as_given(tmp_path: Path) -> None:
+    link = tmp_path / "robot"
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    proc = subprocess.Popen(
+        [*RUN, "--pty", "--no-pacing", "--baud", "38400", "--cterm", "1", "--link", str(link)],
+        stdout=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    try:
+        line = _first_line_with(proc, "listening on")
+        assert "(38400 8E2)" in line and str(link) in line
+        for _ in range(2):  # the same name serves the next client on a fresh pty
+            with serial.Serial(str(link), 38400, parity="E", stopbits=2, timeout=30) as port:
+                port.write(b"1;1;STATE\r")  # no OPEN: real controllers answered that
+                assert port.readline().endswith(b"\r\n")  # CTERM232 = 1
+            _first_line_with(proc, "listening on")
+    finally:
+        _stop(proc)
+    assert not link.exists()

@@ -114,3 +114,13 @@ def test_what_real_controllers_answered_is_answered(strict: bool) -> None:
 def test_the_manual_rule_open_first_is_a_setting() -> None:
     controller = VirtualController(SimConfig(open_required=True))
     assert controller.handle(b"1;1;STATE\r", 0.0) == b"QeR601000000\r"
+
+
+def test_state_after_a_cycle_run_ends_is_the_recorded_idle_state() -> None:
+    controller = VirtualController(SimConfig(strict=True), programs={"SHORT": "10 M1=1\n20 END\n"})
+    for request in (b"1;1;CNTLON\r", b"1;1;SRVON\r", b"1;1;RUNSHORT;1\r"):
+        assert controller.handle(request, 0.0).startswith(b"QoK")
+    assert controller.handle(b"1;1;CNTLOFF\r", 0.0) == b"QoK\r"
+    # [TRACE K9b-PROG] QoK;0;100;0;21120;0;1;;;;;;;;;REP;START;1;0
+    reply = controller.handle(b"1;1;STATE\r", 5.0)
+    assert reply == b"QoK;0;100;0;21120;0;1;;;;;;;;;REP;START;1;0\r"

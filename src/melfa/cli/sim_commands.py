@@ -22,12 +22,12 @@ from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
-from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, KeySwitch, strict_by_default
+from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, KeySwitch, Terminator, strict_by_default
 from melfa.sim.interp.cli_trace import run_and_trace
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
 from melfa.sim.interp.io import parse_input
 
-console = Console(highlight=False)
+console = Console(highlight=False, soft_wrap=True)  # a path is never broken over lines
 errors = Console(stderr=True, highlight=False)
 
 
@@ -38,6 +38,8 @@ def build_controller(
     digits: int = 9,
     strict: bool | None = None,
     origin: bool = True,
+    cterm: Terminator = Terminator.CR,
+    open_required: bool = False,
 ) -> VirtualController:
     """The controller `melfa sim` serves; `strict=None` follows `$MELFA_SIM_STRICT`."""
     if digits not in (4, 9):
@@ -48,6 +50,8 @@ def build_controller(
         nine_digit_errors=digits == 9,
         origin_set=origin,
         strict=strict_by_default() if strict is None else strict,
+        cterm=cterm,
+        open_required=open_required,
     )
     return VirtualController(config)
 
@@ -62,6 +66,10 @@ def describe(config: SimConfig) -> str:
         notes.append("origin not set: positions ****, motion refused with L5150")
     if not config.jog_supported:
         notes.append("JOG refused (L2030)")
+    if config.cterm is Terminator.CRLF:
+        notes.append("replies end in CR LF (CTERM232=1)")
+    if config.open_required:
+        notes.append("OPEN required first")
     return "; ".join(notes)
 
 
@@ -108,28 +116,54 @@ def _until_interrupted(stop: threading.Event) -> None:
         signal.signal(signal.SIGTERM, previous)
 
 
-def serve_pty(controller: VirtualController, pacing: Pacing, stop: threading.Event) -> None:
-    """Hand out one fresh pty after another until `stop` (or Ctrl-C)."""
+def serve_pty(
+    controller: VirtualController,
+    pacing: Pacing,
+    stop: threading.Event,
+    baud: int = 9600,
+    link: Path | None = None,
+) -> None:
+    """Hand out one fresh pty after another until `stop` (or Ctrl-C); with ``link`` a
+    symlink at that path always points at the pty being served (a stable device name)."""
     with PtyServer(controller, pacing=pacing) as server:
 
         def announce(path: str) -> None:
-            console.print(f"virtual CR2B-574 listening on [bold]{path}[/] (9600 8E2)")
+            if link is not None:
+                tmp = link.with_name(link.name + ".tmp")
+                tmp.unlink(missing_ok=True)
+                tmp.symlink_to(path)
+                tmp.replace(link)  # atomic: a client never finds the name missing
+            shown = f"{link} -> {path}" if link is not None else path
+            console.print(f"virtual CR2B-574 listening on [bold]{shown}[/] ({baud} 8E2)")
             console.print(f"  {describe(controller.config)}")
             console.print(
-                "  one client per pty: when it disconnects, the next pty path is printed here"
+                "  one client per pty: when it disconnects, a fresh pty is served"
+                + (f" behind {link}" if link is not None else " and its path printed here")
             )
 
         worker = threading.Thread(target=server.serve_forever, args=(announce,), daemon=True)
         worker.start()
-        _until_interrupted(stop)
+        try:
+            _until_interrupted(stop)
+        finally:
+            if link is not None and link.is_symlink():
+                link.unlink()
 
 
 def serve_tcp(
-    controller: VirtualController, pacing: Pacing, host: str, port: int, stop: threading.Event
+    controller: VirtualController,
+    pacing: Pacing,
+    host: str,
+    port: int,
+    stop: threading.Event,
+    baud: int = 9600,
 ) -> None:
     """Serve on TCP until `stop` (or Ctrl-C)."""
     with TcpServer(controller, host=host, port=port, pacing=pacing) as server:
-        console.print(f"virtual CR2B-574 listening on [bold]{server.url}[/] (one client at a time)")
+        console.print(
+            f"virtual CR2B-574 listening on [bold]{server.url}[/] (one client at a time; "
+            f"paced as {baud} 8E2)"
+        )
         console.print(f"  {describe(controller.config)}")
         console.print(f"  connect with: melfa <command> --robot {server.url}")
         _until_interrupted(stop)
@@ -186,6 +220,31 @@ def sim(
         bool,
         typer.Option("--no-origin", help="Origin lost: positions read ****, motion raises L5150."),
     ] = False,
+    cterm: Annotated[
+        Terminator,
+        typer.Option(
+            "--cterm",
+            help="CTERM232: replies end in CR (0, factory) or CR LF (1, what clients that "
+            "read lines, such as ctu-mitsubishi, need). Requests may end in either, or none.",
+        ),
+    ] = Terminator.CR,
+    open_required: Annotated[
+        bool,
+        typer.Option(
+            "--open-required",
+            help="Refuse everything before OPEN= with 6010, as the manual says; real "
+            "controllers answered clients that never sent it.",
+        ),
+    ] = False,
+    link: Annotated[
+        Path | None,
+        typer.Option(
+            "--link",
+            metavar="PATH",
+            help="With --pty: keep a symlink at PATH to the pty being served (a stable "
+            "name for MELFA_ROBOT, as a fresh pty is served after every client).",
+        ),
+    ] = None,
     run: Annotated[
         Path | None,
         typer.Option(
@@ -243,6 +302,9 @@ def sim(
         if given:
             errors.print(f"[red]error:[/] {name} goes with --run PROGRAM.MB4")
             raise typer.Exit(2)
+    if link is not None and tcp is not None:
+        errors.print("[red]error:[/] --link names a pty; it does not go with --tcp")
+        raise typer.Exit(2)
     if baud not in BAUDRATES:
         errors.print(f"[red]error:[/] --baud {baud} is not one of {', '.join(map(str, BAUDRATES))}")
         raise typer.Exit(2)
@@ -252,7 +314,13 @@ def sim(
     pacing = NO_PACING if no_pacing else Pacing.for_baud(baud, latency)
     try:
         controller = build_controller(
-            jog=not no_jog, key=key, digits=digits, strict=strict, origin=not no_origin
+            jog=not no_jog,
+            key=key,
+            digits=digits,
+            strict=strict,
+            origin=not no_origin,
+            cterm=cterm,
+            open_required=open_required,
         )
     except ValueError as exc:
         errors.print(f"[red]error:[/] {exc}")
@@ -265,9 +333,9 @@ def sim(
             except ValueError as exc:
                 errors.print(f"[red]error:[/] --tcp {exc}")
                 raise typer.Exit(2) from None
-            serve_tcp(controller, pacing, host, port, stop)
+            serve_tcp(controller, pacing, host, port, stop, baud)
         else:
-            serve_pty(controller, pacing, stop)
+            serve_pty(controller, pacing, stop, baud, link)
     except KeyboardInterrupt:  # Ctrl-C (SIGTERM ends it with status 0): stopped cleanly
         console.print("virtual controller stopped")
         raise typer.Exit(EXIT_INTERRUPTED) from None

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import select
+import socket
 import threading
 import time
 from collections.abc import Callable
@@ -47,19 +49,40 @@ def wait_for(predicate: Callable[[], bool], timeout: float = 30.0) -> bool:
     return predicate()
 
 
-_publishers: list[Any] = []
+_publisher: list[Any] = []
 
 
 def instruction_publisher() -> Any:
-    """A fresh /execute_instruction publisher connected to the node. The earlier ones are
-    unregistered first: rospy shares one publisher per topic, and a connection to a node
-    an earlier test ended would count as connected while messages go nowhere."""
-    while _publishers:
-        _publishers.pop().unregister()
-    pub = rospy.Publisher("/execute_instruction", std_msgs.String, queue_size=100)
-    _publishers.append(pub)
-    assert wait_for(lambda: pub.get_num_connections() >= 1), "the node did not subscribe"
+    """The /execute_instruction publisher, connected to the node now running.
+
+    One publisher for the whole run, never unregistered: unregistering the last publisher of
+    a topic and creating a new one races rospy's unregistration from the master against the
+    new registration, and the master can end up with no publisher at all ("the node did not
+    subscribe" on a fresh machine's first run). A connection to a node an earlier test ended
+    is not counted: its socket reads end-of-file."""
+    if not _publisher:
+        _publisher.append(rospy.Publisher("/execute_instruction", std_msgs.String, queue_size=100))
+    pub = _publisher[0]
+    assert wait_for(lambda: live_connections(pub) >= 1), "the node did not subscribe"
     return pub
+
+
+def live_connections(pub: Any) -> int:
+    """Subscribers still there: a subscriber never writes after its header, so a socket
+    that reads end-of-file belongs to a node that went away."""
+    count = 0
+    for connection in list(pub.impl.connections):
+        sock = getattr(connection, "socket", None)
+        if sock is None:
+            continue
+        try:
+            readable, _, _ = select.select([sock], [], [], 0)
+            if readable and sock.recv(1, socket.MSG_PEEK) == b"":
+                continue
+        except OSError:
+            continue
+        count += 1
+    return count
 
 
 def position(pose: Any) -> tuple[float, float, float]:

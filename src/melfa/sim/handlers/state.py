@@ -21,6 +21,7 @@ from melfa.protocol.messages import Ok, Refused, Reply, Request
 from melfa.sim import errors as err
 from melfa.sim.config import KeySwitch
 from melfa.sim.core import ControllerCore, Handler, Slot, SlotState, error_message
+from melfa.sim.runner import RunnerStatus
 
 # ------------------------------------------------------------------------- alarms, log
 
@@ -143,6 +144,10 @@ def state(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     slot = c.slot(req)
     name = f"{slot.program}.MB4" if slot.program else ""
     line = slot.line
+    if slot.runner is not None and slot.runner.status is RunnerStatus.FINISHED:
+        # [TRACE K9b-PROG] after a cycle run ends: `QoK;0;100;0;21120;0;1;…`, no program
+        # name and line 0 (a program selected but not yet run shows its name, line 1).
+        name, line = "", 0
     fields = [
         name,
         str(line),
