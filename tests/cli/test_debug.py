@@ -221,3 +221,20 @@ def test_the_preflight_console_command(tmp_path: Path) -> None:
     assert code == 0
     assert "pre-flight of the program on the simulated RV-6S\n" in out
     assert "0 errors" in out and out.splitlines()[-1] == "1"
+
+
+def test_debug_starts_with_the_servo_on_at_given_joints_and_feeds_input(tmp_path: Path) -> None:
+    program = "10 MOV P1\n20 INPUT #1, M1\n30 M2 = M1 * 2\n40 END\n"
+    code, out, err = melfa_debug(
+        tmp_path,
+        "run\nprint M2\nquit\n",
+        "--servo-on",
+        "--joints",
+        "0,10,90,0,80,0",
+        "--feed",
+        "1=21",
+        program=program,
+    )
+    assert (code, err) == (0, "")
+    *_, finished, printed = out.splitlines()
+    assert (finished.startswith("finished at line 4 after"), printed) == (True, "42")

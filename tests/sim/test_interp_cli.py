@@ -10,6 +10,7 @@ import pytest
 
 from melfa.sim.interp.cli_trace import STATEMENT_WIDTH, run_and_trace
 from melfa.sim.interp.interpreter import STEP_TIME_S
+from melfa.sim.interp.start import RunStart
 
 PROGRAM = "10 SERVO ON\n20 SPD 20\n30 OVRD 20\n40 MOV Pa\n50 MOV Pb\n60 HOPEN 1\n70 END\n"
 POINTS = (
@@ -171,3 +172,22 @@ def test_hlt_pauses(tmp_path: Path) -> None:
     code, text = trace(prog, None)
     assert code == 0
     assert text.splitlines()[-1].startswith("paused by HLT at line 20")
+
+
+def test_a_run_can_start_with_the_servo_on_elsewhere_and_with_input_lines(
+    tmp_path: Path,
+) -> None:
+    program = '10 MOV P1\n20 OPEN "COM1:" AS #1\n30 INPUT #1, M1\n40 HOPEN 1\n50 END\n'
+    prog, pts = write(tmp_path, program, "P1=(400,0,600,180,0,180)(7,0)\n")
+    code, text = trace(prog, pts)
+    assert code == 1 and "L2000" in text  # the simulator's default: servo off
+    start = RunStart.parse(True, "0,10,90,0,80,0", ["1=42"])
+    code, text = trace(prog, pts, start=start)
+    assert code == 0, text
+    first = rows(text)[0]
+    assert first.line == 10 and first.start == 0.0
+    assert text.splitlines()[-1].startswith("finished at line 50")
+    with pytest.raises(ValueError, match="--joints"):
+        RunStart.parse(False, "1,2", None)
+    with pytest.raises(ValueError, match="--feed"):
+        RunStart.parse(False, None, ["x=1"])

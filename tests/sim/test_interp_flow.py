@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import pytest
 
+from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
-from melfa.sim.interp.fast import Run, simulate
-from melfa.sim.interp.interpreter import STEP_TIME_S
+from melfa.sim.interp.armport import ArmPort
+from melfa.sim.interp.fast import Run, run_fast, simulate
+from melfa.sim.interp.interpreter import STEP_TIME_S, Interpreter
 from melfa.sim.interp.io import IOState
 from melfa.sim.interp.values import Value
 from melfa.sim.runner import RunnerStatus
@@ -385,3 +387,32 @@ def test_a_busy_wait_loop_takes_a_step_time_per_step() -> None:
     r = simulate(text, max_time=60)
     assert r.interp.status is RunnerStatus.RUNNING
     assert r.interp.state.vars["M1"] == pytest.approx(60 / (3 * STEP_TIME_S), rel=0.01)
+
+
+def test_input_reads_a_scripted_line_and_waits_for_one() -> None:
+    it = Interpreter(ArmPort(SimulatedArm()))
+    it.load('10 OPEN "COM1:" AS #1\n20 INPUT #1, M1, C1$, M2\n30 M3 = M1 + M2\n40 END\n')
+    it.start(0.0)
+    run_fast(it, max_time=1)
+    assert (it.status, it.waiting, it.line) == (RunnerStatus.RUNNING, True, 20)
+    it.feed_line(1, "12, hello, 3.5")
+    run_fast(it, max_time=1)
+    assert it.status is RunnerStatus.FINISHED
+    assert {k: it.state.vars[k] for k in ("M1", "C1$", "M2", "M3")} == {
+        "M1": 12,
+        "C1$": "hello",
+        "M2": 3.5,
+        "M3": 15.5,
+    }
+
+
+def test_input_of_text_into_a_number_stops_with_l4390() -> None:
+    it = Interpreter(ArmPort(SimulatedArm()))
+    it.load("10 INPUT #2, M1\n20 END\n")
+    it.feed_line(2, "ready")
+    it.start(0.0)
+    run_fast(it, max_time=1)
+    assert it.error is not None and (it.error.number, it.error.line) == (
+        errors.TYPE_COMBINATION,
+        10,
+    )

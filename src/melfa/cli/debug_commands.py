@@ -23,6 +23,7 @@ from melfa.sim.debug.console import Console
 from melfa.sim.debug.engine import DEFAULT_MAX_TIME_S, DebugError, Debugger, Speed
 from melfa.sim.debug.preflight import preflight, report_text
 from melfa.sim.interp.io import parse_input
+from melfa.sim.interp.start import RunStart
 
 errors = RichConsole(stderr=True, highlight=False)
 
@@ -71,6 +72,21 @@ def debug(
         float,
         typer.Option("--max-time", metavar="S", help="Stop a run after S simulated seconds."),
     ] = DEFAULT_MAX_TIME_S,
+    servo_on: Annotated[
+        bool, typer.Option("--servo-on", help="Start with the servo on (as a program left it).")
+    ] = False,
+    joints: Annotated[
+        str | None,
+        typer.Option(
+            "--joints", metavar="J1,…,J6", help="Start the arm at these joints (degrees)."
+        ),
+    ] = None,
+    feed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--feed", metavar="N=TEXT", help="A line for the program's INPUT #N; repeatable."
+        ),
+    ] = None,
 ) -> None:
     """Debug a program on a simulated RV-6S: break, step, next, finish, print, info vars…"""
     settings: list[tuple[int, int]] = []
@@ -88,6 +104,11 @@ def debug(
     if max_time <= 0:
         errors.print(f"[red]error:[/] --max-time {max_time:g} must be > 0 seconds")
         raise typer.Exit(2)
+    try:
+        start = RunStart.parse(servo_on, joints, feed)
+    except ValueError as exc:
+        errors.print(f"[red]error:[/] {exc}")
+        raise typer.Exit(2) from None
     cell = None
     if cell_path is not None:
         try:
@@ -98,10 +119,18 @@ def debug(
     text = _read(program, "the program")
     points_text = _read(points, "the points file") if points is not None else ""
     try:
-        debugger = Debugger(text, points_text, clock=time.monotonic, speed=pace, max_time=max_time)
+        debugger = Debugger(
+            text,
+            points_text,
+            clock=time.monotonic,
+            speed=pace,
+            max_time=max_time,
+            arm=start.arm(),
+        )
     except DebugError as exc:
         errors.print(f"[red]error:[/] {program}: cannot run: {exc}")
         raise typer.Exit(1) from None
+    start.apply(debugger.interp)
     for bit, value in settings:
         debugger.set_input(bit, value)
     if preflight_only:

@@ -26,6 +26,7 @@ from melfa.sim.config import DEFAULT_REPLY_LATENCY_S, KeySwitch, Terminator, str
 from melfa.sim.interp.cli_trace import run_and_trace
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
 from melfa.sim.interp.io import parse_input
+from melfa.sim.interp.start import RunStart
 
 console = Console(highlight=False, soft_wrap=True)  # a path is never broken over lines
 errors = Console(stderr=True, highlight=False)
@@ -91,10 +92,13 @@ def run_program(
     fast: bool,
     inputs: dict[int, int],
     max_time: float,
+    start: RunStart,
 ) -> int:
     """`--run`: the trace on stdout; a closed pipe (`| head`) ends it quietly."""
     try:
-        code = run_and_trace(program, points, fast, sys.stdout, max_time=max_time, inputs=inputs)
+        code = run_and_trace(
+            program, points, fast, sys.stdout, max_time=max_time, inputs=inputs, start=start
+        )
         sys.stdout.flush()
     except BrokenPipeError:
         # The reader went away: nothing more to say, and Python must not complain at exit.
@@ -272,6 +276,21 @@ def sim(
         float,
         typer.Option("--max-time", metavar="S", help="With --run: stop after S simulated seconds."),
     ] = DEFAULT_MAX_TIME_S,
+    servo_on: Annotated[
+        bool, typer.Option("--servo-on", help="Start with the servo on (as a program left it).")
+    ] = False,
+    joints: Annotated[
+        str | None,
+        typer.Option(
+            "--joints", metavar="J1,…,J6", help="Start the arm at these joints (degrees)."
+        ),
+    ] = None,
+    feed: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--feed", metavar="N=TEXT", help="A line for the program's INPUT #N; repeatable."
+        ),
+    ] = None,
 ) -> None:
     """Run the virtual CR2B-574 controller until Ctrl-C, or trace one program (--run)."""
     if pty and tcp is not None:
@@ -292,12 +311,20 @@ def sim(
                 errors.print(f"[red]error:[/] --input {exc}")
                 raise typer.Exit(2) from None
             settings[bit] = value
-        raise typer.Exit(run_program(run, points, fast, settings, max_time))
+        try:
+            start = RunStart.parse(servo_on, joints, feed)
+        except ValueError as exc:
+            errors.print(f"[red]error:[/] {exc}")
+            raise typer.Exit(2) from None
+        raise typer.Exit(run_program(run, points, fast, settings, max_time, start))
     for name, given in (
         ("--points", points is not None),
         ("--fast", fast),
         ("--input", bool(inputs)),
         ("--max-time", max_time != DEFAULT_MAX_TIME_S),
+        ("--servo-on", servo_on),
+        ("--joints", joints is not None),
+        ("--feed", bool(feed)),
     ):
         if given:
             errors.print(f"[red]error:[/] {name} goes with --run PROGRAM.MB4")

@@ -30,6 +30,7 @@ from melfa.sim.interp.errors import error_text
 from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S, run_fast
 from melfa.sim.interp.interpreter import Interpreter, Step
 from melfa.sim.interp.io import IOState
+from melfa.sim.interp.start import RunStart
 from melfa.sim.interp.values import point_value
 from melfa.sim.runner import RunnerStatus
 from melfa.sim.trajectory import HandState
@@ -169,6 +170,7 @@ def run_and_trace(
     *,
     max_time: float = DEFAULT_MAX_TIME_S,
     inputs: Mapping[int, int] | None = None,
+    start: RunStart | None = None,
 ) -> int:
     """Run `program_path` (with the points of `points_path`) and print its trace to `out`.
 
@@ -183,8 +185,10 @@ def run_and_trace(
     io = IOState()
     for bit, value in (inputs or {}).items():
         io.set_input(bit, value)
-    arm = SimulatedArm()
+    start = start or RunStart()
+    arm = start.arm()
     it = Interpreter(ArmPort(arm), io)
+    start.apply(it)
     try:
         it.load(text)
     except errors.RunError as exc:

@@ -197,7 +197,7 @@ _DISPATCH: dict[type, Callable[..., Run]] = {
     ast.Open: Compiler._noop,
     ast.Print: Compiler._print,
     ast.Close: Compiler._noop,
-    ast.Input: Compiler._refused,
+    ast.Input: Compiler._input,
     ast.OnCom: Compiler._refused,
     ast.ComControl: Compiler._refused,
     ast.InvalidStatement: Compiler._invalid,

@@ -16,6 +16,7 @@ step indices then.
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable, Iterable, Mapping
 
 from melfa.lang import ast
@@ -82,7 +83,13 @@ class Interpreter:
         """Asked with a step's index before it runs; True pauses the program there instead
         (a debugger's breakpoints and stepping; None costs nothing). RUN then runs it."""
         self.source: list[str] = []
+        self.feed: dict[int, deque[str]] = {}
+        """Lines waiting for ``INPUT #n`` by file number: what a PC or device would send."""
         self.compiler = Compiler(self)
+
+    def feed_line(self, channel: int, line: str) -> None:
+        """Script a line for ``INPUT #channel`` (a run waits in INPUT until one is there)."""
+        self.feed.setdefault(channel, deque()).append(line)
 
     @property
     def now(self) -> float:

@@ -89,3 +89,32 @@ def parse_input(text: str) -> tuple[int, int]:
     if not sep or not bit.isdigit() or value not in ("0", "1"):
         raise ValueError(f"{text!r} is not N=V (input signal number N ≥ 0, value 0 or 1)")
     return int(bit), int(value)
+
+
+def parse_feed(text: str) -> tuple[int, str]:
+    """`N=TEXT` (a line the program's ``INPUT #N`` reads) -> (N, TEXT); ValueError if not.
+
+    >>> parse_feed("1=12,3.5,OK"), parse_feed(" 2 = ")
+    ((1, '12,3.5,OK'), (2, ''))
+    """
+    channel, sep, line = text.partition("=")
+    channel = channel.strip()
+    if not sep or not channel.isdigit():
+        raise ValueError(f"{text!r} is not N=TEXT (file number N, the line INPUT #N reads)")
+    return int(channel), line.strip()
+
+
+def parse_joints(text: str) -> tuple[float, ...]:
+    """`J1,J2,J3,J4,J5,J6` in degrees (where the arm starts) -> six numbers; ValueError.
+
+    >>> parse_joints("0, 30, 90, 0, 60, 0")
+    (0.0, 30.0, 90.0, 0.0, 60.0, 0.0)
+    """
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 6:
+        raise ValueError(f"{text!r} is not six joint angles in degrees, J1,J2,J3,J4,J5,J6")
+    return values

@@ -8,6 +8,7 @@ move, END) are here. `interpreter.Interpreter` implements it.
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Callable
 from typing import Protocol
 
@@ -38,6 +39,10 @@ class Machine(Protocol):
 
     @property
     def rnd(self) -> Rnd: ...
+
+    @property
+    def feed(self) -> dict[int, deque[str]]:
+        """Lines scripted for ``INPUT #n`` by file number."""
 
     def start_motion(self, move: Callable[[float], float], watch: Watch | None = None) -> None:
         """Begin a move (`move(now)` returns its end time) and block until it ends."""

@@ -11,6 +11,7 @@ from melfa.lang import ast
 from melfa.sim.interp import errors
 from melfa.sim.interp.builtins import format_number
 from melfa.sim.interp.exprs import Thunk
+from melfa.sim.interp.state import WaitCond
 from melfa.sim.interp.stmt_base import CompilerBase, Run, Setter, integer, number, refuse_set
 from melfa.sim.interp.values import Value, VarType, coerce, implied_type, set_element
 
@@ -135,6 +136,33 @@ class VariableStatements(CompilerBase):
 
         return pulsed
 
+    def _input(self, s: ast.Input, i: int) -> Run:
+        """``INPUT #n, a, b$``: the next line fed to file n (`Interpreter.feed_line`), its
+        comma-separated items into the variables; with none there the program waits in
+        INPUT, as for a line from the port [S1 INPUT]."""
+        st = self.st
+        feed = self.it.feed
+        channel = self.exprs.value(s.channel) if s.channel is not None else None
+        targets = [(self.setter(t), _kind(self, t)) for t in s.targets]
+
+        def run() -> None:
+            n = integer(channel(), "INPUT #") if channel is not None else 1
+            queue = feed.get(n)
+            if not queue:
+                st.pc = i  # read again when a line is there
+                st.block = WaitCond(lambda: bool(feed.get(n)))
+                return
+            items = queue.popleft().split(",")
+            if len(items) < len(targets):
+                raise errors.RunError(
+                    errors.TYPE_COMBINATION,
+                    f"INPUT #{n} read {len(items)} item(s) for {len(targets)} variable(s)",
+                )
+            for (put, vtype), item in zip(targets, items, strict=False):
+                put(_read_item(item.strip(), vtype, n))
+
+        return run
+
     def _print(self, s: ast.Print, i: int) -> Run:
         st = self.st
         items = [self.exprs.value(e) for e in s.items]
@@ -147,3 +175,22 @@ class VariableStatements(CompilerBase):
             st.console.append(",".join(parts))
 
         return run
+
+
+def _kind(compiler: VariableStatements, target: ast.AssignTarget) -> VarType:
+    if isinstance(target, ast.Name):
+        return compiler.st.types.get(target.name) or implied_type(target.name)
+    return VarType.NUMBER
+
+
+def _read_item(item: str, vtype: VarType, channel: int) -> Value:
+    """One item of an INPUT line as the variable's type (a number or a string)."""
+    if vtype is VarType.STRING:
+        return item.strip('"')
+    try:
+        number = float(item)
+    except ValueError:
+        raise errors.RunError(
+            errors.TYPE_COMBINATION, f"INPUT #{channel}: {item!r} is not a number"
+        ) from None
+    return int(number) if number.is_integer() and "." not in item else number
