@@ -11,6 +11,7 @@ import os
 import socket
 import struct
 from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ from websockets.sync.client import connect
 from melfa.ros.rosbridge import MAX_FRAGMENTS, MIN_FRAGMENT_CHARS
 from melfa.web import WebSettings
 from melfa.web.limits import Limits
+from melfa.web.pools import PoolSizes
 from tests.waiting import wait_until
 from tests.web.conftest import PASSWORDS, fast_service, make_store
 from tests.web.live_server import Live, live_server
@@ -294,3 +296,52 @@ def test_slow_heads_cannot_hold_every_connection(tmp_path: Path) -> None:
                 s.close()
     store.close()
     assert probes == [200] * 5
+
+
+# ---------------------------------------------------------------- loads and live checks
+
+
+def test_a_load_is_not_refused_while_the_checks_are_full(tmp_path: Path) -> None:
+    """Everyone's live checks fill the check pool (one worker, no waiting room): a
+    student's *Load project* is still planned and loaded, in a pool of its own."""
+    store = make_store(tmp_path / "data")
+    sizes = PoolSizes(cpu_workers=1, cpu_queue=0)
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), pools=sizes)
+    program = "\n".join(f"{10 * i} MOV P{i % 50 + 1}" for i in range(1, 70_000))[:999_000]
+    with live_server(store, settings) as live:
+        token, csrf = live.login("ann")
+        bob, bob_csrf = live.login("bob")
+
+        def check() -> int:
+            with live.client() as c:
+                reply = c.post(
+                    "/api/check",
+                    json={"program": program, "points": ""},
+                    headers=auth(bob, bob_csrf),
+                )
+                return reply.status_code
+
+        cpu = live.context.pools.cpu
+        with ThreadPoolExecutor(1) as pool:
+            typing = pool.submit(check)
+            wait_until(lambda: cpu.pending >= 1, what="a live check running")
+            with live.client() as c:
+                full = c.post(
+                    "/api/check",
+                    json={"program": "END\n", "points": ""},
+                    headers=auth(bob, bob_csrf),
+                )
+                load = c.post(
+                    "/api/robot/project",
+                    json={
+                        "program": "10 MOV P1\n20 END\n",
+                        "points": "P1=(300,0,400,180,0,180)(7,0)\n",
+                    },
+                    headers=auth(token, csrf),
+                )
+            still_checking = not typing.done()
+            typing.result()
+    store.close()
+    assert full.status_code == 503, "the check pool was full"
+    assert load.status_code == 200, load.text
+    assert still_checking, "the load was answered while the check pool was full"

@@ -74,5 +74,9 @@ class WebContext:
         """Run checking, numbering or stripping in the bounded CPU pool."""
         return await self.pools.cpu.run(fn, *args, **kwargs)
 
+    async def load(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
+        """Plan an upload in the loads' own pool (never behind the live checks)."""
+        return await self.pools.load.run(fn, *args, **kwargs)
+
 
 __all__ = ["Sockets", "WebContext"]

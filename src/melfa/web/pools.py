@@ -1,7 +1,7 @@
 """Thread pools with one job each, so nothing slow stands in front of something urgent.
 
 A login flood runs Argon2 in ``hash``; a student's big `/api/check` runs in ``cpu`` (worker
-processes); store
+processes), the planning of a *Load project* in ``load`` (its own worker process); store
 reads and writes (session lookups) in ``db``; the session lookup of a STOP in ``stop``,
 which nothing else uses. Each pool admits at most ``workers + queue`` calls at a time and
 refuses the rest at once with `Busy` (503 and a Retry-After), so a flood never builds an
@@ -136,6 +136,11 @@ class PoolSizes:
     cpu_workers: int = 2
     cpu_queue: int = 8
     """`/api/check`, numbering, stripping waiting beyond this are refused (503)."""
+    load_workers: int = 1
+    load_queue: int = 64
+    """Loads (planning an upload) waiting beyond this are refused (503): their own pool,
+    so a student's *Load project* never waits behind, or is refused for, the live checks
+    of everyone typing."""
     cpu_processes: bool = False
     """Run them in worker processes, started with the server (threads hold the GIL against
     the event loop: a STOP waits). `melfa serve` turns this on; in-process test apps keep
@@ -150,11 +155,12 @@ class Pools:
         self.db = BoundedPool("db", s.db_workers, s.db_queue)
         self.hash = BoundedPool("hash", s.hash_workers, s.hash_queue)
         self.cpu = BoundedPool("cpu", s.cpu_workers, s.cpu_queue, processes=s.cpu_processes)
+        self.load = BoundedPool("load", s.load_workers, s.load_queue, processes=s.cpu_processes)
         self.stop = BoundedPool("stop", 1, 64)
         """Only the session lookup of a STOP."""
 
     def shutdown(self) -> None:
-        for pool in (self.db, self.hash, self.cpu, self.stop):
+        for pool in (self.db, self.hash, self.cpu, self.load, self.stop):
             pool.shutdown()
 
 

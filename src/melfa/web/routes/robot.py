@@ -96,8 +96,8 @@ async def sources(
 
 
 async def planned(context: WebContext, program: str | None, points: str | None) -> UploadPlan:
-    """`melfa.lang.plan.plan_upload` (the one home of upload planning), in the CPU pool."""
-    return await context.cpu(plan_upload, program, points)
+    """`melfa.lang.plan.plan_upload` (the one home of upload planning), in the loads' pool."""
+    return await context.load(plan_upload, program, points)
 
 
 def sendable_plan(plan: UploadPlan) -> UploadPlan:
