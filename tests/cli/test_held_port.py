@@ -9,8 +9,8 @@ import pytest
 from typer.testing import CliRunner
 
 from melfa.cli import app
-from melfa.link import LinkBusy, SerialLink
-from melfa.sim import NO_PACING, PtyServer, VirtualController
+from melfa.link import LinkBusy, SerialLink, TcpLink
+from melfa.sim import NO_PACING, PtyServer, TcpServer, VirtualController
 
 runner = CliRunner()
 
@@ -47,3 +47,16 @@ def test_melfa_override_sets_the_panel_override() -> None:
 def test_melfa_override_outside_1_to_100_is_a_usage_error() -> None:
     result = runner.invoke(app, ["override", "0", "--robot", "sim"])
     assert result.exit_code == 2
+
+
+def test_melfa_stop_against_a_tcp_simulator_another_command_holds() -> None:
+    with TcpServer(pacing=NO_PACING) as server:
+        holder = TcpLink(server.url)
+        try:
+            holder.write(b"1;1;STATE\r")
+            holder.read_reply(5)  # the first client is served
+            result = runner.invoke(app, ["stop", "--robot", server.url, "--timeout", "2"])
+        finally:
+            holder.close()
+    assert result.exit_code == 3, result.output
+    assert "another program holds it" in result.output and "Traceback" not in result.output

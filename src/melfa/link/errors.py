@@ -21,3 +21,11 @@ class LinkCancelled(LinkError):
 
 class LinkBusy(LinkError):
     """The port is held by another process (another melfa command, a terminal program)."""
+
+
+BUSY_HINT = (
+    "another program holds it (another melfa command, such as a `melfa run --wait` still "
+    "running, or `melfa serve`). To stop the robot, press Ctrl-C in that command or STOP in "
+    "the IDE; the emergency stop on the pendant always works"
+)
+"""What to do when the port is held: the one place that says it."""

@@ -10,15 +10,10 @@ import termios
 import serial
 
 from melfa.link.base import POLL_S, Link
-from melfa.link.errors import LinkBusy, LinkClosed, LinkError
+from melfa.link.errors import BUSY_HINT, LinkBusy, LinkClosed, LinkError
 from melfa.link.settings import LinkSettings
 
 UNPLUGGED_HINT = "the adapter was unplugged, or the other end of the line went away"
-BUSY_HINT = (
-    "another program holds it (another melfa command, such as a `melfa run --wait` still "
-    "running, or `melfa serve`). To stop the robot, press Ctrl-C in that command or STOP in "
-    "the IDE; the emergency stop on the pendant always works"
-)
 
 
 class SerialLink(Link):

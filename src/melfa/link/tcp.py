@@ -13,7 +13,7 @@ import socket
 from urllib.parse import urlsplit
 
 from melfa.link.base import Link
-from melfa.link.errors import LinkClosed, LinkError
+from melfa.link.errors import BUSY_HINT, LinkBusy, LinkClosed, LinkError
 from melfa.link.settings import LinkSettings
 
 
@@ -44,6 +44,7 @@ class TcpLink(Link):
         self.sock.settimeout(None)
         self.sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         self._wake_r, self._wake_w = os.pipe()
+        self._received = False
 
     def _write(self, data: bytes) -> None:
         try:
@@ -62,7 +63,11 @@ class TcpLink(Link):
         except (OSError, ValueError) as exc:
             raise LinkClosed(f"{self.description}: connection lost ({exc})") from None
         if not data:
+            if not self._received:
+                # Closed before a single reply: the port serves one client at a time.
+                raise LinkBusy(f"{self.description} closed the connection at once: {BUSY_HINT}")
             raise LinkClosed(f"{self.description}: the controller closed the connection")
+        self._received = True
         return data
 
     def _wake(self) -> None:
