@@ -73,7 +73,9 @@ def test_program_with_errors_is_refused_before_sending(web: Web) -> None:
     )
     assert assert_error(bad_points, 422, "points-have-errors")["where"]["line"] == 1
     audit = web.ivy.get("/api/audit", params={"action": "robot.load_project"}).json()
-    assert audit["entries"] == []  # nothing reached the service
+    # The service's policy refused both (audited), and nothing was accepted or sent.
+    results = [str(e["result"]) for e in audit["entries"]]
+    assert len(results) == 2 and all(r.startswith("refused") for r in results), audit
 
 
 def test_exec_hand_move_override_jog_step_and_reads(web: Web, ws_id: int) -> None:

@@ -20,6 +20,7 @@ from melfa.service.errors import (
     LinkDown,
     NoJog,
     NotAllowed,
+    Refused,
     ServiceClosed,
     ServiceError,
     ThesisMessageError,
@@ -44,6 +45,7 @@ from melfa.service.events import (
 )
 from melfa.service.jog import JogRequest
 from melfa.service.lease import Lease
+from melfa.service.policy import Gate, Policy
 from melfa.service.service import RobotService
 from melfa.service.servo import ServoOff, ServoPolicy
 from melfa.service.thesis import ThesisMessages, ThesisState
@@ -58,6 +60,7 @@ __all__ = [
     "CommandResult",
     "Event",
     "EventBus",
+    "Gate",
     "JogBusy",
     "JogChanged",
     "JogFrame",
@@ -71,6 +74,8 @@ __all__ = [
     "MemoryAuditSink",
     "NoJog",
     "NotAllowed",
+    "Policy",
+    "Refused",
     "RobotService",
     "Role",
     "ServiceClosed",

@@ -76,6 +76,9 @@ class ServiceConfig:
     auto_lease: bool = True
     """A moving command from a student/instructor takes a free lease (published like any
     change, and given back if that command fails)."""
+    require_simulation: bool = False
+    """The instructor's gate (``melfa serve --require-simulation``): the robot loads and
+    runs only a program and points that passed pre-flight (`melfa.service.policy.Gate`)."""
     when_holder_leaves: WhenHolderLeaves = WhenHolderLeaves.STOP
     """A move or program when its owner's last connection closes (their jog always stops)."""
 

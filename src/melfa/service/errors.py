@@ -4,9 +4,10 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from melfa.link import LinkError
+from melfa.vocab.refusals import Refusal
 
 if TYPE_CHECKING:
     from melfa.service.events import Actor
@@ -20,11 +21,37 @@ class ServiceClosed(ServiceError):
     """The service is closing or closed; nothing more is accepted."""
 
 
-class LeaseRequired(ServiceError):
-    """A command that changes or moves the robot came from someone without the lease."""
+class Refused(ServiceError):
+    """The service's policy refused a command before it was queued (`melfa.service.policy`):
+    `reason` is the code every door sends, `says` and `fix` the student's words for it
+    (`melfa.vocab.refusals`), `where` and `detail` what a client may point at (the line of
+    a program's first error, its diagnostics). ``str()`` is the words and the fix."""
 
-    def __init__(self, message: str, holder: Actor | None = None) -> None:
-        super().__init__(message)
+    def __init__(
+        self,
+        reason: Refusal,
+        *,
+        where: dict[str, Any] | None = None,
+        detail: dict[str, Any] | None = None,
+        **facts: Any,
+    ) -> None:
+        self.reason = reason
+        self.says, self.fix = reason.words(**facts)
+        self.where = where
+        self.detail = detail
+        super().__init__(f"{self.says} {self.fix}")
+
+
+class LeaseRequired(Refused):
+    """A command that changes or moves the robot came from someone without the lease
+    (`holder` holds it; None when nobody does or the caller is an observer)."""
+
+    def __init__(
+        self, holder: Actor | None, reason: Refusal = Refusal.LEASE_REQUIRED, **facts: Any
+    ) -> None:
+        if holder is not None:
+            facts.setdefault("holder", holder.user)
+        super().__init__(reason, **facts)
         self.holder = holder
 
 
@@ -61,6 +88,7 @@ __all__ = [
     "LinkDown",
     "NoJog",
     "NotAllowed",
+    "Refused",
     "ServiceClosed",
     "ServiceError",
     "ThesisMessageError",

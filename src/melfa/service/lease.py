@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from melfa.service.errors import LeaseRequired, NotAllowed
 from melfa.service.events import Actor, Role, utc_now
+from melfa.vocab.refusals import Refusal
 
 
 class HolderState(enum.Enum):
@@ -151,15 +152,11 @@ class Lease:
             return expired
         if self.holder is None:
             if actor.role is Role.OBSERVER:
-                raise LeaseRequired(f"{actor.user} is an observer and cannot move the robot", None)
+                raise LeaseRequired(None, Refusal.OBSERVER, user=actor.user)
             if self.auto:
                 return self.acquire(actor)
-            raise LeaseRequired("nobody holds the robot: take the operator lease first", None)
-        raise LeaseRequired(
-            f"{self.holder.user} holds the robot; ask them to release it, "
-            "or an instructor to take over",
-            self.holder,
-        )
+            raise LeaseRequired(None, Refusal.LEASE_NOT_TAKEN)
+        raise LeaseRequired(self.holder)
 
     def touch(self, actor: Actor) -> None:
         """Activity by the holder (a jog heartbeat) keeps an idle timeout away."""
@@ -175,10 +172,7 @@ class Lease:
             self._last_used = self._clock()
             return None
         if self.holder is not None:
-            raise LeaseRequired(
-                f"{self.holder.user} holds the robot; an instructor can take over",
-                self.holder,
-            )
+            raise LeaseRequired(self.holder)
         return self._set(actor, actor, "acquired")
 
     def take_over(self, actor: Actor) -> LeaseChange | None:

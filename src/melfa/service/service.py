@@ -47,6 +47,7 @@ from melfa.service.config import ServiceConfig, WhenHolderLeaves
 from melfa.service.errors import (
     Cancelled,
     JogBusy,
+    Refused,
     ServiceClosed,
     ServiceError,
 )
@@ -66,8 +67,10 @@ from melfa.service.events import (
 )
 from melfa.service.jog import JogKeeper, JogRequest
 from melfa.service.lease import Lease, LeaseChange, LeaseInfo
+from melfa.service.policy import Gate, Policy
 from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
+from melfa.vocab.commands import Command
 
 LAST_CONNECTION = "last connection closed"
 """The audit detail of the stop sent when an owner's last connection closes."""
@@ -81,7 +84,10 @@ MOVE_JOINT_VARIABLE = "JMSVC"
 
 
 def describe_error(exc: BaseException) -> str:
-    """One line for an audit entry or a result event."""
+    """One line for an audit entry or a result event; a policy refusal is the student's
+    words and the fix, as every door sends them."""
+    if isinstance(exc, Refused):
+        return str(exc)
     text = str(exc) or type(exc).__name__
     return f"{type(exc).__name__}: {text}"
 
@@ -99,7 +105,10 @@ class RobotService:
         robot_settings: RobotSettings | None = None,
         audit: AuditSink | None = None,
         clock: Callable[[], float] = time.monotonic,
+        gated: bool = True,
     ) -> None:
+        """``gated``: the policy has the instructor's gate (`melfa.service.policy.Gate`,
+        on when `ServiceConfig.require_simulation`); a private simulator has none."""
         self.config = config or ServiceConfig()
         self.robot_settings = robot_settings or RobotSettings()
         self.audit: AuditSink = audit if audit is not None else MemoryAuditSink()
@@ -112,6 +121,8 @@ class RobotService:
             auto=self.config.auto_lease,
             clock=clock,
         )
+        self.policy = Policy(self._lease, Gate(self.config.require_simulation) if gated else None)
+        """Whether a command may be queued: every command passes `Policy.admit`."""
         self._jog = JogKeeper()
         self._step_busy = False
         self._motion: Motion | None = None
@@ -399,15 +410,19 @@ class RobotService:
         """The plan's program and points (`melfa.lang.plan.plan_upload`) into the
         controller's program in one LOAD…SAVE session; `UploadProgress` events while it
         goes. Polling pauses meanwhile."""
-        return await self._upload(actor, "load_project", lambda r, p: r.load_project(plan, p))
+        return await self._upload(actor, "load_project", lambda r, p: r.load_project(plan, p), plan)
 
     async def upload_program(self, actor: Actor, plan: UploadPlan) -> UploadReport:
         """Replace the program (steps and positions) with the plan's."""
-        return await self._upload(actor, "upload_program", lambda r, p: r.upload_program(plan, p))
+        return await self._upload(
+            actor, "upload_program", lambda r, p: r.upload_program(plan, p), plan
+        )
 
     async def upload_points(self, actor: Actor, plan: UploadPlan) -> UploadReport:
         """Add or replace the plan's positions, keeping the steps."""
-        return await self._upload(actor, "upload_points", lambda r, p: r.upload_points(plan, p))
+        return await self._upload(
+            actor, "upload_points", lambda r, p: r.upload_points(plan, p), plan
+        )
 
     async def run(self, actor: Actor, *, servo: ServoPolicy | None = None) -> None:
         """Start the program (``RUN<program>;1``). ``servo``: what to do when the servo is
@@ -683,10 +698,19 @@ class RobotService:
         if self._state != "running":
             raise ServiceClosed("the robot service is closed")
 
-    def _check_lease(self, actor: Actor, command_id: int, command: str, detail: str) -> bool:
-        """Refuse (audited) without the lease; True when this command took a free one."""
+    def _check_lease(
+        self,
+        actor: Actor,
+        command_id: int,
+        command: str,
+        detail: str,
+        plan: UploadPlan | None = None,
+    ) -> bool:
+        """The policy's one check before anything is queued (`melfa.service.policy`: check-
+        before-upload, the instructor's gate, the lease); a refusal is audited and raised.
+        True when this command took a free lease."""
         try:
-            change = self._lease.check(actor)
+            change = self.policy.admit(actor, Command(command), plan)
         except ServiceError as exc:
             self._audit(actor, command_id, command, detail, f"refused: {exc}")
             raise
@@ -714,10 +738,11 @@ class RobotService:
         busy: str | None = None,
         command_id: int | None = None,
         servo: ServoPolicy | None = None,
+        plan: UploadPlan | None = None,
     ) -> Any:
         self._check_open()
         command_id = command_id if command_id is not None else next(self._ids)
-        taken = self._check_lease(actor, command_id, command, detail)
+        taken = self._check_lease(actor, command_id, command, detail, plan)
         self._audit(actor, command_id, command, detail, "accepted", moves)
         work = self._restoring(fn) if restore else fn
         if servo is not None:
@@ -727,9 +752,11 @@ class RobotService:
         try:
             result = await asyncio.wrap_future(future)
         except BaseException as exc:
+            self.policy.done(Command(command), plan, ok=False)
             self._finish(actor, command_id, command, detail, moves, exc)
             self._give_back(actor, taken)
             raise
+        self.policy.done(Command(command), plan, ok=True)
         self._finish(actor, command_id, command, detail, moves, None)
         if moves:
             self._moved = True  # until a poll has seen whether it moves
@@ -740,6 +767,7 @@ class RobotService:
         actor: Actor,
         command: str,
         run: Callable[[Robot, Callable[[int, int], None]], UploadReport],
+        plan: UploadPlan,
     ) -> UploadReport:
         command_id = next(self._ids)
 
@@ -759,6 +787,7 @@ class RobotService:
             moves=False,
             busy="upload",
             command_id=command_id,
+            plan=plan,
         )
         return result
 

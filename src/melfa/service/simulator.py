@@ -54,7 +54,11 @@ class PrivateSimulator:
         self._clock = clock
         self._origin = clock()
         self.service = RobotService(
-            self._open_link, config=config or PRIVATE_SERVICE_CONFIG, audit=audit, clock=clock
+            self._open_link,
+            config=config or PRIVATE_SERVICE_CONFIG,
+            audit=audit,
+            clock=clock,
+            gated=False,  # its own, lighter policy: where the simulation happens
         )
 
     def now(self) -> float:

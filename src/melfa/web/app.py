@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 from collections.abc import AsyncIterator
 
 from fastapi import FastAPI
@@ -93,10 +94,14 @@ def create_app(
                 the_service = RobotService.from_spec(
                     config.robot,
                     trace_sink=trace_file_sink(config.robot_trace) if config.robot_trace else None,
-                    config=config.service_config,
+                    config=dataclasses.replace(
+                        config.service_config, require_simulation=config.require_simulation
+                    ),
                     audit=ServiceAuditSink(the_store.audit),
                 )
                 await the_service.start()
+            elif config.require_simulation and the_service.policy.gate is not None:
+                the_service.policy.gate.required = True  # a service given by the caller
             registry = TargetRegistry(
                 the_service,
                 idle_s=config.private_idle_s,
@@ -108,7 +113,7 @@ def create_app(
                 the_store,
                 the_service,
                 registry,
-                PreflightState(config.data_dir, require_simulation=config.require_simulation),
+                PreflightState(config.data_dir),
                 pools=Pools(config.pools),
                 guard=SocketGuard(
                     limits.max_sockets_per_user, limits.max_sockets, limits.max_sockets_signing_in

@@ -54,7 +54,7 @@ class WebContext:
     targets: Targets
     """The lab robot (``service``) and every user's private simulator."""
     preflight: Preflight
-    """The lab's cell model and the instructor's gate."""
+    """The lab's cell model (the instructor's gate is the lab service's policy)."""
     sockets: Sockets = field(default_factory=Sockets)
     pools: Pools = field(default_factory=Pools)
     guard: SocketGuard = field(default_factory=SocketGuard)

@@ -35,6 +35,7 @@ from melfa.service import (
     LeaseRequired,
     NoJog,
     NotAllowed,
+    Refused,
     ServiceClosed,
     ServiceError,
 )
@@ -49,6 +50,7 @@ from melfa.store import (
     UserInputError,
     WrongExtension,
 )
+from melfa.vocab.refusals import Refusal
 from melfa.web.pools import Busy
 
 _log = logging.getLogger("melfa.web")
@@ -188,11 +190,38 @@ def from_store(exc: StoreError) -> ApiError:
     return ApiError(500, "database-error", f"the server's database failed: {message}")
 
 
+REFUSAL_STATUS: dict[Refusal, int] = {
+    Refusal.LEASE_REQUIRED: 423,
+    Refusal.LEASE_NOT_TAKEN: 423,
+    Refusal.OBSERVER: 403,
+    Refusal.PROGRAM_HAS_ERRORS: 422,
+    Refusal.POINTS_HAVE_ERRORS: 422,
+    Refusal.SIMULATION_REQUIRED: 409,
+}
+"""The HTTP status of each policy refusal (the code is the refusal's own)."""
+assert set(REFUSAL_STATUS) == set(Refusal), "every refusal has its status"
+
+
+def from_refusal(exc: Refused) -> ApiError:
+    """A policy refusal (`melfa.service.policy`): its code, the same words and fix as every
+    other door sends (``message``), the one-click fix a client may offer (``detail.offer``,
+    ``detail.fix``, ``detail.fix_label``), the lease's holder, a program's diagnostics."""
+    reason = exc.reason
+    detail: dict[str, Any] = dict(exc.detail or {})
+    if reason.offer is not None:
+        detail.update(offer=reason.offer, fix=reason.offer, fix_label=reason.offer_label)
+    if isinstance(exc, LeaseRequired):
+        detail["holder"] = _actor(exc.holder)
+    return ApiError(
+        REFUSAL_STATUS[reason], reason.value, str(exc), where=exc.where, detail=detail or None
+    )
+
+
 def from_robot(exc: BaseException) -> ApiError | None:
     """A service, controller or link failure as an API error (None if not one of those)."""
     message = str(exc) or type(exc).__name__
-    if isinstance(exc, LeaseRequired):
-        return ApiError(423, "lease-required", message, detail={"holder": _actor(exc.holder)})
+    if isinstance(exc, Refused):
+        return from_refusal(exc)
     if isinstance(exc, NotAllowed):
         return ApiError(403, "not-allowed", message)
     if isinstance(exc, JogBusy):

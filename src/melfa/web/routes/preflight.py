@@ -53,9 +53,9 @@ class PreflightSettingsOut(BaseModel):
 
 
 def settings_out(context: WebContext) -> PreflightSettingsOut:
-    state = context.preflight
     return PreflightSettingsOut(
-        cell=state.cell.to_json(), require_simulation=state.require_simulation
+        cell=context.preflight.cell.to_json(),
+        require_simulation=context.service.policy.simulation_required,
     )
 
 
@@ -79,7 +79,7 @@ async def run_preflight(
     except DebugError as exc:
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
-        state.passed(plan.fingerprint)
+        context.service.policy.gate_passed(plan)
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
 
 

@@ -1,7 +1,9 @@
 """Every robot operation of the service over REST. Each call names its `Actor` (from the
-session); the service checks the lease, audits, and answers only after the controller
+session); the service's policy decides (the lease, check-before-upload, the instructor's
+gate: `melfa.service.policy`), the service audits and answers only after the controller
 did. Its refusals map to 4xx in the one error shape (423 ``lease-required``, 409
-``controller-refused`` with the controller's number, 503 ``link-down``...)."""
+``simulation-required``, 422 ``program-has-errors``, 409 ``controller-refused`` with the
+controller's number, 503 ``link-down``...)."""
 
 from __future__ import annotations
 
@@ -15,12 +17,12 @@ from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.lang.points import PointKind, parse_points
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
-from melfa.robot.upload import UploadPreparationError, sendable
 from melfa.service import Actor, ServoPolicy
+from melfa.service.policy import plan_refusal
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
 from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of
-from melfa.web.errors import ERROR_RESPONSES, ApiError, from_robot
+from melfa.web.errors import ERROR_RESPONSES, ApiError, from_refusal, from_robot
 from melfa.web.logs import robot_log
 from melfa.web.models import (
     ExecIn,
@@ -39,7 +41,7 @@ from melfa.web.models import (
     ValuesOut,
 )
 from melfa.web.routes.workspaces import default_workspace, open_workspace
-from melfa.web.target_deps import TARGET_HELP, Drive, DriveDep, find_target
+from melfa.web.target_deps import TARGET_HELP, DriveDep, find_target
 from melfa.web.targets import LAB
 
 router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
@@ -100,53 +102,14 @@ async def planned(context: WebContext, program: str | None, points: str | None) 
     return await context.load(plan_upload, program, points)
 
 
-def sendable_plan(plan: UploadPlan) -> UploadPlan:
-    """The plan, or its refusal as a 422 naming the source, line and column."""
-    try:
-        return sendable(plan)
-    except UploadPreparationError as exc:
-        code = "points-have-errors" if exc.source == "points" else "program-not-sendable"
-        raise ApiError(
-            422,
-            code,
-            str(exc),
-            where={"source": exc.source, "line": exc.line, "column": exc.column},
-        ) from None
-
-
 def checked_program(plan: UploadPlan, check: bool) -> None:
+    """Pre-flight and the debugger: a program with errors is refused as a load would be
+    (`melfa.service.policy.plan_refusal`, the service's check-before-upload)."""
     if not check:
         return
-    errors = [d for d in plan.diagnostics if d.is_error]
-    if errors:
-        first = errors[0]
-        raise ApiError(
-            422,
-            "program-has-errors",
-            f"Line {first.line}: {first.message}. Fix it in the editor, then load again.",
-            where={"source": "program", "line": first.line, "column": first.column},
-            detail={"diagnostics": [d.to_json() for d in errors]},
-        )
-
-
-GATE_FIX = {"offer": "preflight", "fix": "preflight", "fix_label": "Run pre-flight"}
-"""The gate's refusal offers the simulation (the IDE's one-click fix, docs/api.md)."""
-
-
-def gate(context: WebContext, drive: Drive, plan: UploadPlan) -> None:
-    """The instructor's gate: on the lab robot, only texts that passed pre-flight."""
-    state = context.preflight
-    if not state.require_simulation or not drive.target.shared:
-        return
-    if not state.has_passed(plan.fingerprint):
-        raise ApiError(
-            409,
-            "simulation-required",
-            "this lab runs a program on the robot only after the same program and points "
-            "passed a simulated run without pre-flight errors: run Pre-flight (or debug it "
-            "on My simulator) first",
-            detail=GATE_FIX,
-        )
+    refused = plan_refusal(plan)
+    if refused is not None:
+        raise from_refusal(refused)
 
 
 def _upload_out(report: object, plan: UploadPlan | None = None) -> UploadOut:
@@ -162,18 +125,15 @@ async def load_project(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
     """Program and points into the controller in one session (from the body, else the
-    workspace). A program with errors is refused before anything is sent."""
+    workspace). The service's policy refuses a program with errors before anything is
+    sent, and on the lab robot with the instructor's gate one that has not passed
+    pre-flight."""
     actor = drive.actor
     program, points = await sources(context, session, body)
     assert program is not None and points is not None
     plan = await planned(context, program, points)
-    checked_program(plan, body.check)
-    gate(context, drive, plan)
-    sendable_plan(plan)
     service = drive.service
     report = await operate(actor, "load_project", lambda: service.load_project(actor, plan))
-    if drive.target.shared:
-        context.preflight.lab_loaded = plan.fingerprint
     return _upload_out(report, plan)
 
 
@@ -181,19 +141,13 @@ async def load_project(
 async def upload_program(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
+    """The program alone (its positions cleared)."""
     actor = drive.actor
-    program, points = await sources(context, session, body)
-    assert program is not None and points is not None
-    plan = await planned(context, program, points)
-    checked_program(plan, body.check)
-    gate(context, drive, plan)
-    program_plan = sendable_plan(await planned(context, program, None))
+    program, _ = await sources(context, session, body)
+    assert program is not None
+    plan = await planned(context, program, None)
     service = drive.service
-    report = await operate(
-        actor, "upload_program", lambda: service.upload_program(actor, program_plan)
-    )
-    if drive.target.shared:
-        context.preflight.lab_loaded = plan.fingerprint
+    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, plan))
     return _upload_out(report, plan)
 
 
@@ -204,13 +158,11 @@ async def upload_points(
     actor = drive.actor
     _, points = await sources(context, session, body)
     assert points is not None
-    plan = sendable_plan(await planned(context, None, points))
-    if not plan.items:
+    plan = await planned(context, None, points)
+    if plan.blocker is None and not plan.items:
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
     report = await operate(actor, "upload_points", lambda: service.upload_points(actor, plan))
-    if drive.target.shared:
-        context.preflight.lab_loaded = None  # the gate asks for program and points together
     return _upload_out(report)
 
 
@@ -228,17 +180,8 @@ def servo_policy(servo_on: bool) -> ServoPolicy:
 
 
 @router.post("/run", response_model=Ok, summary="Run the program")
-async def run(drive: DriveDep, context: ContextDep, body: RunIn | None = None) -> Ok:
+async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
     actor = drive.actor
-    state = context.preflight
-    if state.require_simulation and drive.target.shared and state.lab_loaded is None:
-        raise ApiError(
-            409,
-            "simulation-required",
-            "this lab runs on the robot only a program loaded after passing pre-flight: "
-            "run Pre-flight, then Load project",
-            detail=GATE_FIX,
-        )
     policy = servo_policy(body.servo_on if body is not None else False)
     await operate(actor, "run", lambda: drive.service.run(actor, servo=policy))
     return Ok()

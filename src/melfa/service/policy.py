@@ -1,0 +1,171 @@
+"""The policy: whether a command may be queued for the robot, decided once, in the service.
+
+Every command that loads, moves or changes the robot (load, run, jog, move to, a single
+statement, servo, hand, override, delete, reset) passes `Policy.admit` inside the service
+before it is queued, whoever called: REST, the WebSocket, rosbridge, the thesis's control
+messages, the ROS 1 node, the desktop client. A refusal is `Refused`: a reason from
+`melfa.vocab.refusals.Refusal` with the student's words and the fix, the same from every
+door (REST maps the reason to its status and code, rosbridge and the thesis's messages
+send the words).
+
+What it holds, in the order it asks:
+
+1. **Check-before-upload.** A load carries its `melfa.lang.plan.UploadPlan`; a plan with an
+   error (the checker's, the points', or one that cannot be sent) is refused, so a program
+   with errors never reaches the controller.
+2. **The instructor's gate** (`Gate`, on the lab robot with ``--require-simulation``): a
+   load is refused unless the same program and points, as sent (`UploadPlan.fingerprint`),
+   passed pre-flight (`Gate.passed`, recorded by the web's pre-flight); a run is refused
+   unless what is loaded, as recorded after each successful load (`Policy.done`), passed.
+   A program and its points loaded separately (the thesis's LOAD PROGRAM then LOAD POINTS)
+   count as the pair they make.
+3. **The operator lease** (`melfa.service.lease.Lease`): only its holder's commands go;
+   with ``auto`` a free lease is taken by the first command (the change is returned for
+   the service to publish, and given back if the command fails).
+
+A private simulator has the lighter `Policy` without a gate; its lease has one possible
+holder, its owner (every session of theirs is one operator), so it never stands between
+them. The queue for the lab's arm (next) plugs in here: `admit` is the one seam.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass
+
+from melfa.lang.plan import Part, UploadPlan, digest
+from melfa.service.errors import Refused
+from melfa.service.events import Actor
+from melfa.service.lease import Lease, LeaseChange
+from melfa.vocab.commands import Command
+from melfa.vocab.refusals import Refusal
+
+LOADS = frozenset({Command.LOAD_PROJECT, Command.UPLOAD_PROGRAM, Command.UPLOAD_POINTS})
+"""Commands that carry an upload plan."""
+RUNS = frozenset({Command.RUN})
+"""Commands that start the loaded program (the gate asks what is loaded)."""
+NO_POINTS = digest(())
+
+
+@dataclass(frozen=True)
+class Loaded:
+    """What the controller holds, as sent through the policy (program and points digests;
+    None: not known, as after a delete or a failed load)."""
+
+    program: str | None
+    points: str | None
+
+
+class Gate:
+    """The instructor's gate: which programs and points passed pre-flight, and what the
+    lab robot holds. Thread-safe (pre-flight records from a worker thread)."""
+
+    def __init__(self, required: bool = False) -> None:
+        self.required = required
+        self._lock = threading.Lock()
+        self._passed: set[tuple[str, str]] = set()
+        self.loaded = Loaded(None, None)
+
+    def passed(self, plan: UploadPlan) -> None:
+        """``plan``'s program and points passed pre-flight (a simulated run without
+        errors)."""
+        with self._lock:
+            self._passed.add((plan.program_digest, plan.points_digest))
+
+    def has_passed(self, plan: UploadPlan) -> bool:
+        with self._lock:
+            return (plan.program_digest, plan.points_digest) in self._passed
+
+    def allows(self, command: Command, plan: UploadPlan | None) -> bool:
+        """Whether the gate lets ``command`` (with its ``plan``) through."""
+        if not self.required:
+            return True
+        with self._lock:
+            passed = self._passed
+            loaded = self.loaded
+            if command is Command.LOAD_PROJECT and plan is not None:
+                return (plan.program_digest, plan.points_digest) in passed
+            if command is Command.UPLOAD_PROGRAM and plan is not None:
+                return any(program == plan.program_digest for program, _ in passed)
+            if command is Command.UPLOAD_POINTS and plan is not None:
+                return (loaded.program, plan.points_digest) in passed
+            if command in RUNS:
+                return (loaded.program, loaded.points) in passed
+        return True
+
+    def record(self, command: Command, plan: UploadPlan | None, ok: bool) -> None:
+        """After a command: what the controller now holds. A failed load leaves it
+        unknown (the gate then refuses a run until the next load)."""
+        with self._lock:
+            loaded = self.loaded
+            if (command is Command.DELETE and ok) or (command in LOADS and not ok):
+                self.loaded = Loaded(None, None)
+            elif command is Command.LOAD_PROJECT and plan is not None:
+                self.loaded = Loaded(plan.program_digest, plan.points_digest)
+            elif command is Command.UPLOAD_PROGRAM and plan is not None:
+                self.loaded = Loaded(plan.program_digest, NO_POINTS)  # ECLR clears positions
+            elif command is Command.UPLOAD_POINTS and plan is not None:
+                self.loaded = Loaded(loaded.program, plan.points_digest)
+
+
+def plan_refusal(plan: UploadPlan) -> Refused | None:
+    """Check-before-upload: the refusal of a plan with an error (the program's first, else
+    the points'), or None. What cannot be sent at all is among the errors
+    (`UploadPlan.blocker` adds its diagnostic)."""
+    first = plan.first_error()
+    if first is None:
+        return None
+    part, found = first
+    points = part is Part.POINTS
+    errors = plan.point_diagnostics if points else plan.diagnostics
+    return Refused(
+        Refusal.POINTS_HAVE_ERRORS if points else Refusal.PROGRAM_HAS_ERRORS,
+        where={"source": part.value, "line": found.line, "column": found.column},
+        detail={"diagnostics": [d.to_json() for d in errors if d.is_error]},
+        line=found.line,
+        message=_sentence(found.message),
+    )
+
+
+def _sentence(text: str) -> str:
+    text = text.strip()
+    return text if text.endswith((".", "?", "!")) else text + "."
+
+
+class Policy:
+    """One check for every command before it is queued (see the module doc)."""
+
+    def __init__(self, lease: Lease, gate: Gate | None = None) -> None:
+        self.lease = lease
+        self.gate = gate
+
+    def admit(
+        self, actor: Actor, command: Command, plan: UploadPlan | None = None
+    ) -> LeaseChange | None:
+        """Let ``command`` through or raise `Refused` (nothing queued, nothing changed).
+        Returns the lease change when it took a free lease (the service publishes it)."""
+        if plan is not None:
+            refused = plan_refusal(plan)
+            if refused is not None:
+                raise refused
+        if self.gate is not None and not self.gate.allows(command, plan):
+            raise Refused(Refusal.SIMULATION_REQUIRED)
+        return self.lease.check(actor)
+
+    @property
+    def simulation_required(self) -> bool:
+        """Whether the instructor's gate is on."""
+        return self.gate is not None and self.gate.required
+
+    def gate_passed(self, plan: UploadPlan) -> None:
+        """``plan`` passed pre-flight (the web's pre-flight records it; no gate: nothing)."""
+        if self.gate is not None:
+            self.gate.passed(plan)
+
+    def done(self, command: Command, plan: UploadPlan | None, ok: bool) -> None:
+        """A command admitted earlier finished (``ok``) or failed."""
+        if self.gate is not None:
+            self.gate.record(command, plan, ok)
+
+
+__all__ = ["Gate", "Loaded", "Policy", "plan_refusal"]

@@ -1,0 +1,91 @@
+"""Why the robot service refused a command: one member per reason, with the student's words
+and the fix.
+
+The wire value is the code every door sends (REST's ``error.code``, the WebSocket's
+``error`` message; rosbridge and the thesis's messages send the words): `Refusal.says` is
+what happened, `Refusal.fix` what to do about it, both templates filled with the facts of
+the refusal (who holds the robot, which line), and `Refusal.offer` the one-click fix a
+client may show (``preflight``: run pre-flight), when there is one. The service raises
+`melfa.service.policy.Refused` with a member; nothing downstream parses the words.
+
+>>> Refusal.SIMULATION_REQUIRED.value, Refusal.SIMULATION_REQUIRED.offer
+('simulation-required', 'preflight')
+>>> Refusal.LEASE_REQUIRED.words(holder="ann")
+('ann holds the robot.', 'Ask them to release it, or an instructor to take over.')
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+
+class Refusal(enum.StrEnum):
+    """Why a command was not queued (stable wire value)."""
+
+    LEASE_REQUIRED = "lease-required"
+    """Someone else holds the lab robot (the operator lease)."""
+    LEASE_NOT_TAKEN = "lease-not-taken"
+    """Nobody holds the robot and this service does not hand the lease out by itself."""
+    OBSERVER = "observer"
+    """An observer's account never moves the robot."""
+    PROGRAM_HAS_ERRORS = "program-has-errors"
+    """Check-before-upload: the checker found an error, or the program cannot be sent as it
+    is (a non-ASCII character in code, numbering that would change its meaning)."""
+    POINTS_HAVE_ERRORS = "points-have-errors"
+    SIMULATION_REQUIRED = "simulation-required"
+    """The instructor's gate: the lab robot loads and runs only a program and points that
+    passed pre-flight (a simulated run without errors)."""
+
+    def words(self, **facts: object) -> tuple[str, str]:
+        """(what happened, the fix), with ``facts`` filled in."""
+        words = _WORDS[self]
+        return words.says.format(**facts), words.fix.format(**facts)
+
+    @property
+    def offer(self) -> str | None:
+        """The one-click fix a client may offer (None: none)."""
+        return _WORDS[self].offer
+
+    @property
+    def offer_label(self) -> str | None:
+        return _WORDS[self].offer_label
+
+
+@dataclass(frozen=True)
+class _Words:
+    says: str
+    fix: str
+    offer: str | None = None
+    offer_label: str | None = None
+
+
+_WORDS: dict[Refusal, _Words] = {
+    Refusal.LEASE_REQUIRED: _Words(
+        "{holder} holds the robot.", "Ask them to release it, or an instructor to take over."
+    ),
+    Refusal.LEASE_NOT_TAKEN: _Words(
+        "Nobody holds the robot.", "Take control of the robot first, then try again."
+    ),
+    Refusal.OBSERVER: _Words(
+        "{user} is an observer and cannot move the robot.",
+        "Sign in as a student or an instructor to drive it.",
+    ),
+    Refusal.PROGRAM_HAS_ERRORS: _Words(
+        "Line {line}: {message}", "Fix it in the editor, then load again."
+    ),
+    Refusal.POINTS_HAVE_ERRORS: _Words(
+        "Points line {line}: {message}", "Fix the point, then load again."
+    ),
+    Refusal.SIMULATION_REQUIRED: _Words(
+        "This lab runs a program on the robot only after the same program and points "
+        "passed pre-flight (a simulated run without errors).",
+        "Run Pre-flight (or debug it on My simulator), then load and run it again.",
+        "preflight",
+        "Run pre-flight",
+    ),
+}
+assert set(_WORDS) == set(Refusal), "every refusal has its words"
+
+
+__all__ = ["Refusal"]
