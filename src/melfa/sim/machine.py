@@ -17,6 +17,7 @@ from melfa.protocol.jog import JOG_WATCHDOG_S, Jog
 from melfa.sim.arm import SimulatedArm, directions_from_masks
 from melfa.sim.arm_errors import ArmError
 from melfa.sim.motion import Speeds
+from melfa.sim.trajectory import TrajectoryRecorder
 
 
 class ArmFault(Exception):
@@ -165,7 +166,16 @@ class SimArm:
             )
 
 
+CONTROLLER_SAMPLES = 1200
+"""Trajectory samples a controller's arm keeps (a minute at 20 polls a second): nothing
+reads a longer history of it, and a private simulator runs for hours (20,000 grew each
+running one by ~28 kB/s for 15 minutes). The debugger and pre-flight keep their own."""
+CONTROLLER_EVENTS = 200
+"""Moves and hand events a controller's arm keeps (each move holds its plan)."""
+
+
 def make_arm(jog_watchdog_s: float = JOG_WATCHDOG_S) -> SimArm:
     """The arm a new controller drives: the RV-6S at its home pose, servo off, stopping a
     jog after the controller's watchdog (`SimConfig.jog_watchdog_s`)."""
-    return SimArm(SimulatedArm(jog_watchdog_s=jog_watchdog_s))
+    recorder = TrajectoryRecorder(CONTROLLER_SAMPLES, CONTROLLER_EVENTS)
+    return SimArm(SimulatedArm(jog_watchdog_s=jog_watchdog_s, recorder=recorder))
