@@ -25,7 +25,7 @@ from melfa.sim.debug.preflight import preflight, report_text
 from melfa.sim.interp.io import parse_input
 from melfa.sim.interp.start import RunStart
 
-errors = RichConsole(stderr=True, highlight=False)
+errors = RichConsole(stderr=True, highlight=False, soft_wrap=True, emoji=False)
 
 REAL_TIME_TICK_S = 0.02
 """How long the console sleeps between polls while a run goes on in real time."""

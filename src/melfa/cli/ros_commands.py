@@ -23,7 +23,7 @@ from melfa.link import RobotSpecError, parse_robot
 REEXEC_ENV = "MELFA_ROS_REEXEC"
 """Set when `melfa ros` re-executed itself under the ROS environment (no second try)."""
 
-_err = Console(stderr=True, highlight=False)
+_err = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
 
 
 def ros_python() -> Path | None:

@@ -28,8 +28,8 @@ from melfa.sim.interp.fast import DEFAULT_MAX_TIME_S
 from melfa.sim.interp.io import parse_input
 from melfa.sim.interp.start import RunStart
 
-console = Console(highlight=False, soft_wrap=True)  # a path is never broken over lines
-errors = Console(stderr=True, highlight=False)
+console = Console(highlight=False, soft_wrap=True, emoji=False)  # never cut at 80 columns
+errors = Console(stderr=True, highlight=False, soft_wrap=True, emoji=False)
 
 
 def build_controller(
