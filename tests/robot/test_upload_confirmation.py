@@ -15,10 +15,11 @@ import pytest
 from typer.testing import CliRunner
 
 from melfa.cli import app
+from melfa.link import LinkError
 from melfa.robot import SavedNotConfirmed
 from tests.plans import project
 from tests.robot.relay import Fault, FaultRelay
-from tests.robot.test_fault_relay import POINTS, PROGRAM, held_program, robot_on
+from tests.robot.test_fault_relay import POINTS, PROGRAM, SILENT_S, held_program, robot_on
 
 PDIR_VARIANTS = {
     # 41 steps and 3 positions were sent.
@@ -87,3 +88,23 @@ def test_upload_cli_exits_4_when_saved_but_not_confirmed(
     )
     assert result.exit_code == 4, result.output
     assert "saved, but not confirmed" in result.output and "Traceback" not in result.output
+
+
+def test_an_upload_on_a_dead_link_fails_at_the_first_failure(relay: FaultRelay) -> None:
+    relay.add(Fault.hang_up(";EMDAT", nth=2))
+    with robot_on(relay) as robot, pytest.raises(LinkError):
+        robot.load_project(project(PROGRAM, POINTS))
+    sent = relay.commands()
+    assert sent[-1].startswith("EMDAT"), sent and sent.count("NEW") == 1 and "SAVE" not in sent
+
+
+def test_after_a_lost_emdat_answer_the_next_upload_starts_clean(relay: FaultRelay) -> None:
+    relay.add(Fault.drop(";EMDAT", nth=2))
+    with robot_on(relay, SILENT_S) as robot:
+        with pytest.raises(LinkError):
+            robot.load_project(project(PROGRAM, POINTS))
+        assert "SAVE" not in relay.commands()
+        robot.link.settings = robot.link.settings.with_(timeout=10.0)
+        report = robot.load_project(project(PROGRAM, POINTS))
+    assert report.held is not None and report.held.lines == 41
+    assert held_program(relay) is not None and len(held_program(relay) or []) == 41

@@ -35,6 +35,7 @@ from melfa.protocol import (
     Request,
 )
 from melfa.protocol.connection import Paired, Resynced, Unanswered
+from melfa.protocol.messages import encode_reply
 
 _WAIT_S: Final = 0.02
 
@@ -85,6 +86,13 @@ class Channel:
         self.dropped_replies = 0
         self.stops_sent = 0
         """STOPs registered so far; a batch sent with ``stops_seen`` ends at the next one."""
+
+    @property
+    def last_reply(self) -> bytes:
+        """The last reply paired with a request, as it came on the wire (for a log line
+        when a reply is not understood); b"" before the first."""
+        reply = self._last_reply
+        return b"" if reply is None else encode_reply(reply)
 
     @property
     def in_step(self) -> bool:

@@ -218,8 +218,12 @@ def write_program(
         save_sent = True
         session._call("SAVE", timeout=settings.save_timeout)
     except BaseException as exc:
-        with contextlib.suppress(Exception):
-            session._send("NEW")  # close without saving: the old program stays
+        if save_sent or not isinstance(exc, LinkError):
+            with contextlib.suppress(Exception):
+                session._send("NEW")  # close without saving: the old program stays
+        # A link failure before SAVE fails at once: nothing was saved, and the next
+        # upload's own NEW discards the open edit (waiting out a resync and a NEW on a
+        # dead line only delays the answer).
         if save_sent and isinstance(exc, LinkError | RemoteProtocolError):
             # Lost or garbled (a flipped bit): the controller may have saved; PDIR tells.
             raise _lost_save(session, prepared, clear, exc) from exc
