@@ -232,7 +232,14 @@ def stop(
 
 @robot_command()
 def override(
-    percent: Annotated[int, typer.Argument(min=1, max=100, help="Override in per cent, 1–100.")],
+    percent: Annotated[
+        int,
+        typer.Argument(
+            min=OVERRIDE_PERCENT.start,
+            max=OVERRIDE_PERCENT[-1],
+            help=f"Override in per cent, {span_text(OVERRIDE_PERCENT)}.",
+        ),
+    ],
     *,
     target: Target,
 ) -> None:

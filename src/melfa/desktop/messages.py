@@ -26,8 +26,6 @@ from melfa.live.messages import (
 )
 from melfa.protocol.advice import Fix
 
-JOINT_NAMES = ("J1", "J2", "J3", "J4", "J5", "J6")
-POSE_NAMES = ("X", "Y", "Z", "A", "B", "C")
 
 LiveMessage = (
     Hello
@@ -94,8 +92,6 @@ def parse_fix(value: object) -> Fix | None:
 
 
 __all__ = [
-    "JOINT_NAMES",
-    "POSE_NAMES",
     "LiveMessage",
     "actor_name",
     "alarm_said",

@@ -6,9 +6,9 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QGridLayout, QGroupBox, QLabel
 
-from melfa.desktop.messages import JOINT_NAMES, POSE_NAMES
 from melfa.desktop.style import ValueLabel, fmt_number
 from melfa.live.messages import StateOut
+from melfa.protocol import JOINT_NAMES, POSE_NAMES
 
 
 class PositionBox(QGroupBox):

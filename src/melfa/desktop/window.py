@@ -69,6 +69,7 @@ from melfa.desktop.words import (
     link_words,
 )
 from melfa.live.messages import StateOut
+from melfa.protocol import OVERRIDE_PERCENT
 from melfa.protocol.advice import FIX_LABELS
 from melfa.vocab.activity import Activity
 from melfa.vocab.link import LinkStatus
@@ -369,7 +370,7 @@ class MainWindow(QMainWindow):
         row.addWidget(self.servo_off_button)
         row.addSpacing(16)
         self.override_spin = QSpinBox()
-        self.override_spin.setRange(1, 100)
+        self.override_spin.setRange(OVERRIDE_PERCENT.start, OVERRIDE_PERCENT[-1])
         self.override_spin.setValue(30)
         self.override_spin.setSuffix(" %")
         self.override_spin.setAccessibleName("Speed override")

@@ -17,7 +17,9 @@ from melfa.live.messages import StateOut
 from melfa.vocab.activity import Activity, jog_detail, said, where
 from melfa.vocab.link import LINK_WORDS, LinkStatus
 
-JOG_AXES = {"xyz": ("X", "Y", "Z", "A", "B", "C"), "tool": ("X", "Y", "Z", "A", "B", "C")}
+from melfa.protocol import JOINT_NAMES, POSE_NAMES
+
+JOG_AXES = {"xyz": POSE_NAMES, "tool": POSE_NAMES, "joint": JOINT_NAMES}
 
 
 @dataclass(frozen=True)
@@ -34,7 +36,7 @@ def jog_label(frame: str, axis: int, direction: int) -> str:
     >>> jog_label("xyz", 0, 1), jog_label("joint", 2, -1), jog_label("tool", 2, -1)
     ('X+', 'J3−', 'Z−')
     """
-    name = f"J{axis + 1}" if frame == "joint" else JOG_AXES.get(frame, JOG_AXES["xyz"])[axis]
+    name = JOG_AXES.get(frame, POSE_NAMES)[axis]
     return f"{name}{'+' if direction > 0 else '−'}"
 
 

@@ -140,6 +140,15 @@ class ElementKind(enum.Enum):
     J8 = "J8"
 
 
+POSITION_ELEMENTS: tuple[str, ...] = tuple(
+    k.value for k in ElementKind if not k.value.startswith("J")
+)
+"""A position's elements in the controller's order: X, Y, Z, A, B, C, L1, L2, FL1, FL2 (the
+first six are the controller's `melfa.protocol.POSE_NAMES`; a test holds them together)."""
+JOINT_ELEMENTS: tuple[str, ...] = tuple(k.value for k in ElementKind if k.value.startswith("J"))
+"""A joint position's elements, J1 … J8 (the first six: `melfa.protocol.JOINT_NAMES`)."""
+
+
 class Element(Record):
     """``P1.X``, ``J_CURR.J4``, ``P(3).FL1``."""
 

@@ -26,7 +26,7 @@ import enum
 import re
 from collections.abc import Iterable, Iterator, Mapping
 
-from melfa.lang.ast import Expr, constant_number
+from melfa.lang.ast import JOINT_ELEMENTS, POSITION_ELEMENTS, Expr, constant_number
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.model import MAX_NAME_LENGTH as MODEL_MAX_NAME_LENGTH
 from melfa.lang.parser import parse_constant
@@ -237,9 +237,7 @@ def _read_number(
 
 
 def _element_label(kind: PointKind, index: int) -> str:
-    if kind is PointKind.JNT:
-        return f"J{index + 1}"
-    return ("X", "Y", "Z", "A", "B", "C", "L1", "L2")[index]
+    return (JOINT_ELEMENTS if kind is PointKind.JNT else POSITION_ELEMENTS)[index]
 
 
 def _read_flag(text: str, expr: Expr | None, lineno: int, which: str) -> int | None:

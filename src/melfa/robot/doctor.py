@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from melfa.lang.plan import plan_upload
 from melfa.link import LinkError, LinkTimeout
 from melfa.protocol import (
+    OVERRIDE_PERCENT,
     ErrorLogEntry,
     LocalProtocolError,
     ModeKey,
@@ -345,7 +346,7 @@ def _rights(robot: Robot, report: Report, state: State | None) -> None:
     ``CNTLOFF``. A 6020 means the key is not at AUTO (Ext.): in AUTO (Op.) the operation
     panel holds the rights, which STATE cannot show [DOC S5 §4]."""
     item = "operation rights"
-    if state is None or state.override is None or not 1 <= state.override <= 100:
+    if state is None or state.override is None or state.override not in OVERRIDE_PERCENT:
         report.add(item, Verdict.UNKNOWN, "not probed: the override is unknown")
         return
     taken = _probe(robot, "CNTLON")

@@ -19,6 +19,8 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass
 
+from melfa.protocol import OVERRIDE_PERCENT, span_text
+
 NODE_NAME = "melfa"
 """Default node name; services and parameters live under it (``/melfa/...``)."""
 
@@ -127,7 +129,12 @@ SERVICES: tuple[ServiceSpec, ...] = (
     ServiceSpec(DELETE, TRIGGER, "delete the program and its points"),
     ServiceSpec(SERVO, SET_BOOL, "servo on (data: true) or off"),
     ServiceSpec(RESET, TRIGGER, "reset the controller's alarm (after a refused move)"),
-    ServiceSpec(OVERRIDE, TRIGGER, "set the override to ~override percent (1-100)", OVERRIDE_PARAM),
+    ServiceSpec(
+        OVERRIDE,
+        TRIGGER,
+        f"set the override to ~override percent ({span_text(OVERRIDE_PERCENT)})",
+        OVERRIDE_PARAM,
+    ),
     ServiceSpec(STATE, TRIGGER, "the state in one line: link, servo, program, alarm, lease"),
 )
 

@@ -51,6 +51,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from melfa.lang.plan import plan_upload
+from melfa.protocol import POSE_NAMES
 from melfa.service.errors import ThesisMessageError
 from melfa.service.events import Actor, JogFrame, ThesisOutput
 from melfa.service.service import RobotService, describe_error
@@ -73,7 +74,7 @@ _CONTROL = re.compile(
 
 MOVES: dict[str, tuple[int, int]] = {
     f"MOV TOOL {sign}{axis}": (index, 1 if sign == "+" else -1)
-    for index, axis in enumerate("XYZ")
+    for index, axis in enumerate(POSE_NAMES[:3])
     for sign in "+-"
 }
 """Move messages → (tool axis 0–2, direction), in the thesis's order of checking."""

@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass, field
 
 # --- timing --------------------------------------------------------------------------------
+from melfa.protocol.error_table import COMMAND_TOO_LONG
 from melfa.protocol.jog import JOG_WATCHDOG_S  # the one home of the ~140 ms watchdog
 
 DEFAULT_REPLY_LATENCY_S = 0.1
@@ -152,7 +153,7 @@ class SimConfig:
     """[DOC S1 §5.2.7–5.2.8] EMDAT errors carry the bad item and character position, so the
     controller checks each line as it is entered. SAVE checks the whole program again."""
 
-    too_long_error: int = 6080
+    too_long_error: int = COMMAND_TOO_LONG
     """[DOC S4] C6080 "Com mesg is too long" (L3270 is the other candidate) [GUESS which one]."""
 
     prtver_answer: str = "1"

@@ -14,6 +14,7 @@ import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
+from melfa.protocol.error_table import LINE_NUMBER_RANGE, STATEMENT_TOO_LONG, SYNTAX
 from melfa.sim.config import MAX_LINE_NUMBER, MAX_STEP_CHARS
 
 PROGRAM_EXT = "MB4"
@@ -67,10 +68,6 @@ class EditError(Exception):
         self.column = column
 
 
-ERR_SYNTAX = 4220  # L4220 "Syntax error" [DOC S4]
-ERR_TOO_LONG_STEP = 4210  # L4210 "Too long statement" [melfa-basic-iv.md §1]
-ERR_LINE_NUMBER = 4420  # L4420 "Line No exceeds 32767" [melfa-basic-iv.md §8]
-
 _LINE = re.compile(r"(\d+)(?:(\s+)(.*))?", re.DOTALL)
 _POSITION = re.compile(r"([A-Za-z][A-Za-z0-9_]*)\s*=\s*\(")
 
@@ -102,20 +99,20 @@ def classify_item(raw: str) -> EditItem:
     if match is not None:
         number = int(match.group(1))
         if not 1 <= number <= MAX_LINE_NUMBER:
-            raise EditError(ERR_LINE_NUMBER, offset + 1, f"line number {number} is not 1–32767")
+            raise EditError(LINE_NUMBER_RANGE, offset + 1, f"line number {number} is not 1–32767")
         body = match.group(3)
         if body is None or not body.strip():
             return EditItem(line=number)
         text = f"{number} {body.rstrip()}"
         if len(text) > MAX_STEP_CHARS:
             raise EditError(
-                ERR_TOO_LONG_STEP, offset + MAX_STEP_CHARS + 1, f"step {number} is over 127 chars"
+                STATEMENT_TOO_LONG, offset + MAX_STEP_CHARS + 1, f"step {number} is over 127 chars"
             )
         return EditItem(line=number, text=text)
     pos = _POSITION.match(item)
     if pos is not None and item.rstrip().endswith(")"):
         return EditItem(position=pos.group(1).upper(), definition=item.rstrip())
-    raise EditError(ERR_SYNTAX, offset + 1, f"not a step, a step number or a position: {item!r}")
+    raise EditError(SYNTAX, offset + 1, f"not a step, a step number or a position: {item!r}")
 
 
 @dataclass

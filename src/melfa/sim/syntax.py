@@ -12,8 +12,10 @@ from __future__ import annotations
 
 from melfa.lang.ast import ParseIssue
 from melfa.lang.parser import parse
+from melfa.protocol.error_table import SYNTAX
 
-DEFAULT_NUMBER = 4220  # L4220 "Syntax error" [DOC S4]
+DEFAULT_NUMBER = SYNTAX
+"""L4220 "Syntax error": a finding without a controller code of its own."""
 
 
 def first_syntax_error(text: str) -> tuple[int, int] | None:

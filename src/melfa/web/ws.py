@@ -61,6 +61,7 @@ from melfa.live.messages import (
     parse_client,
 )
 from melfa.protocol.advice import advice_for
+from melfa.protocol.limits import HANDS, span_text
 from melfa.service import (
     Actor,
     AuditEvent,
@@ -400,7 +401,7 @@ _PROBLEMS = {
     "frame": "jog frame is tool, xyz or joint",
     "axis": "jog_start needs axis (0–5 or a name) and direction (1, -1, + or -)",
     "direction": "jog_start needs axis (0–5 or a name) and direction (1, -1, + or -)",
-    "hand": "hand is a number 1–8",
+    "hand": f"hand is a number {span_text(HANDS)}",
     "id": "id is a number or a string",
 }
 

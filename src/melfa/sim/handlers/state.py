@@ -184,7 +184,7 @@ def jposf(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     if not c.origin_set:
         # [TRACE K9b-C4] `J1;****;…;;****,****;100;0.00;00000000`
         return Ok(Position(_unknown(JOINT_NAMES), None, None, c.arm.op_override, 0, 0).to_answer())
-    axes = tuple((f"J{i + 1}", _round(v)) for i, v in enumerate(c.arm.joints))
+    axes = tuple(zip(JOINT_NAMES, (_round(v) for v in c.arm.joints), strict=True))
     answer = Position(axes, None, None, c.arm.op_override, c.arm.tcp_speed, 0)
     return Ok(answer.to_answer())
 
@@ -194,7 +194,7 @@ def pposf(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
         return Ok(Position(_unknown(POSE_NAMES), None, None, c.arm.op_override, 0, 0).to_answer())
     pose = c.arm.pose
     values = (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)
-    axes = tuple(zip("XYZABC", (_round(v) for v in values), strict=True))
+    axes = tuple(zip(POSE_NAMES, (_round(v) for v in values), strict=True))
     answer = Position(axes, pose.fl1, pose.fl2, c.arm.op_override, c.arm.tcp_speed, 0)
     return Ok(answer.to_answer())
 

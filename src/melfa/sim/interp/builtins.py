@@ -13,6 +13,7 @@ import random
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 
+from melfa.lang.ast import JOINT_ELEMENTS
 from melfa.sim.interp import errors, posmath
 from melfa.sim.interp.values import (
     Joints,
@@ -292,8 +293,8 @@ def _rdfl2(args: Sequence[Value]) -> Value:
     """RDFL2(P, axis): multi-rotation count −8…7 of one axis (4 bits each, J1 lowest)."""
     p = position(args[0], "RDFL2")
     axis = integer(args[1], "RDFL2")
-    if not 1 <= axis <= 8:
-        raise _bad(f"RDFL2 axis must be 1..8, got {axis}")
+    if not 1 <= axis <= len(JOINT_ELEMENTS):
+        raise _bad(f"RDFL2 axis must be 1..{len(JOINT_ELEMENTS)}, got {axis}")
     nib = (p.fl2 >> (4 * (axis - 1))) & 0xF
     return nib - 16 if nib >= 8 else nib
 
@@ -302,8 +303,8 @@ def _setfl2(args: Sequence[Value]) -> Value:
     p = position(args[0], "SETFL2")
     axis = integer(args[1], "SETFL2")
     v = integer(args[2], "SETFL2")
-    if not 1 <= axis <= 8 or not -8 <= v <= 7:
-        raise _bad("SETFL2 needs axis 1..8 and a count -8..7")
+    if not 1 <= axis <= len(JOINT_ELEMENTS) or not -8 <= v <= 7:
+        raise _bad(f"SETFL2 needs axis 1..{len(JOINT_ELEMENTS)} and a count -8..7")
     shift = 4 * (axis - 1)
     fl2 = (p.fl2 & ~(0xF << shift) & 0xFFFFFFFF) | ((v & 0xF) << shift)
     return _with(p, fl2=fl2)

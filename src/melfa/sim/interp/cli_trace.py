@@ -23,6 +23,7 @@ from typing import TextIO
 
 from melfa.kin import Pose
 from melfa.lang.points import PointDef, parse_points
+from melfa.protocol import POSE_NAMES
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
 from melfa.sim.interp.armport import ArmPort
@@ -93,8 +94,8 @@ LEGEND = (
 def pose_summary(arm: SimulatedArm) -> str:
     """``X 400.00 Y 0.00 Z 645.00 mm, A 180.00 B 0.00 C 180.00 °, (7,0)`` for the summary."""
     p = arm.pose
-    xyz = " ".join(f"{n} {_num(v)}" for n, v in zip("XYZ", (p.x, p.y, p.z), strict=True))
-    abc = " ".join(f"{n} {_num(v)}" for n, v in zip("ABC", (p.a, p.b, p.c), strict=True))
+    xyz = " ".join(f"{n} {_num(v)}" for n, v in zip(POSE_NAMES[:3], (p.x, p.y, p.z), strict=True))
+    abc = " ".join(f"{n} {_num(v)}" for n, v in zip(POSE_NAMES[3:], (p.a, p.b, p.c), strict=True))
     return f"{xyz} mm, {abc} °, ({p.fl1},{p.fl2})"
 
 

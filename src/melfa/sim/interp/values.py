@@ -14,6 +14,7 @@ import enum
 import math
 from dataclasses import dataclass, replace
 
+from melfa.lang.ast import JOINT_ELEMENTS, POSITION_ELEMENTS
 from melfa.lang.points import PointDef, PointKind
 from melfa.sim.interp import errors
 
@@ -201,9 +202,6 @@ def truthy(value: Value) -> bool:
 
 
 # --- element access ------------------------------------------------------------------------
-
-POSITION_ELEMENTS = ("X", "Y", "Z", "A", "B", "C", "L1", "L2", "FL1", "FL2")
-JOINT_ELEMENTS = ("J1", "J2", "J3", "J4", "J5", "J6", "J7", "J8")
 
 
 def get_element(value: Value, element: str) -> Number:

@@ -8,6 +8,7 @@ import { api } from "./api.js";
 import { describeActivity, directionWords, jogEndExpected, jogEndWords } from "./activity.js";
 import { motionBody } from "./fixes.js";
 import { $, showError, toast } from "./ui.js";
+import { JOINT_NAMES, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
 
 const HEARTBEAT_MS = 80;
 // key → [axis offset within the group, direction]; w/s ±X, a/d ±Y, up/down ±Z (thesis 6.8).
@@ -20,7 +21,7 @@ const KEYS = {
   ArrowDown: { slot: 2, dir: -1, label: "↓" },
   " ": { hand: true, label: "Space" },
 };
-const AXIS_NAMES = { xyz: ["X", "Y", "Z"], tool: ["X", "Y", "Z"], joint: ["J1", "J2", "J3", "J4", "J5", "J6"] };
+const AXIS_NAMES = { xyz: POSE_NAMES, tool: POSE_NAMES, joint: JOINT_NAMES };
 
 export class JogPad {
   constructor(app) {

@@ -22,6 +22,7 @@ import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
+import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
 
 const app = {
   user: "",
@@ -278,8 +279,8 @@ function renderActivity() {
 
 function renderReadouts(m) {
   const row = (label, value, unit = "") => el("tr", {}, el("th", { scope: "row" }, label), el("td", {}, value == null ? "—" : (Math.abs(value) < 0.005 ? 0 : value).toFixed(2) + unit));
-  $("joints-out").replaceChildren(...["J1", "J2", "J3", "J4", "J5", "J6"].map((n, i) => row(n, m?.joints?.[i])));
-  $("pose-out").replaceChildren(...["X", "Y", "Z", "A", "B", "C"].map((n, i) => row(n, m?.pose?.[i])));
+  $("joints-out").replaceChildren(...JOINT_NAMES.map((n, i) => row(n, m?.joints?.[i])));
+  $("pose-out").replaceChildren(...POSE_NAMES.map((n, i) => row(n, m?.pose?.[i])));
   $("fact-flags").textContent = m?.flags ? `FL1 ${m.flags[0]}, FL2 ${m.flags[1]}` : "—";
   $("fact-speed").textContent = m?.speed == null ? "—" : `${m.speed.toFixed(1)} mm/s`;
   $("fact-measured").textContent = m?.pose ? (m.pose_measured ? "read from the controller" : "computed from the joints") : "—";
@@ -487,6 +488,8 @@ function wireRobotTab() {
     }
   });
   const override = $("override");
+  override.min = OVERRIDE_PERCENT.min;
+  override.max = OVERRIDE_PERCENT.max;
   override.addEventListener("input", () => ($("override-out").textContent = `${override.value} %`));
   $("override-set").addEventListener("click", call("Could not set the override", "POST", "/api/robot/override", { get percent() { return Number(override.value); } }));
   $("reset-program").addEventListener("click", call("Could not reset the program", "POST", "/api/robot/reset-program"));

@@ -7,10 +7,9 @@ import { api } from "./api.js";
 import { moving } from "./fixes.js";
 import { confirmReplace, openBeside } from "./opener.js";
 import { $, debounce, describeDiagnostic, el, hasExtension, readTextFile, showError, toast } from "./ui.js";
+import { JOINT_NAMES, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
 
 const LINE = /^\s*(?:DEF\s+(POS|JNT)\s+)?([A-Za-z][A-Za-z0-9_]*)\s*=\s*\(([^)]*)\)\s*(?:\(([^)]*)\))?\s*(?:'.*)?$/i;
-const POS_LABELS = ["X", "Y", "Z", "A", "B", "C"];
-const JNT_LABELS = ["J1", "J2", "J3", "J4", "J5", "J6"];
 const MAX_NAME = 8;
 
 /** Parse a points text into rows ({index, name, kind, values, fl1, fl2}) by line. */
@@ -162,7 +161,7 @@ export class PointsTab {
 
   kindChanged() {
     const jnt = $("pt-kind").value === "JNT";
-    const labels = jnt ? JNT_LABELS : POS_LABELS;
+    const labels = jnt ? JOINT_NAMES : POSE_NAMES;
     document.querySelectorAll("#point-form .v-label").forEach((node, i) => (node.textContent = labels[i] + (jnt ? " (°)" : i < 3 ? " (mm)" : " (°)")));
     for (let i = 0; i < 6; i++) $(`pt-v${i}`).setAttribute("aria-label", labels[i]);
     $("pt-fl1").disabled = jnt;
@@ -221,7 +220,7 @@ export class PointsTab {
     const clash = this.rows.find((r) => r.name.toUpperCase() === name.toUpperCase() && r !== this.editing && r.index !== this.editing?.index);
     if (clash) { problems.push(`${clash.name} already exists.`); badName = true; }
     mark("pt-name", badName);
-    const labels = kind === "JNT" ? JNT_LABELS : POS_LABELS;
+    const labels = kind === "JNT" ? JOINT_NAMES : POSE_NAMES;
     const values = [];
     for (let i = 0; i < 6; i++) {
       const raw = $(`pt-v${i}`).value.trim().replace(",", ".");
