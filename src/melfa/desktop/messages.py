@@ -26,7 +26,6 @@ from melfa.live.messages import (
 )
 from melfa.protocol.advice import Fix
 
-
 LiveMessage = (
     Hello
     | StateMessage

@@ -14,10 +14,9 @@ from dataclasses import dataclass, field
 
 from melfa.desktop.api import ApiError, CheckResult, ServerUnreachable
 from melfa.live.messages import StateOut
+from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.vocab.activity import Activity, jog_detail, said, where
 from melfa.vocab.link import LINK_WORDS, LinkStatus
-
-from melfa.protocol import JOINT_NAMES, POSE_NAMES
 
 JOG_AXES = {"xyz": POSE_NAMES, "tool": POSE_NAMES, "joint": JOINT_NAMES}
 

@@ -128,8 +128,6 @@ STATEMENT_TOO_LONG: Final = 4210
 """L4210 "Too long statement": a step over 127 characters [melfa-basic-iv.md §1, §8]."""
 SYNTAX: Final = 4220
 """L4220 "Syntax error" [DOC S4]."""
-STATEMENT_TOO_LONG: Final = 4210
-"""L4210 a step longer than 127 characters [melfa-basic-iv.md §1]."""
 LINE_NOT_FOUND: Final = 4230
 """L4230 "The line No. does not exist" [DOC S4]."""
 VARIABLE_NAME_TOO_LONG: Final = 4300
