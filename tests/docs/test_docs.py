@@ -34,3 +34,11 @@ def test_every_benchmark_is_in_the_readme_table() -> None:
     readme = (ROOT / "README.md").read_text(encoding="utf-8")
     missing = [p.name for p in sorted((ROOT / "bench").glob("bench_*.py")) if p.name not in readme]
     assert not missing, f"README.md's benchmark table lacks: {missing}"
+
+
+def test_the_ros_page_says_what_is_not_offered_and_why() -> None:
+    ros = (ROOT / "docs" / "ros.md").read_text(encoding="utf-8")
+    section = ros.split("## Not offered", 1)[1].split("\n## ", 1)[0]
+    for missing in ("No `FollowJointTrajectory` action", "no MoveIt", "No ROS 2 node"):
+        assert missing in section, missing
+    assert "9600 baud" in section  # and why: the link, not a choice

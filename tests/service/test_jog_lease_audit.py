@@ -17,6 +17,7 @@ from melfa.service import (
     ServiceClosed,
     UploadProgress,
 )
+from melfa.service.service import describe_error
 from melfa.sim import SimConfig
 from melfa.sim.machine import SimArm
 from tests.plans import program_plan
@@ -132,8 +133,12 @@ def test_step_mode_refuses_rather_than_queues() -> None:
                 await service.jog_step(ANN, "joint", 0, +1)  # still queued
             await first
             assert controller.moving
-            with pytest.raises(JogBusy, match="still moving"):
+            with pytest.raises(JogBusy, match="still moving") as busy:
                 await service.jog_step(ANN, "joint", 0, +1)  # controller: 5640
+            # In words, as ROS's /execute_error and every door say it: no class name.
+            said = describe_error(busy.value)
+            assert "JogBusy" not in said and said.startswith("the arm is still moving")
+            assert "then jog again" in said
             for _ in range(500):  # the controller's time moves on with each request
                 await service.read_joints(ANN)
                 if not controller.moving:

@@ -86,7 +86,7 @@ MOVE_JOINT_VARIABLE = "JMSVC"
 def describe_error(exc: BaseException) -> str:
     """One line for an audit entry or a result event; a policy refusal is the student's
     words and the fix, as every door sends them."""
-    if isinstance(exc, Refused):
+    if isinstance(exc, Refused | JogBusy):  # already in the student's words
         return str(exc)
     text = str(exc) or type(exc).__name__
     return f"{type(exc).__name__}: {text}"
@@ -663,7 +663,10 @@ class RobotService:
                     robot.exec(statement)
             except ControllerError as exc:
                 if exc.number == BUSY:
-                    raise JogBusy("the previous step is still moving") from exc
+                    raise JogBusy(
+                        "the arm is still moving (a program is running, or the last jog step "
+                        "has not ended): wait until it stops, or press STOP, then jog again"
+                    ) from exc
                 raise
             if waits:
                 self._require_worker().poll_while_moving(robot)

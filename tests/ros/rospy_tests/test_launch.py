@@ -1,5 +1,7 @@
-"""ros/melfa_ros/launch/melfa.launch with roslaunch: robot_description is the URDF and the
-node comes up (ROS_PACKAGE_PATH pointing at ros/, nothing to build)."""
+"""ros/melfa_ros/launch/melfa.launch with roslaunch: robot_description is the URDF, the
+node comes up, and robot_state_publisher with it (TF on by default), as `rosnode` and
+`rostopic` show (ROS_PACKAGE_PATH pointing at ros/, nothing to build; scripts/ros-env
+installs what the package declares)."""
 
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ from typing import Any
 import pytest
 
 from tests.ros.rospy_tests.conftest import end_group
+from tests.ros.rospy_tests.helpers import wait_for
 
 rospy: Any = pytest.importorskip("rospy", reason="ROS 1 runs under scripts/ros-env only")
 
@@ -39,6 +42,17 @@ def test_the_launch_file_starts_the_node_with_its_description(
             )
         description = rospy.get_param("/robot_description")
         assert '<robot name="rv6s">' in description and 'name="joint_6"' in description
+
+        def listed(tool: str, what: str) -> bool:
+            done = subprocess.run(
+                [tool, "list"], env=env, capture_output=True, text=True, timeout=60, check=False
+            )
+            return what in done.stdout.split()
+
+        assert wait_for(lambda: listed("rosnode", "/robot_state_publisher"), 60), (
+            tmp_path / "roslaunch.log"
+        ).read_text()
+        assert wait_for(lambda: listed("rostopic", "/tf"), 60)  # TF, with no rsp:=true asked
     finally:
         end_group(launch)
         log.close()
