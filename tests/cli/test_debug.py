@@ -166,7 +166,7 @@ def test_usage_errors_exit_2_and_an_unloadable_program_exits_1(tmp_path: Path) -
         timeout=60,
         check=False,
     )
-    assert done.returncode == 2 and "cannot read the program" in done.stderr
+    assert done.returncode == 2 and "missing.MB4: no such file" in " ".join(done.stderr.split())
 
 
 LOW = "SERVO ON\nMOV P1\nMVS P2\nMOV P1\nEND\n"

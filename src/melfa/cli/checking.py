@@ -7,11 +7,16 @@ once, here. Rich is imported only to colour a terminal's output (`melfa.cli.chec
 
 The file handling that needs care lives here too (`melfa fmt` uses it):
 
-* Files are read as bytes and decoded as UTF-8 (a BOM is dropped and written back), then
+* Files are read as bytes and decoded by `melfa.lang.encoding.decode_file`: UTF-16 with a
+  BOM (Windows Notepad), UTF-8 (a BOM is dropped and written back), Windows-1252, then
   Latin-1, which never fails; the thesis's programs carry Catalan comments in Latin-1.
-  UTF-16 with a BOM (Windows Notepad) is read too. Formatting writes the same encoding back.
+  Formatting writes the same encoding back.
 * A file with NUL bytes is not a program: `check` reports it as an error diagnostic on that
   file (exit 1), `fmt` refuses it (exit 2).
+* One reader for every command that takes a program (`read_text_file`: `upload`, `debug`,
+  `sim --run`, and `check`/`fmt` through `read_source`): the same encodings, binary files
+  refused, and the same extension rules: a program is a `.MB4`, a points file a `.POS`
+  (a `.POS` or a `.txt` given as the program is refused with what to do).
 * A points file is also checked against the robot: a point the RV-6S cannot reach gets a
   warning on its line (`melfa.kin.reach`), for the points a program may move to.
 * Usage mistakes (no such file, a directory, an unknown extension, bad options) are one
@@ -21,7 +26,6 @@ The file handling that needs care lives here too (`melfa fmt` uses it):
 from __future__ import annotations
 
 import argparse
-import codecs
 import enum
 import json
 import os
@@ -32,6 +36,7 @@ from pathlib import Path
 from typing import TextIO
 
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.encoding import decode_file
 from melfa.lang.points import PointDef
 from melfa.lang.project import by_position, check_project
 
@@ -94,8 +99,16 @@ def _kind_of(path: Path) -> FileKind:
 
 
 def read_source(path: Path, kind: FileKind | None = None) -> SourceFile:
-    """Read and decode one file; raise `UsageError` when it cannot be read at all."""
-    kind = kind or _kind_of(path)
+    """Read and decode one file; raise `UsageError` when it cannot be read at all, or when
+    its extension says it is not the `kind` of file asked for."""
+    found = _kind_of(path)
+    if kind is not None and found is not kind:
+        want = PROGRAM_SUFFIX if kind is FileKind.PROGRAM else POINTS_SUFFIX
+        how = " (give it with --points)" if found is FileKind.POINTS else ""
+        raise UsageError(
+            f"{path}: this is a {found.value} file{how}; a {kind.value} file is a {want} file"
+        )
+    kind = found
     if path.is_dir():
         raise UsageError(f"{path}: is a directory, not a file")
     if not path.exists():
@@ -105,42 +118,34 @@ def read_source(path: Path, kind: FileKind | None = None) -> SourceFile:
     except OSError as err:
         raise UsageError(f"{path}: cannot read it ({err.strerror or err})") from err
     source = SourceFile(path, kind, raw)
-    for bom, encoding in ((codecs.BOM_UTF16_LE, "utf-16-le"), (codecs.BOM_UTF16_BE, "utf-16-be")):
-        if raw.startswith(bom):
-            try:
-                source.text = raw[len(bom) :].decode(encoding)
-                source.encoding, source.bom = encoding, bom
-                break
-            except UnicodeDecodeError:
-                pass
-    else:
-        nul = raw.find(b"\x00")
-        if nul >= 0:
-            before = raw[:nul].decode("latin-1")
-            line = before.count("\n") + 1
-            column = nul - (before.rfind("\n") + 1) + 1
-            source.diagnostics.append(
-                Diagnostic(
-                    line,
-                    column,
-                    line,
-                    column + 1,
-                    Severity.ERROR,
-                    f"This is not a text file (a NUL byte at line {line}, column {column}); "
-                    "programs and points files are plain text",
-                    "file-binary",
-                    suggestion="Read the program from the controller as text, "
-                    "or save it from the editor as plain text.",
-                )
+    decoded = decode_file(raw)
+    source.text, source.encoding, source.bom = decoded.text, decoded.encoding, decoded.bom
+    if decoded.binary_at is not None:
+        line, column = decoded.binary_at
+        source.diagnostics.append(
+            Diagnostic(
+                line,
+                column,
+                line,
+                column + 1,
+                Severity.ERROR,
+                f"This is not a text file (a NUL byte at line {line}, column {column}); "
+                "programs and points files are plain text",
+                "file-binary",
+                suggestion="Read the program from the controller as text, "
+                "or save it from the editor as plain text.",
             )
-            return source
-        if raw.startswith(codecs.BOM_UTF8):
-            source.bom = codecs.BOM_UTF8
-            raw = raw[len(codecs.BOM_UTF8) :]
-        try:
-            source.text = raw.decode("utf-8")
-        except UnicodeDecodeError:
-            source.text, source.encoding = raw.decode("latin-1"), "latin-1"
+        )
+    return source
+
+
+def read_text_file(path: Path, kind: FileKind) -> SourceFile:
+    """The one reader of a program or points file for the commands that run or send it:
+    `read_source`'s encodings and extension rules, and a binary file refused (UsageError)."""
+    source = read_source(path, kind)
+    binary = next((d for d in source.diagnostics if d.rule == "file-binary"), None)
+    if binary is not None:
+        raise UsageError(f"{path}: {binary.message}")
     return source
 
 

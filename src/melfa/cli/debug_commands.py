@@ -17,6 +17,7 @@ from typing import Annotated
 import typer
 from rich.console import Console as RichConsole
 
+from melfa.cli.checking import FileKind, UsageError, read_text_file
 from melfa.cli.typer_app import app
 from melfa.sim.debug.cell import Cell, CellError
 from melfa.sim.debug.console import Console
@@ -36,6 +37,15 @@ def _read(path: Path, what: str) -> str:
         return path.read_text(encoding="utf-8", errors="replace")
     except OSError as exc:
         errors.print(f"[red]error:[/] cannot read {what} {path}: {exc.strerror or exc}")
+        raise typer.Exit(2) from None
+
+
+def _read_source(path: Path, kind: FileKind) -> str:
+    """A program or points file, read as every command reads one (`read_text_file`)."""
+    try:
+        return read_text_file(path, kind).text
+    except UsageError as exc:
+        errors.print(f"[red]error:[/] {exc}")
         raise typer.Exit(2) from None
 
 
@@ -116,8 +126,8 @@ def debug(
         except CellError as exc:
             errors.print(f"[red]error:[/] {cell_path}: {exc}")
             raise typer.Exit(2) from None
-    text = _read(program, "the program")
-    points_text = _read(points, "the points file") if points is not None else ""
+    text = _read_source(program, FileKind.PROGRAM)
+    points_text = _read_source(points, FileKind.POINTS) if points is not None else ""
     try:
         debugger = Debugger(
             text,

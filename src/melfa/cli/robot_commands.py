@@ -70,15 +70,13 @@ from melfa.robot.status import Alarm
 
 def _read_text(path: Path, what: str) -> tuple[str, SourceFile]:
     # Lazily (start-up): only the commands that send files need the file reader and checker.
-    from melfa.cli.lang_commands import FileKind, UsageError, read_source
+    from melfa.cli.checking import FileKind, UsageError, read_text_file
 
     kind = FileKind.POINTS if what == "points" else FileKind.PROGRAM
     try:
-        source = read_source(path, kind)
+        source = read_text_file(path, kind)
     except UsageError as exc:
         raise _fail(str(exc), EXIT_USAGE) from None
-    if not source.is_text:
-        raise _fail(f"{path}: not a text file", EXIT_USAGE)
     return source.text, source
 
 

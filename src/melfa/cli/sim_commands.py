@@ -19,6 +19,7 @@ import typer
 from rich.console import Console
 
 from melfa.cli import EXIT_INTERRUPTED
+from melfa.cli.checking import FileKind, UsageError, read_text_file
 from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
@@ -313,7 +314,11 @@ def sim(
             settings[bit] = value
         try:
             start = RunStart.parse(servo_on, joints, feed)
-        except ValueError as exc:
+            # The one reader's rules (extension, not binary) before the run reads them.
+            read_text_file(run, FileKind.PROGRAM)
+            if points is not None:
+                read_text_file(points, FileKind.POINTS)
+        except (ValueError, UsageError) as exc:
             errors.print(f"[red]error:[/] {exc}")
             raise typer.Exit(2) from None
         raise typer.Exit(run_program(run, points, fast, settings, max_time, start))

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import TextIO
 
 from melfa.kin import Pose
+from melfa.lang.encoding import decode_file
 from melfa.lang.points import PointDef, parse_points
 from melfa.protocol import POSE_NAMES
 from melfa.sim.arm import SimulatedArm
@@ -147,13 +148,17 @@ def _load(
     program_path: Path, points_path: Path | None, out: TextIO
 ) -> tuple[str, list[PointDef]] | int:
     try:
-        text = Path(program_path).read_text(encoding="utf-8", errors="replace")
-        points_text = (
-            Path(points_path).read_text(encoding="utf-8", errors="replace") if points_path else ""
-        )
+        program = decode_file(Path(program_path).read_bytes())
+        given = decode_file(Path(points_path).read_bytes()) if points_path else None
     except OSError as exc:
         out.write(f"error: cannot read {exc.filename}: {exc.strerror}\n")
         return 2
+    for path, decoded in ((program_path, program), (points_path, given)):
+        if decoded is not None and decoded.binary_at is not None:
+            out.write(f"error: {path}: not a text file (a NUL byte at line "
+                      f"{decoded.binary_at[0]})\n")  # fmt: skip
+            return 2
+    text, points_text = program.text, given.text if given is not None else ""
     points = parse_points(points_text)
     if points.has_errors:
         for d in points.diagnostics:
