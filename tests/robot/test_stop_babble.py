@@ -7,6 +7,7 @@ makes)."""
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Iterator
 
@@ -17,6 +18,7 @@ from melfa.robot import Robot
 from melfa.robot.channel import StopNotConfirmed
 from melfa.sim import VirtualController
 from tests.robot.fake import FakeController
+from tests.waiting import wait_until
 
 NOISE = b"\x13\x7f%#\r"
 
@@ -60,3 +62,28 @@ def test_stop_with_only_noise_in_reply_is_sent_not_confirmed(babbler: Babbler) -
         with pytest.raises(StopNotConfirmed, match="sent"):
             robot.stop()
     assert b"1;1;STOP" in babbler.fake.lines
+
+
+def test_a_lost_stop_answer_is_not_confirmed_by_an_earlier_requests_reply() -> None:
+    controller = VirtualController()
+
+    def answer(line: bytes) -> bytes:
+        if line.endswith(b"JPOSF"):
+            time.sleep(0.3)  # STOP goes out while JPOSF awaits its reply
+        reply = controller.handle(line + b"\r", time.monotonic())
+        return b"" if line.endswith(b"STOP") else reply  # STOP's answer is lost
+
+    fake = FakeController(answer)
+    try:
+        with Robot(SerialLink(fake.path, LinkSettings(timeout=1))) as robot:
+            robot.connect()
+            joints: list[object] = []
+            reader = threading.Thread(target=lambda: joints.append(robot.joints()))
+            reader.start()
+            wait_until(lambda: fake.lines and fake.lines[-1].endswith(b"JPOSF"), 5, what="JPOSF")
+            with pytest.raises(StopNotConfirmed):
+                robot.stop()
+            reader.join(5)
+            assert joints, "the JPOSF reply still reached its own request"
+    finally:
+        fake.close()

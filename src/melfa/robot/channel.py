@@ -57,6 +57,10 @@ class _Ticket:
     request: Request
     deadline: float
     after: int = 0
+    ahead: int = 0
+    refused_after: int = 0
+    """Requests (STOP aside) still awaiting their replies when this one was sent: their
+    replies come first, so they never confirm a STOP."""
     """Replies received before this request was sent."""
     reply: Reply | None = None
     error: BaseException | None = None
@@ -82,6 +86,8 @@ class Channel:
         self._last_reply: Reply | None = None
         self.sent_bytes = 0
         self.received_replies = 0
+        self.refused_replies = 0
+        """Replies read but not paired (unreadable, unfitting, unsolicited)."""
         self.resyncs = 0
         self.dropped_replies = 0
         self.stops_sent = 0
@@ -236,7 +242,14 @@ class Channel:
             data = self._conn.send(request, window=window, check_fit=check_fit)
             if request.name in OVERTAKING_COMMANDS:
                 self.stops_sent += 1
-            ticket = _Ticket(request, time.monotonic() + limit, self.received_replies)
+            ahead = sum(1 for t in self._tickets if not t.is_stop)
+            ticket = _Ticket(
+                request,
+                time.monotonic() + limit,
+                self.received_replies,
+                ahead,
+                self.refused_replies,
+            )
             self._tickets.append(ticket)
             self._write(data)
         return ticket
@@ -282,6 +295,7 @@ class Channel:
         except LinkTimeout as exc:
             self._timed_out(head, exc)
         except RemoteProtocolError as exc:
+            self.refused_replies += 1
             self._fail_all(RepliesOutOfStep(str(exc)))
         except (LinkError, LocalProtocolError) as exc:
             self._fail_all(exc)
@@ -290,11 +304,15 @@ class Channel:
         """Pairing was lost (line noise, a garbled reply) while a STOP was out: its answer
         is the first ``QoK`` read after it went out, whatever came before. None by its own
         deadline: "sent, not confirmed" (`StopNotConfirmed`)."""
+        # Replies still owed to the requests sent before the STOP come first: never its.
+        seen = self.received_replies - head.after + self.refused_replies - head.refused_after
+        skip = max(0, head.ahead - seen)
         try:
             while True:
                 with self._state_lock:
                     replies = self._conn.replies_while_broken()
-                    answer = next((r for r in replies if isinstance(r, Ok)), None)
+                    dropped, skip = min(skip, len(replies)), max(0, skip - len(replies))
+                    answer = next((r for r in replies[dropped:] if isinstance(r, Ok)), None)
                     if answer is not None:
                         for ticket in [t for t in self._tickets if t.is_stop]:
                             self._tickets.remove(ticket)
@@ -345,7 +363,7 @@ class Channel:
                 t
                 for t in self._tickets
                 if t.is_stop
-                and self.received_replies > t.after
+                and self.received_replies - t.after > t.ahead
                 and isinstance(self._last_reply, Ok)
             ]
             for ticket in answered_stop:

@@ -28,6 +28,7 @@ from melfa.link import LinkError
 from melfa.protocol.advice import advice_for
 from melfa.protocol.errors import LocalProtocolError, ProtocolError
 from melfa.robot import ControllerError
+from melfa.robot.channel import StopNotConfirmed
 from melfa.robot.errors import RobotError, Stopped, UploadRefused
 from melfa.service import (
     Cancelled,
@@ -256,6 +257,14 @@ def from_robot(exc: BaseException) -> ApiError | None:
             "garbled-reply",
             "The controller's answer was garbled. Try again; if it keeps happening, "
             "check the robot's cable.",
+        )
+    if isinstance(exc, StopNotConfirmed):
+        _log.warning("STOP sent, not confirmed: %s", message)
+        return ApiError(
+            504,
+            "stop-not-confirmed",
+            "STOP was sent, but the controller did not confirm it: watch the arm, and use "
+            "the emergency stop if it still moves.",
         )
     if isinstance(exc, LinkError):
         _log.warning("robot link failed: %s", message)

@@ -211,6 +211,7 @@ function onState(m) {
   app.state = m;
   if (m.link) setLink(m.link);
   if (m.joints && !app.debugging) app.view.setJoints(m.joints); // the debugger's arm wins
+  if (m.link === "connected" && !app.debugging && "joints" in m) app.view.setPositionKnown(m.joints != null);
   if (m.hands?.length) app.view.setHand(m.hands[0]);
   if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null) || (m.lease_since ?? null) !== (app.leaseSince ?? null) || (m.lease_state ?? null) !== (app.leaseState ?? null)) {
     setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null, m.lease_since ?? null, m.lease_state ?? null);

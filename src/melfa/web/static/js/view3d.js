@@ -180,6 +180,25 @@ export class RobotView {
   }
 
   /** Pose the arm (controller joint values, degrees). */
+  /** The controller shows **** (origin or encoders not set): say so over the arm, which
+   * stays drawn where it was last known. */
+  setPositionKnown(known) {
+    this.container.dataset.positionUnknown = known ? "" : "true";
+    let note = this.container.querySelector(".position-unknown");
+    if (known) {
+      note?.remove();
+      return;
+    }
+    if (!note) {
+      note = Object.assign(document.createElement("div"), {
+        className: "position-unknown",
+        textContent: "Position unknown: the controller shows **** (origin or encoder data not set). The arm is drawn where it was last known.",
+      });
+      note.setAttribute("role", "status");
+      this.container.append(note);
+    }
+  }
+
   setJoints(joints) {
     if (!joints || joints.length < 6) return;
     this.joints = joints.slice(0, 6);
