@@ -23,6 +23,7 @@ runner = CliRunner()
 def profile(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     path = tmp_path / "profile.json"
     monkeypatch.setenv("MELFA_PROFILE", str(path))
+    monkeypatch.chdir(tmp_path)  # the report file (melfa-doctor.txt) lands here, not in the repo
     return path
 
 

@@ -26,7 +26,7 @@ from typing import Protocol
 
 from melfa.lang.encoding import decode_text
 from melfa.lang.plan import plan_upload
-from melfa.robot import RobotError, UploadReport
+from melfa.robot import ControllerError, RobotError, UploadReport
 from melfa.ros import interface as ri
 from melfa.ros.messages import BASE_FRAME, JointStateData, PoseData, StreamMessages
 from melfa.service import (
@@ -49,7 +49,10 @@ controller's refusal): answered, and logged at INFO; anything else is a fault (E
 
 
 def log_level(exc: BaseException) -> int:
-    """The log level of a failed call: a refusal is no error of the server's."""
+    """The log level of a failed call: a refusal is no error of the server's, but an alarm
+    on the arm (the controller refused a motion) is what a ROS operator must see."""
+    if isinstance(exc, ControllerError):
+        return logging.ERROR
     return logging.INFO if isinstance(exc, REFUSALS) else logging.ERROR
 
 
