@@ -34,6 +34,7 @@ from typing import Any
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.blocks import match_blocks
 from melfa.lang.check_names import NameChecks
+from melfa.lang.check_routines import RoutineChecks
 from melfa.lang.check_v import FunctionBlocks, VChecks, v_program, without_follow_ons
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
@@ -98,7 +99,7 @@ _RULE_FAMILY = {
 }
 
 
-class _Analyzer(NameChecks, VChecks):
+class _Analyzer(NameChecks, RoutineChecks, VChecks):
     def __init__(self, program: A.Program, points: Iterable[str]) -> None:
         self.program = program
         self.points = {p.upper() for p in points}
