@@ -9,6 +9,7 @@
 
 import { api } from "./api.js";
 import { $, el, showError, toast } from "./ui.js";
+import { robot } from "./stores.js";
 
 const Range = ace.require("ace/range").Range;
 const SPEEDS = [["real", "Real time"], ["x2", "×2"], ["x4", "×4"], ["x10", "×10"], ["instant", "Instant"]];
@@ -204,7 +205,7 @@ export class DebugPanel {
       showError("Could not end the debug session", err);
     }
     this.session = null;
-    this.app.debugging = false;
+    robot.set({ debugging: false });
     this.render();
   }
 
@@ -233,7 +234,7 @@ export class DebugPanel {
     this.bar.hidden = !mine;
     this.panel.hidden = !mine;
     if (!mine) {
-      this.app.debugging = false;
+      robot.set({ debugging: false });
       this.clearMarkers();
       return;
     }
@@ -249,14 +250,14 @@ export class DebugPanel {
   onMessage(m) {
     if (m.ended) {
       this.session = null;
-      this.app.debugging = false;
+      robot.set({ debugging: false });
       this.render();
       return;
     }
     const running = m.status.state === "running";
     if (m.joints) this.app.view.setJoints(m.joints);
     if (running && m.pose) this.app.view.addPathPoint(m.pose);
-    this.app.debugging = true;
+    robot.set({ debugging: true });
     this.show({ session: m.session, seq: m.seq, status: m.status, variables: m.variables ?? this.session?.variables ?? [], program: this.session?.program ?? this.editor.text });
   }
 
@@ -265,7 +266,7 @@ export class DebugPanel {
     if (this.session && out.session === this.session.session && out.seq < this.session.seq) return;
     const before = this.session?.status;
     this.session = out;
-    this.app.debugging = true;
+    robot.set({ debugging: true });
     const stop = out.status.stop;
     const fresh = stop && JSON.stringify(stop) !== JSON.stringify(before?.stop);
     if (fresh && stop.location && out.program === this.editor.text) this.editor.editor.scrollToLine(stop.location.line - 1, true, true, () => {});

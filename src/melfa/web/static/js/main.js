@@ -14,6 +14,7 @@ import { ToolbarOverflow } from "./layout.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
 import { $, el, setActivity, showError, toast } from "./ui.js";
+import { activityLine, endTask, lease, loaded, robot, session as sessionStore, startTask } from "./stores.js";
 import { DebugPanel } from "./debugger.js";
 import { PreflightPanel } from "./preflight.js";
 import { TargetSwitch } from "./targets.js";
@@ -24,32 +25,29 @@ import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
 import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
 
+// The IDE's parts, wired once in main(); what changes lives in the stores (stores.js), and
+// the getters below read them for the parts that were handed `app`.
 const app = {
-  user: "",
-  role: "",
-  state: null, // the latest `state` message
-  leaseHolder: null,
   live: null,
   view: null,
-  uploading: null, // {command_id, sent, total} while our load runs
-  loadingProject: false, // our Load project waits for its answer
-  activityLock: false, // an explicit operation owns the activity line
-  tracing: false, // drawing the path of a running program
-  virtual: null, // the robot is a simulated one (the hello says so)
   events: new EventTarget(), // what the student's actions came to: "load" {ok, err}
+  get user() { return sessionStore.get().user; },
+  get role() { return sessionStore.get().role; },
+  get state() { return robot.get().state; }, // the latest `state` message
+  get virtual() { return robot.get().virtual; }, // the robot is a simulated one (the hello says so)
+  get debugging() { return robot.get().debugging; }, // the debugger's arm owns the 3D view
+  get leaseHolder() { return lease.get().holder; },
+  get loaded() { return loaded.get().program === null ? null : loaded.get(); },
+  lineOf: (step) => loaded.lineOf(step, app.editor.text),
+  busy: (text, progress = null) => startTask("operation", text, progress),
+  idle: (text = "Idle", error = false) => endTask(text, error),
 };
-window.melfa = app; // for debugging in the console (and the browser tests)
-
-app.busy = (text, progress = null) => {
-  app.activityLock = true;
-  setActivity(text, { busy: true, progress });
-};
-app.idle = (text = "Idle", error = false) => {
-  app.activityLock = false;
-  app.resultShown = text !== "Idle"; // a result stays until the robot does something else
-  setActivity(text, { error });
-  renderActivity();
-};
+// For the console and the browser tests: a read-only view (the stores are the state).
+window.melfa = new Proxy(app, {
+  set: () => { throw new TypeError("window.melfa is read-only"); },
+  defineProperty: () => { throw new TypeError("window.melfa is read-only"); },
+  deleteProperty: () => { throw new TypeError("window.melfa is read-only"); },
+});
 
 async function main() {
   let session;
@@ -60,8 +58,8 @@ async function main() {
     return;
   }
   setCsrf(session.csrf_token);
-  app.user = session.user.username;
-  app.role = session.user.role;
+  sessionStore.set({ user: session.user.username, role: session.user.role });
+  loaded.restore(app.user);
   $("user-name").textContent = session.user.display_name || app.user;
   $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
   $("audit-link").hidden = app.role === "student";
@@ -92,6 +90,9 @@ async function main() {
   wireTabs();
   wireRobotTab();
   renderReadouts(null);
+  robot.subscribe(onState);
+  lease.subscribe(renderLease);
+  activityLine.subscribe(renderActivity);
   app.live.connect();
 
   let welcomed = false;
@@ -134,14 +135,14 @@ function wireLive(live) {
     if (!up) setStatus("robot-status", "down", "unknown");
   });
   live.on("hello", (m) => {
-    app.virtual = robotBadge(m);
+    robot.set({ virtual: robotBadge(m) });
     app.targets.confirm(m.target);
     setLink(m.link);
     setLease(m.lease_holder);
     if (m.jog_override_ceiling) app.jog.setCeiling(m.jog_override_ceiling);
   });
   live.on("link", (m) => setLink(m.status, m.detail));
-  live.on("state", (m) => onState(m));
+  live.on("state", (m) => robot.set({ state: m }));
   live.on("lease", (m) => {
     setLease(m.holder, m.since, m.holder_state);
     // Taken from us by someone else (only an instructor's take-over does that).
@@ -156,13 +157,9 @@ function wireLive(live) {
   live.on("progress", (m) => {
     // Only while our load waits for its answer: the last progress event can arrive after
     // it, and must not cover "Loaded…" with a progress bar that never ends.
-    if (m.actor?.user !== app.user || !app.loadingProject) return;
-    app.uploading = m;
+    if (m.actor?.user !== app.user || activityLine.get().task?.kind !== "load") return;
     const share = m.total ? m.sent / m.total : 0;
-    app.busy(`Loading project… ${Math.round(share * 100)} %`, share);
-  });
-  live.on("result", (m) => {
-    if (m.actor?.user === app.user && m.command === "load_project") app.uploading = null;
+    startTask("load", `Loading project… ${Math.round(share * 100)} %`, share);
   });
 }
 
@@ -182,23 +179,28 @@ function setLink(status, detail = "") {
   setStatus("robot-status", state, status);
 }
 
+/** Control changed hands (or its holder's connection): `holder` {user, role} or null. */
 function setLease(holder, since = undefined, state = undefined) {
-  app.leaseHolder = holder;
-  if (since !== undefined) app.leaseSince = since;
-  if (state !== undefined) app.leaseState = state;
+  const patch = { holder };
+  if (since !== undefined) patch.since = since;
+  if (state !== undefined) patch.state = state;
+  lease.set(patch);
+}
+
+function renderLease({ holder, since, state }) {
   const text = $("lease-text");
   const mine = holder?.user === app.user;
   const staff = app.role === "instructor" || app.role === "admin";
   // Who holds control, since when, and their connection (one user's tabs share it).
-  const when = holder && app.leaseSince ? new Date(app.leaseSince) : null;
+  const when = holder && since ? new Date(since) : null;
   text.replaceChildren(
     "Control: ",
     holder ? el("strong", {}, mine ? "you" : holder.user) : el("strong", {}, "free"),
     holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${holder.role})`) : "",
     when && !isNaN(when) ? el("span", { class: "lease-since" }, ` since ${when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" })}`) : "",
-    holder && app.leaseState && app.leaseState !== "connected" ? el("span", { class: "lease-state" }, ` · ${app.leaseState}`) : "",
+    holder && state && state !== "connected" ? el("span", { class: "lease-state" }, ` · ${state}`) : "",
   );
-  text.title = holder ? `${mine ? "You hold" : holder.user + " holds"} control${app.leaseState ? " (" + app.leaseState + ")" : ""}` : "Nobody holds control: the first to move the robot takes it";
+  text.title = holder ? `${mine ? "You hold" : holder.user + " holds"} control${state ? " (" + state + ")" : ""}` : "Nobody holds control: the first to move the robot takes it";
   text.classList.toggle("mine", mine);
   text.dataset.holder = holder?.user ?? "";
   $("lease-take").hidden = !!holder;
@@ -207,14 +209,19 @@ function setLease(holder, since = undefined, state = undefined) {
 }
 
 let lastRunning = false;
-function onState(m) {
-  app.state = m;
+function onState({ state: m }, previous) {
+  if (m === previous.state) return; // the view's owner changed, not the robot
+  if (!m) {
+    renderActivity();
+    return;
+  }
   if (m.link) setLink(m.link);
   if (m.joints && !app.debugging) app.view.setJoints(m.joints); // the debugger's arm wins
   if (m.link === "connected" && !app.debugging && "joints" in m) app.view.setPositionKnown(m.joints != null);
   if (m.hands?.length) app.view.setHand(m.hands[0]);
-  if ((m.lease_holder ?? null) !== (app.leaseHolder?.user ?? null) || (m.lease_since ?? null) !== (app.leaseSince ?? null) || (m.lease_state ?? null) !== (app.leaseState ?? null)) {
-    setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === app.leaseHolder?.user ? app.leaseHolder.role : "" } : null, m.lease_since ?? null, m.lease_state ?? null);
+  const held = lease.get();
+  if ((m.lease_holder ?? null) !== (held.holder?.user ?? null) || (m.lease_since ?? null) !== (held.since ?? null) || (m.lease_state ?? null) !== (held.state ?? null)) {
+    setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === held.holder?.user ? held.holder.role : "" } : null, m.lease_since ?? null, m.lease_state ?? null);
   }
   // The program's path: TCP samples while it runs (cleared when a new run starts).
   if (m.running && !lastRunning) app.view.clearPath();
@@ -223,27 +230,10 @@ function onState(m) {
   // The running (or paused) step, in the editor: mapped through the real numbering of
   // the loaded text (the server's step_lines), as long as the editor still holds it.
   const shows = (m.program_running || m.paused || m.running) && m.line;
-  const line = shows ? loadedLine(m.line) : null;
+  const line = shows ? app.lineOf(m.line) : null;
   app.editor.markRunLine(line ? line - 1 : null);
   renderReadouts(m);
   renderActivity();
-}
-
-// What was loaded and its step -> line map, kept in this browser so a reload still
-// highlights the running line.
-function rememberLoaded(program, lines) {
-  app.loaded = { program, lines: lines || {} };
-  try {
-    localStorage.setItem(`melfa.loaded.${app.user}`, JSON.stringify(app.loaded));
-  } catch { /* storage full: the highlight just will not survive a reload */ }
-}
-app.lineOf = (step) => loadedLine(step);
-function loadedLine(step) {
-  if (!app.loaded) {
-    try { app.loaded = JSON.parse(localStorage.getItem(`melfa.loaded.${app.user}`) || "null"); } catch { app.loaded = null; }
-  }
-  if (!app.loaded || app.loaded.program !== app.editor.text) return null;
-  return app.loaded.lines?.[String(step)] ?? null;
 }
 
 function renderActivity() {
@@ -270,12 +260,13 @@ function renderActivity() {
   const hand = m?.hands?.[0];
   $("hand-state").textContent = hand == null ? "—" : hand ? "open" : "closed";
   if (app.jog && (app.jog.shownActivity !== said.text || app.jog.shownHand !== hand)) app.jog.draw();
-  // An operation's own result ("Loaded…", "Load failed") stays until the robot does
-  // something else: idle never overwrites it.
-  if (app.activityLock) return;
-  if (said.pill === "idle" && app.resultShown) return;
-  app.resultShown = false;
-  setActivity(said.text, { busy: !!said.busy, error: !!said.error, hint: said.hint });
+  // The activity line has one owner: an operation of ours in progress, else its result
+  // ("Loaded…", "Load failed") until the robot does something else, else the robot.
+  const { task, result } = activityLine.get();
+  if (task) return setActivity(task.text, { busy: true, progress: task.progress });
+  if (result && said.pill === "idle") return setActivity(result.text, { error: result.error, progress: result.progress });
+  if (result) activityLine.set({ result: null }); // the robot moved on: so does the line
+  else setActivity(said.text, { busy: !!said.busy, error: !!said.error, hint: said.hint });
 }
 
 function renderReadouts(m) {
@@ -405,19 +396,17 @@ function wireToolbar(workspace, editor) {
 async function loadProject(workspace, editor) {
   const button = $("act-load");
   button.disabled = true;
-  app.loadingProject = true;
-  app.busy("Loading project…", 0);
+  startTask("load", "Loading project…", 0);
   try {
     const program = workspace.program;
     const out = await api("POST", "/api/robot/project", { program, points: workspace.points, check: true });
-    rememberLoaded(program, out.step_lines);
-    app.idle(`Project loaded in ${out.seconds.toFixed(1)} s`);
-    setActivity(`Project loaded in ${out.seconds.toFixed(1)} s`, { progress: 1 });
+    loaded.remember(program, out.step_lines);
+    endTask(`Project loaded in ${out.seconds.toFixed(1)} s`, false, 1);
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
   } catch (err) {
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: false, err } }));
-    app.idle("Load failed", true);
+    endTask("Load failed", true);
     if (err.code === "program-has-errors" && err.detail?.diagnostics) {
       editor.show(err.detail.diagnostics);
       selectTab("editor");
@@ -425,8 +414,6 @@ async function loadProject(workspace, editor) {
     showError(err.code === "program-has-errors" ? "Not loaded: the program has errors" : err.code === "points-have-errors" ? "Not loaded: the points have errors" : "Could not load the project", err);
   } finally {
     button.disabled = false;
-    app.loadingProject = false;
-    app.uploading = null;
   }
 }
 

@@ -6,6 +6,7 @@
 
 import { api, setTarget } from "./api.js";
 import { el, showError } from "./ui.js";
+import { robot } from "./stores.js";
 
 const LABELS = { lab: "Lab RV-6S", mine: "My simulator" };
 
@@ -61,7 +62,7 @@ export class TargetSwitch extends EventTarget {
     localStorage.setItem(this.key, id);
     setTarget(id);
     this.render();
-    this.app.state = null;
+    robot.set({ state: null }); // the new target's state comes with its socket
     this.app.view?.clearPath();
     this.app.live.retarget(this.socketUrl());
     this.dispatchEvent(new CustomEvent("change", { detail: { id } }));
