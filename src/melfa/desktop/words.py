@@ -57,7 +57,7 @@ def where_in_program(state: StateOut, loaded: Loaded | None) -> str:
     >>> where_in_program(s, Loaded("pick.MB4", {50: 5}))
     'line 5 of pick.MB4'
     >>> where_in_program(s, None)
-    'the line numbered 50 (the program was loaded elsewhere)'
+    'line numbered 50'
     """
     line = file_line(state.line, loaded)
     if line is not None and loaded is not None:

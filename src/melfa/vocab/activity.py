@@ -82,7 +82,7 @@ FRAME_WORDS = {"xyz": "{axis} (base)", "tool": "{axis} (tool)", "joint": "{axis}
 WHERE_WORDS = {
     "line": "line {line}",
     "line_of": "line {line} of {file}",
-    "step": "the line numbered {step} (the program was loaded elsewhere)",
+    "step": "line numbered {step}",
 }
 """Where a program is: the student's line (in the editor, or of a named file), else the
 controller's step number when this client does not know the loaded text."""
@@ -114,7 +114,7 @@ def where(*, line: int | None = None, file: str = "", step: int | None = None) -
     """Where the program is, in the student's words.
 
     >>> where(line=5), where(line=5, file="pick.MB4"), where(step=50), where()
-    ('line 5', 'line 5 of pick.MB4', 'the line numbered 50 (the program was loaded elsewhere)', '')
+    ('line 5', 'line 5 of pick.MB4', 'line numbered 50', '')
     """
     if line is not None:
         template = WHERE_WORDS["line_of"] if file else WHERE_WORDS["line"]
