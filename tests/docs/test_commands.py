@@ -43,11 +43,11 @@ NOT_RUN = {
     ("README.md", "scripts/serve     # the main job"): "sets up .venv; the tests run in it",
     (
         "README.md",
-        "scripts/setup                         # .venv, and the Debian packages (as root)",
+        "scripts/setup --desktop               # .venv with the desktop, and the Debian packages",
     ): "sets up .venv; the desktop is run by tests/desktop/test_xcb.py",
     (
         "desktop.md",
-        "scripts/setup                          # as root: also the Debian packages above",
+        "scripts/setup --desktop                # as root: also the Debian packages above",
     ): "sets up .venv; the desktop is run by tests/desktop/test_xcb.py",
     (
         "desktop.md",
