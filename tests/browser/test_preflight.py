@@ -81,6 +81,7 @@ def test_the_gate_refuses_an_unsimulated_program_on_the_lab_robot(
         page.click("#act-load")
         refusal = page.locator(".toast", has_text="simulated run")
         expect(refusal).to_be_visible()
+        s.screenshot("gate-refused")
         assert s.eval("() => window.melfa.loaded") is None  # nothing reached the robot
         refusal.get_by_role("button", name="Run pre-flight").click()
         expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")

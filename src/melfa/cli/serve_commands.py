@@ -111,7 +111,8 @@ def serve(
         typer.Option(
             "--require-simulation",
             help="The instructor's gate: the lab robot loads and runs a program only after "
-            "the same text passed a simulated run without pre-flight errors.",
+            "the same program and points passed a simulated run without pre-flight errors, "
+            "whichever door it comes through (web, rosbridge, the thesis's messages).",
         ),
     ] = False,
     private_idle: Annotated[
