@@ -114,6 +114,10 @@ def test_check_honours_no_color_on_a_terminal() -> None:
     assert "\x1b[" not in plain, plain
     assert "error: Invalid statement" in plain
     assert "    2 | WIHLE" in plain  # still the source excerpt a terminal gets
+    for env in (clean_env(), clean_env(NO_COLOR="1")):  # the other commands' messages too
+        status, said = on_a_terminal(["fmt", "no-such.MB4"], env)
+        assert status == 2 and "no-such.MB4" in said
+        assert ("\x1b[" in said) is ("NO_COLOR" not in env), said
 
 
 def test_check_says_what_it_checks_when_that_takes_long(tmp_path: Path) -> None:

@@ -27,6 +27,7 @@ from melfa.cli.checking import (
     check_main,
     encode_as_read,
     read_source,
+    wants_color,
 )
 from melfa.cli.typer_app import app
 from melfa.lang.format import FormatResult, LineNumbers, format_program
@@ -37,8 +38,7 @@ __all__ = ["FileKind", "UsageError", "check_files", "print_text", "read_source"]
 
 def _console(color: ColorMode, *, stderr: bool = False) -> Console:
     stream = sys.stderr if stderr else sys.stdout
-    terminal = color is ColorMode.ALWAYS or (color is ColorMode.AUTO and stream.isatty())
-    return rich_console(stream, terminal=terminal)
+    return rich_console(stream, terminal=wants_color(color, stream))  # NO_COLOR as check
 
 
 def _fail(message: str, code: int = 2) -> typer.Exit:
