@@ -71,7 +71,10 @@ def serve(
     host: Annotated[
         str, typer.Option("--host", help="Address to listen on (localhost unless told).")
     ] = "127.0.0.1",
-    port: Annotated[int, typer.Option("--port", "-p", help="TCP port.", min=0, max=65535)] = 8080,
+    port: Annotated[
+        int,
+        typer.Option("--port", "-p", help="TCP port (0: a free one, printed).", min=0, max=65535),
+    ] = 8080,
     data: Annotated[
         Path | None,
         typer.Option(
