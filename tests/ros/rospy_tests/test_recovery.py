@@ -149,3 +149,22 @@ def test_program_loading_by_file_in_windows_1252_and_by_textfile(
         for name in ("/melfa/program_file", "/melfa/points_file", "/melfa/program"):
             if rospy.has_param(name):
                 rospy.delete_param(name)
+
+
+def test_a_program_with_errors_is_refused_by_the_services_policy(node: Path) -> None:
+    """The ROS 1 node is a door like any other: check-before-upload is the service's, so a
+    program with errors is refused before anything is sent, in the same words REST,
+    rosbridge and the thesis's messages use."""
+    from melfa.lang.plan import plan_upload
+    from melfa.service.policy import plan_refusal
+
+    broken = "10 MOV P1\n20 GOTO 99\n"
+    rospy.set_param("/melfa/program", broken)
+    try:
+        reply = trigger("load_program")
+        expected = plan_refusal(plan_upload(broken))
+        assert expected is not None
+        assert (reply.success, reply.message) == (False, str(expected))
+        assert "Fix it in the editor, then load again." in reply.message
+    finally:
+        rospy.delete_param("/melfa/program")
