@@ -275,10 +275,10 @@ def test_rosapi_parameters_are_bounded_and_given_back_on_close(tmp_path: Path) -
 
 def test_slow_heads_cannot_hold_every_connection(tmp_path: Path) -> None:
     """More slow-header connections than the server's connection limit, held open (as an
-    attacker who reopens each one cut keeps them): the oldest waiting ones make room, and
-    /api/health answers every probe."""
+    attacker who reopens each one cut keeps them): they do not count towards the limit,
+    and /api/health answers every probe."""
     store = make_store(tmp_path / "data")
-    limits = Limits(max_connections=100, max_connections_waiting=20)
+    limits = Limits(max_connections=100)
     settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), limits=limits)
     slow: list[socket.socket] = []
     with live_server(store, settings) as live:

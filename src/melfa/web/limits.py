@@ -60,11 +60,9 @@ class Limits:
     keep_alive_s: float = 5.0
     """An idle kept-alive HTTP connection is closed after this long."""
     max_connections: int = 400
-    """Open connections to the server overall; beyond, 503 (uvicorn ``limit_concurrency``)."""
-    max_connections_waiting: int = 64
-    """Connections still waiting for their first request head; beyond, once half of
-    ``max_connections`` are open, a new one closes the oldest of them (a slowloris attacker
-    who reconnects cannot hold every place)."""
+    """Open connections to the server overall; beyond, 503 (uvicorn ``limit_concurrency``).
+    Connections still waiting for their first request head are not counted (they are
+    closed after ``header_timeout_s``): slow heads cannot take every place."""
     max_requests_per_client: int = 16
     """HTTP requests one session (or, signed out, one address) runs at once; beyond, 429."""
     max_sockets_per_user: int = 8

@@ -15,38 +15,34 @@ from uvicorn.protocols.http.h11_impl import H11Protocol
 from melfa.web.limits import Limits
 
 
-def header_timeout_protocol(
-    seconds: float, max_waiting: int = 64, crowded: int = 200
-) -> type[H11Protocol]:
+def header_timeout_protocol(seconds: float) -> type[H11Protocol]:
     """uvicorn's h11 protocol, closing a connection whose first request head has not
-    arrived within ``seconds`` (slow-header attacks: uvicorn itself waits forever), and,
-    once ``crowded`` connections are open and ``max_waiting`` of them are waiting for their
-    first head, the oldest of those for each new one (an attacker who reopens each dropped
-    connection would otherwise hold every place under the connection limit, and everyone
-    else gets 503; a burst of real clients below ``crowded`` is never cut)."""
+    arrived within ``seconds`` (slow-header attacks: uvicorn itself waits forever).
+
+    Connections still waiting for their first head do not count towards the connection
+    limit (``limit_concurrency``, 503 beyond): an attacker who reopens each connection as
+    soon as it is cut would otherwise hold every place under the limit, and everyone
+    else would get 503. (Closing the oldest waiting ones instead makes such an attacker
+    reconnect in a tight loop that eats the event loop.)"""
 
     class HeaderTimeoutH11(H11Protocol):
         slow_closed = 0
         """Connections closed for a head that did not come in time."""
-        evicted = 0
-        """Connections closed to make room while still waiting for their head."""
         waiting: ClassVar[dict[HeaderTimeoutH11, None]] = {}
-        """Connections waiting for their first head, oldest first."""
+        """Connections waiting for their first head."""
 
         def connection_made(self, transport: asyncio.Transport) -> None:  # type: ignore[override]
             super().connection_made(transport)
-            waiting = type(self).waiting
-            while len(waiting) >= max_waiting and len(self.connections) >= crowded:
-                oldest = next(iter(waiting))
-                oldest._stop_waiting()
-                type(self).evicted += 1
-                oldest.transport.close()
+            self._limit = self.limit_concurrency
             self._head_timer: asyncio.TimerHandle | None = self.loop.call_later(
                 seconds, self._head_too_slow
             )
-            waiting[self] = None
+            type(self).waiting[self] = None
 
         def handle_events(self) -> None:
+            if self._limit is not None:
+                others = len(type(self).waiting) - (self in type(self).waiting)
+                self.limit_concurrency = self._limit + others
             super().handle_events()
             if self.headers is not None and self._head_timer is not None:
                 self._stop_waiting()
@@ -86,9 +82,7 @@ def uvicorn_config(
         app,
         host=host,
         port=port,
-        http=header_timeout_protocol(
-            lim.header_timeout_s, lim.max_connections_waiting, lim.max_connections // 2
-        ),
+        http=header_timeout_protocol(lim.header_timeout_s),
         ws="websockets-sansio",
         h11_max_incomplete_event_size=lim.header_bytes,
         timeout_keep_alive=max(1, round(lim.keep_alive_s)),
