@@ -197,7 +197,12 @@ def test_sockets_signing_in_are_capped_and_counted(live: Live) -> None:
 def test_refused_service_calls_are_not_logged_as_errors(
     live: Live, caplog: pytest.LogCaptureFixture
 ) -> None:
+    """Another student holds the lease: ann's calls are refused (her situation, no fault
+    of the server's), answered, and logged at INFO."""
     caplog.set_level(logging.INFO, logger="melfa.ros")
+    bob, bob_csrf = live.login("bob")
+    with live.client() as c:
+        assert c.post("/api/lease", headers=auth(bob, bob_csrf)).status_code == 200
     token, _ = live.login("ann")
     ws = bridge(live, token)
     try:
