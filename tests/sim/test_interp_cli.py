@@ -191,3 +191,12 @@ def test_a_run_can_start_with_the_servo_on_elsewhere_and_with_input_lines(
         RunStart.parse(False, "1,2", None)
     with pytest.raises(ValueError, match="--feed"):
         RunStart.parse(False, None, ["x=1"])
+
+
+def test_points_are_read_with_the_programs_def_pos(tmp_path: Path) -> None:
+    # get_box is a position only because the program says DEF POS GET_BOX.
+    program = "10 DEF POS GET_BOX\n20 MOV get_box\n30 END\n"
+    prog, pts = write(tmp_path, program, "get_box=(400,0,600,180,0,180)(7,0)\n")
+    code, text = trace(prog, pts, start=RunStart(servo_on=True))
+    assert code == 0, text
+    assert "X 400.00 Y 0.00 Z 600.00 mm" in text.splitlines()[-1]

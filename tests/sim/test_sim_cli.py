@@ -134,7 +134,7 @@ def test_run_usage_mistakes_exit_2(tmp_path: Path) -> None:
         assert result.exit_code == 2, (args, result.output)
         assert "Traceback" not in result.output
     missing = runner.invoke(app, ["sim", "--run", str(tmp_path / "NOPE.MB4")])
-    assert missing.exit_code == 2 and "cannot read" in missing.output
+    assert missing.exit_code == 2 and "NOPE.MB4: no such file" in missing.output
 
 
 def test_run_into_a_closed_pipe_is_quiet(tmp_path: Path) -> None:

@@ -26,7 +26,7 @@ from melfa.lang.check import check_ast, internal_error
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
-from melfa.lang.points import PointDef, PointKind, parse_points
+from melfa.lang.points import PointDef, PointKind, PointsFile, parse_points
 from melfa.lang.record import Record
 from melfa.lang.tokens import Token
 
@@ -66,6 +66,12 @@ def declared_points(programs: Iterable[A.Program]) -> dict[str, PointKind]:
                 for name in stmt.names:
                     found.setdefault(name.name, _DECLARED_POINTS[stmt.type])
     return found
+
+
+def points_of(program: str, points: str) -> PointsFile:
+    """A points file read with what its program declares (`GET_BOX` after DEF POS GET_BOX),
+    as `check_project` and the upload plan read it; for the simulators' loading."""
+    return parse_points(points, declared_points([parse_tokens(tokenize(program))]))
 
 
 def offset_only(program: A.Program) -> set[str]:

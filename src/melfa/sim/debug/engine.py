@@ -32,7 +32,8 @@ from melfa.lang import ast
 from melfa.lang.lexer import tokenize
 from melfa.lang.numbering import number_tokens
 from melfa.lang.parser import parse
-from melfa.lang.points import PointDef, parse_points
+from melfa.lang.points import PointDef
+from melfa.lang.project import points_of
 from melfa.protocol.error_table import ERROR_MESSAGES, error_code
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.debug.view import VarView, mark_changes, melfa_text, snapshot
@@ -295,7 +296,7 @@ class Debugger:
             err = exc.to_error()
             where = f"line {exc.line}: " if getattr(exc, "line", None) else ""
             raise DebugError(f"{where}{error_code(err.number, err.level)} {err.message}") from None
-        self.points = load_points(points)
+        self.points = load_points(points, program)
         for p in self.points:
             self.interp.set_point(p.key, point_value(p))
         self._labels: dict[str, int] = dict(self.interp.compiler.labels)
@@ -694,11 +695,12 @@ _STATES = {
 }
 
 
-def load_points(points: str | Iterable[PointDef]) -> list[PointDef]:
-    """Points from a .POS text (`DebugError` on the first broken line) or as given."""
+def load_points(points: str | Iterable[PointDef], program: str = "") -> list[PointDef]:
+    """Points from a .POS text read with its `program`'s DEF POS/JNT (`DebugError` on the
+    first broken line), or as given."""
     if not isinstance(points, str):
         return list(points)
-    parsed = parse_points(points)
+    parsed = points_of(program, points)
     if parsed.has_errors:
         first = next(d for d in parsed.diagnostics if d.is_error)
         raise DebugError(f"points line {first.line}: {first.message}")

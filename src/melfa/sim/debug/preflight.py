@@ -195,7 +195,7 @@ def preflight(
 
     Raises `DebugError` when the program or its points cannot be loaded at all.
     """
-    point_defs = load_points(points)
+    point_defs = load_points(points, program)
     d = Debugger(program, point_defs, clock=lambda: 0.0, speed=INSTANT, max_time=max_time)
     for bit, value in inputs:
         d.set_input(bit, value)

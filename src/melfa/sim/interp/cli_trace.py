@@ -23,7 +23,8 @@ from typing import TextIO
 
 from melfa.kin import Pose
 from melfa.lang.encoding import decode_file
-from melfa.lang.points import PointDef, parse_points
+from melfa.lang.points import PointDef
+from melfa.lang.project import points_of
 from melfa.protocol import POSE_NAMES
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.interp import errors
@@ -159,7 +160,7 @@ def _load(
                       f"{decoded.binary_at[0]})\n")  # fmt: skip
             return 2
     text, points_text = program.text, given.text if given is not None else ""
-    points = parse_points(points_text)
+    points = points_of(text, points_text)
     if points.has_errors:
         for d in points.diagnostics:
             if d.is_error:
