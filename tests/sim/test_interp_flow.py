@@ -12,6 +12,7 @@ from melfa.sim.interp.interpreter import STEP_TIME_S, Interpreter
 from melfa.sim.interp.io import IOState
 from melfa.sim.interp.values import Value
 from melfa.sim.runner import RunnerStatus
+from melfa.sim.syntax import first_syntax_error
 
 
 def program(*lines: str) -> str:
@@ -416,3 +417,10 @@ def test_input_of_text_into_a_number_stops_with_l4390() -> None:
         errors.TYPE_COMBINATION,
         10,
     )
+
+
+def test_the_virtual_controller_refuses_to_store_what_the_interpreter_refuses() -> None:
+    # SAVE/EMDAT refuse these, so a stored program always loads.
+    assert first_syntax_error("0 M1 = 1\n") == (errors.LINE_NUMBER_RANGE, 1)
+    assert first_syntax_error("10 M1 = " + "1 + " * 40 + "1\n") == (errors.STATEMENT_TOO_LONG, 128)
+    assert first_syntax_error("10 SERVO ON (remark)\n") == (errors.SYNTAX_ERROR, 13)

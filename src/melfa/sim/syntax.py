@@ -11,8 +11,9 @@ RUN, as on the controller, which stores such programs and fails when it reaches 
 from __future__ import annotations
 
 from melfa.lang.ast import ParseIssue
+from melfa.lang.model import MAX_LINE_LENGTH, MAX_LINE_NUMBER
 from melfa.lang.parser import parse
-from melfa.protocol.error_table import SYNTAX
+from melfa.protocol.error_table import LINE_NUMBER_RANGE, STATEMENT_TOO_LONG, SYNTAX
 
 DEFAULT_NUMBER = SYNTAX
 """L4220 "Syntax error": a finding without a controller code of its own."""
@@ -26,6 +27,12 @@ def first_syntax_error(text: str) -> tuple[int, int] | None:
     (4220, 8)
     """
     for line in parse(text).lines:
+        # What the interpreter refuses at load too (`melfa.sim.interp.compiler`): a step
+        # number outside 1…32767, a step over 127 characters.
+        if line.number is not None and not 1 <= line.number <= MAX_LINE_NUMBER:
+            return LINE_NUMBER_RANGE, 1
+        if line.span.end_column - 1 > MAX_LINE_LENGTH:
+            return STATEMENT_TOO_LONG, MAX_LINE_LENGTH + 1
         for issue in line.issues + _statement_issues(line.statement):
             code = issue.code or ""
             number = int(code[1:]) if code[1:].isdigit() else DEFAULT_NUMBER
