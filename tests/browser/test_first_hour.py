@@ -196,7 +196,7 @@ def test_one_user_two_sessions_share_control(open_session: Any, server: Server) 
     expect(first.page.locator("#lease-text")).to_contain_text("you")
     expect(second.page.locator("#lease-text")).to_contain_text("you")  # the same user
     expect(second.page.locator("#lease-text")).to_contain_text("since")
-    # The second tab may act without being refused "dana is controlling the robot".
+    # The second tab may act without being refused "dana holds the robot".
     second.page.click("#tab-robot")
     second.page.click("#servo-on")
     wait_until(lambda: second.eval("() => window.melfa.state.servo") is True, what="servo on")

@@ -149,7 +149,7 @@ def test_skip_stays_skipped_the_menu_reopens_and_a_refused_load_says_why(
     page.click("#guide-next")
     page.click("#act-load")
     problem = page.locator("#guide .guide-problem")
-    expect(problem).to_contain_text("carol is controlling the robot")
+    expect(problem).to_contain_text("carol holds the robot")
     expect(problem).to_contain_text("My simulator")
     assert step(page) == "load"
     page.click("#guide-skip")

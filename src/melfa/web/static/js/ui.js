@@ -62,13 +62,14 @@ export function onFix(action, handler) {
   fixHandlers.set(action, handler);
 }
 
-/** An API error in the student's words: what happened, where, and for control who has it. */
+/**
+ * An API error in the student's words and where. The server's message already is them (a
+ * refusal says what happened and its fix in the words of melfa.vocab.refusals: "ann holds
+ * the robot. Ask them to release it…"); nothing is re-worded here.
+ */
 export function errorText(err) {
   let text = err?.message || String(err);
   if (err?.where?.line) text += ` (line ${err.where.line}${err.where.column ? ":" + err.where.column : ""})`;
-  if (err?.code === "lease-required" && err.detail?.holder) {
-    text = `${err.detail.holder.user} is controlling the robot. Ask them to release it, or an instructor can take over.`;
-  }
   return text;
 }
 
