@@ -1,17 +1,21 @@
 """Shared helpers for the service tests: a controller that records what reached it, and
-services on in-memory or pty links to it."""
+services on in-memory links to it that live on the test's `FakeClock`.
+
+`run` gives each test a fresh fake clock and moves it on whenever the service, the
+simulator and the test all wait for time (`melfa.service.clock`): a test lets time pass
+with ``await clock().sleep(s)`` and asserts on ``clock().now()``, never on wall time."""
 
 from __future__ import annotations
 
 import asyncio
 import threading
-import time
 from collections.abc import Awaitable, Callable, Coroutine
 from dataclasses import dataclass
 from typing import Any, TypeVar
 
 from melfa.link import Link, LinkSettings, MemoryLink, PacedLink
 from melfa.service import Actor, RobotService, Role, ServiceConfig
+from melfa.service.clock import FakeClock
 from melfa.sim import VirtualController, open_sim_link
 
 T = TypeVar("T")
@@ -26,10 +30,9 @@ LINK = LinkSettings(timeout=3.0)
 
 @dataclass(frozen=True)
 class Seen:
-    """One request as the controller received it: its time, our wall clock, its text."""
+    """One request as the controller received it: its time and its text."""
 
     now: float
-    wall: float
     command: str
 
 
@@ -44,7 +47,7 @@ class RecordingController(VirtualController):
     def handle(self, request: bytes | str, now: float) -> bytes:
         text = request.decode("latin-1") if isinstance(request, bytes) else request
         with self._seen_lock:
-            self.seen.append(Seen(now, time.monotonic(), text.strip("\r")))
+            self.seen.append(Seen(now, text.strip("\r")))
         return super().handle(request, now)
 
     def commands(self, *, skip_polls: bool = False) -> list[str]:
@@ -60,45 +63,66 @@ class RecordingController(VirtualController):
 class Links:
     """A link factory that remembers what it opened (to pull plugs in tests)."""
 
-    def __init__(self, controller: VirtualController, *, pace: bool = False) -> None:
+    def __init__(
+        self, controller: VirtualController, clock: FakeClock, *, pace: bool = False
+    ) -> None:
         self.controller = controller
+        self.clock = clock
         self.pace = pace
         self.opened: list[Link] = []
         self.memory: list[MemoryLink] = []
 
     def __call__(self) -> Link:
-        link: Link = open_sim_link(LINK, controller=self.controller)
+        link: Link = open_sim_link(LINK, controller=self.controller, clock=self.clock.now)
         assert isinstance(link, MemoryLink)
         self.memory.append(link)
         if self.pace:
-            link = PacedLink(link)
+            link = PacedLink(link, now=self.clock.now, sleep=self.clock.pause)
         self.opened.append(link)
         return link
+
+
+_clock: FakeClock | None = None
+
+
+def clock() -> FakeClock:
+    """The running test's clock (inside `run`)."""
+    assert _clock is not None, "only inside run()"
+    return _clock
 
 
 def make_service(
     controller: VirtualController, *, pace: bool = False, **config: Any
 ) -> tuple[RobotService, Links]:
-    links = Links(controller, pace=pace)
-    return RobotService(links, config=ServiceConfig(**config)), links
+    """A service on the test's clock, its controller's time the same clock."""
+    links = Links(controller, clock(), pace=pace)
+    return RobotService(links, config=ServiceConfig(**config), clock=clock()), links
 
 
 def run(coro: Coroutine[Any, Any, T], timeout: float = 60.0) -> T:
-    """Run a test coroutine; the timeout only guards against hangs."""
+    """Run a test coroutine on a fresh `FakeClock`; the (real) timeout only guards
+    against hangs."""
+    global _clock
+    _clock = FakeClock()
 
     async def guarded() -> T:
-        return await asyncio.wait_for(coro, timeout)
+        assert _clock is not None
+        async with _clock.running():
+            return await asyncio.wait_for(coro, timeout)
 
-    return asyncio.run(guarded())
+    try:
+        return asyncio.run(guarded())
+    finally:
+        _clock = None
 
 
 async def until(predicate: Callable[[], bool], timeout: float = 10.0) -> bool:
-    """Wait (generously) until ``predicate`` holds; False on timeout."""
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
+    """Wait, in the test's time, until ``predicate`` holds; False after ``timeout``."""
+    end = clock().now() + timeout
+    while clock().now() < end:
         if predicate():
             return True
-        await asyncio.sleep(0.01)
+        await clock().sleep(0.01)
     return predicate()
 
 

@@ -27,6 +27,7 @@ from tests.service.helpers import (
     IRIS,
     OLGA,
     RecordingController,
+    clock,
     make_service,
     run,
     until,
@@ -51,10 +52,10 @@ def test_jog_stops_within_the_watchdog_when_heartbeats_stop() -> None:
             await service.servo(ANN, True)
             assert await service.jog_start(ANN, "joint", "J1", +1) is JogMethod.JOG
             for _ in range(8):
-                await asyncio.sleep(0.05)
+                await clock().sleep(0.05)
                 assert service.jog_heartbeat(ANN)
             seen_at_last = len(controller.seen)
-            await asyncio.sleep(0.6)  # key "released" without a release call
+            await clock().sleep(0.6)  # key "released" without a release call
             # The service sent no JOG after the last heartbeat's renewal …
             late = [s for s in controller.seen[seen_at_last:] if ";JOG0" in s.command]
             assert all(s.command.endswith("00;00;00") for s in late[1:])
@@ -89,7 +90,7 @@ def test_release_stops_at_once_and_override_is_capped() -> None:
             await service.jog_start(ANN, "tool", "Z", -1)
             assert controller.arm.op_override == 20  # capped while jogging
             service.jog_heartbeat(ANN)
-            await asyncio.sleep(0.05)
+            await clock().sleep(0.05)
             await service.jog_release(ANN)
             assert not controller.moving
             assert controller.commands()[-1].endswith("JOG00;00;00;00;00")
@@ -109,10 +110,10 @@ def test_jog_fallback_steps_never_queue_behind_a_released_key() -> None:
             assert await service.jog_start(ANN, "xyz", "X", +1) is JogMethod.STEP
             for _ in range(20):  # heartbeats far faster than steps can finish
                 service.jog_heartbeat(ANN)
-                await asyncio.sleep(0.01)
+                await clock().sleep(0.01)
             await service.jog_release(ANN)
             sent = len(controller.commands())
-            await asyncio.sleep(0.3)
+            await clock().sleep(0.3)
             assert len(controller.commands()) == sent  # nothing left to send
             accepted = [c for c in controller.commands() if "EXECMVS" in c]
             assert 1 <= len(accepted) <= 21
@@ -143,7 +144,7 @@ def test_step_mode_refuses_rather_than_queues() -> None:
                 await service.read_joints(ANN)
                 if not controller.moving:
                     break
-                await asyncio.sleep(0.01)
+                await clock().sleep(0.01)
             await service.jog_step(ANN, "joint", 0, +1)
             moves = [c for c in controller.commands() if "MOV J_CURR" in c]
             assert len(moves) == 2
@@ -208,7 +209,7 @@ def test_lease_idle_timeout() -> None:
         async with service:
             await service.servo(ANN, True)
             assert service.lease_holder == ANN
-            await asyncio.sleep(0.25)
+            await clock().sleep(0.25)
             assert service.lease_holder is None
             await service.servo(BOB, True)
 
@@ -289,18 +290,22 @@ def test_a_released_step_jog_stops_short_of_its_step() -> None:
             before = controller.arm.pose.x
             assert await service.jog_start(ANN, "xyz", "X", +1) is JogMethod.STEP
             assert controller.moving
+            await clock().sleep(0.02)  # the key is held for a moment
             await service.jog_release(ANN)
             assert controller.commands()[-1].endswith(";STOP")
-            for _ in range(20):  # the controller's time moves on with each request
+            for _ in range(20):  # a second of the controller's time, read every 50 ms
+                await clock().sleep(0.05)
                 await service.read_joints(ANN)
             assert not controller.moving  # it decelerated and stopped
             stopped = controller.arm.pose.x
             for _ in range(20):
+                await clock().sleep(0.05)
                 await service.read_joints(ANN)
             assert controller.arm.pose.x == stopped
             assert 0 < stopped - before < 0.5 * service.robot_settings.jog_step_mm
             # The next press still jogs.
             assert await service.jog_start(ANN, "xyz", "X", +1) is JogMethod.STEP
+            await clock().sleep(0.1)
             await service.jog_release(ANN)
             assert controller.arm.pose.x > stopped
 

@@ -3,7 +3,6 @@ ended when idle, never kept by a failed command; override changes ramp during a 
 
 from __future__ import annotations
 
-import asyncio
 import datetime as dt
 
 import pytest
@@ -11,7 +10,17 @@ import pytest
 from melfa.service import Actor, LeaseChanged, LeaseRequired, MemoryAuditSink, Role
 from melfa.service.config import WhenHolderLeaves
 from melfa.service.lease import HolderState, Lease
-from tests.service.helpers import ANN, BOB, IRIS, RecordingController, make_service, run, until
+from melfa.vocab.commands import Command
+from tests.service.helpers import (
+    ANN,
+    BOB,
+    IRIS,
+    RecordingController,
+    clock,
+    make_service,
+    run,
+    until,
+)
 
 ANN_TAB2 = Actor("ann", Role.STUDENT, "s-ann-2")
 FAR = (60.0, 0.0, 90.0, 0.0, 90.0, 0.0)
@@ -107,8 +116,12 @@ def test_a_failed_command_gives_back_the_lease_it_took() -> None:
             reasons = []
             while (event := events.get_nowait()) is not None:
                 assert isinstance(event, LeaseChanged)
-                reasons.append(event.reason)
-            assert reasons == ["taken by exec", "bob's command failed"]
+                reasons.append((event.reason, event.command))
+            # The student's words for the command, never its method name.
+            assert reasons == [
+                ("taken by Instruction", Command.EXEC),
+                ("bob's command failed", None),
+            ]
 
     run(main())
 
@@ -190,7 +203,7 @@ def test_by_default_the_owners_last_connection_stops_the_move() -> None:
                 joints = await service.read_joints(BOB)
                 if not controller.moving:
                     break
-                await asyncio.sleep(0.01)
+                await clock().sleep(0.01)
             assert not controller.moving and joints[0] < FAR[0] - 1  # stopped short
 
     run(main())
@@ -210,7 +223,7 @@ def test_override_raised_during_a_jog_ramps_under_the_ceiling() -> None:
             await service.override(ANN, 100)  # during the jog
             for _ in range(12):
                 service.jog_heartbeat(ANN)
-                await asyncio.sleep(0.03)
+                await clock().sleep(0.03)
             sent = [
                 int(c.rsplit("=", 1)[1]) for c in controller.commands()[start:] if ";OVRD=" in c
             ]

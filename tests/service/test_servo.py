@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import asyncio
-
 import pytest
 
 from melfa.robot import ControllerError
 from melfa.service import MemoryAuditSink, ServoOff, ServoPolicy
-from tests.service.helpers import ANN, RecordingController, make_service, run
+from tests.service.helpers import ANN, RecordingController, clock, make_service, run
 
 
 def test_a_move_with_the_servo_off_asks_and_sends_nothing() -> None:
@@ -46,7 +44,7 @@ def test_turn_on_switches_the_servo_on_audits_it_and_moves() -> None:
                 at = (await service.read_joints(ANN))[0]
                 if abs(at - 10) < 1e-6 and not controller.arm.is_moving:
                     break
-                await asyncio.sleep(0.01)
+                await clock().sleep(0.01)
             else:
                 raise AssertionError("the arm never reached J1 = 10")
             # Servo already on: no second SRVON.
@@ -55,7 +53,7 @@ def test_turn_on_switches_the_servo_on_audits_it_and_moves() -> None:
         assert sum(c.endswith("SRVON") for c in sent) == 1, sent
         servo_rows = [e for e in sink.entries if e.command == "servo"]
         assert [(e.actor, e.detail, e.result) for e in servo_rows] == [
-            (ANN, "on, before move_to", "ok")
+            (ANN, "on, before Move to", "ok")
         ]
 
     run(main())

@@ -7,11 +7,10 @@ from __future__ import annotations
 
 import asyncio
 import itertools
-import time
 
 from melfa.service import JogFrame, ServoPolicy, StateSnapshot
 from tests.plans import points_plan, program_plan
-from tests.service.helpers import ANN, RecordingController, make_service, run, until
+from tests.service.helpers import ANN, RecordingController, clock, make_service, run, until
 
 TURN_ON = ServoPolicy.TURN_ON
 
@@ -19,10 +18,10 @@ TURN_ON = ServoPolicy.TURN_ON
 def test_a_jog_step_polls_state_while_it_moves() -> None:
     controller = RecordingController()
 
-    async def main() -> tuple[list[StateSnapshot], float]:
+    async def main() -> tuple[list[StateSnapshot], int]:
         service, _ = make_service(controller, poll_floor_s=0.005)
         snapshots: list[StateSnapshot] = []
-        done: list[float] = []
+        done: list[int] = []
         async with service:
             with service.subscribe(StateSnapshot) as sub:
 
@@ -35,15 +34,15 @@ def test_a_jog_step_polls_state_while_it_moves() -> None:
                 await service.exec(ANN, "SERVO ON")
                 collector = asyncio.create_task(collect())
                 await service.jog_step(ANN, JogFrame.XYZ, "Z", +1, wait=True, servo=TURN_ON)
-                done.append(time.monotonic())
-                await asyncio.sleep(0.05)
+                done.append(len(controller.seen))  # requests up to the step's return
+                await clock().sleep(0.05)
                 collector.cancel()
         return snapshots, done[0]
 
     snapshots, returned = run(main())
-    seen = [(s.wall, s.command.split(";", 2)[-1]) for s in controller.seen]
-    moved = next(t for t, c in seen if c.startswith("EXECMVS P_CURR+"))
-    window = [c for t, c in seen if moved < t < returned]  # while the step waited
+    seen = [s.command.split(";", 2)[-1] for s in controller.seen[:returned]]
+    moved = next(i for i, c in enumerate(seen) if c.startswith("EXECMVS P_CURR+"))
+    window = seen[moved + 1 :]  # while the step waited
     assert len(window) >= 6, window  # the move took a while
     assert sum(c.startswith("JPOSF") for c in window) >= 3, window
     runs = [
@@ -67,7 +66,7 @@ def _step_time(stop_first: bool) -> tuple[float, bool | None]:
     program runs afterwards."""
     controller = RecordingController()
 
-    returned: list[float] = []
+    returned: list[int] = []
 
     async def main() -> bool | None:
         service, _ = make_service(controller, poll_floor_s=0.005)
@@ -85,12 +84,12 @@ def _step_time(stop_first: bool) -> tuple[float, bool | None]:
                 await service.stop(ANN)
                 assert await until(lambda: service.want_state().running is False)
             await service.jog_step(ANN, JogFrame.XYZ, "Z", +1, wait=True, servo=TURN_ON)
-            returned.append(time.monotonic())
-            await asyncio.sleep(0.3)
+            returned.append(len(controller.seen))
+            await clock().sleep(0.3)
             return service.want_state().running
 
     running = run(main())
-    seen = [s for s in controller.seen if s.wall < returned[0]]  # up to the step's end
+    seen = controller.seen[: returned[0]]  # up to the step's end
     start = max(s.now for s in seen if "EXECMVS P_CURR+" in s.command)
     return seen[-1].now - start, running
 

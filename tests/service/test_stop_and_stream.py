@@ -20,7 +20,16 @@ from melfa.service import (
 )
 from melfa.sim import Pacing, PtyServer
 from tests.plans import program_plan
-from tests.service.helpers import ANN, LINK, OLGA, RecordingController, make_service, run, until
+from tests.service.helpers import (
+    ANN,
+    LINK,
+    OLGA,
+    RecordingController,
+    clock,
+    make_service,
+    run,
+    until,
+)
 
 PROGRAM = "\n".join(f"{10 * i} MOV P{i % 7 + 1}" for i in range(1, 160))
 
@@ -142,10 +151,10 @@ def test_nobody_listening_polls_slowly() -> None:
     async def main() -> None:
         service, _ = make_service(controller, idle_poll_s=5.0)
         async with service:
-            await asyncio.sleep(0.3)
+            await clock().sleep(0.3)
             idle = len(controller.commands())
             with service.subscribe(StateSnapshot):
-                await asyncio.sleep(0.3)
+                await clock().sleep(0.3)
             busy = len(controller.commands()) - idle
             assert idle <= 3  # OPEN and at most one poll
             assert busy > 5 * idle
@@ -162,13 +171,13 @@ def test_a_rest_reader_gets_fresh_state_for_a_while() -> None:
     async def main() -> None:
         service, _ = make_service(controller, idle_poll_s=5.0, state_interest_s=0.5)
         async with service:
-            await asyncio.sleep(0.3)
+            await clock().sleep(0.3)
             # Idle polling (one request per 5 s) could not give 5 snapshots in 4 s.
             first = service.want_state().seq
             assert await until(lambda: service.state.seq >= first + 5, timeout=4.0)
-            await asyncio.sleep(0.6)  # interest over: idle again
+            await clock().sleep(0.6)  # interest over: idle again
             settled = len(controller.commands())
-            await asyncio.sleep(0.3)
+            await clock().sleep(0.3)
             assert len(controller.commands()) - settled <= 1
 
     run(main())

@@ -196,7 +196,7 @@ def test_a_move_with_the_servo_off_is_refused_until_the_operator_asks_for_it(
     wait_until(at_p1)  # the move's answer comes when it starts; the arm then takes its time
     entries = web.ivy.get("/api/audit").json()["entries"]
     servo = [e for e in entries if e["action"] == "robot.servo"]
-    assert any("before move_to" in str(e["details"]) for e in servo)
+    assert any("before Move to" in str(e["details"]) for e in servo)  # the label, no method
 
 
 def test_the_upload_reply_maps_steps_to_the_students_own_lines(web: Web, ws_id: int) -> None:

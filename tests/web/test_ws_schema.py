@@ -169,7 +169,7 @@ def test_every_message_of_a_session_validates_against_the_committed_schema(live:
     assert ann.rest("DELETE", "/api/lease").status_code == 200
     ann.until("lease", holder=None)
     # The cable is pulled: the service says so, and reconnects.
-    worker = live.context.service._worker
+    worker = live.context.service.worker
     assert worker is not None and worker.robot is not None
     link = worker.robot.link
     assert isinstance(link, MemoryLink)

@@ -134,13 +134,23 @@ class PacedLink(_Wrapper):
     over when the last of them would have arrived. The two directions are independent
     (RS-232 is full duplex). ``latency`` adds the controller's processing time between the
     end of a request and the start of its reply (measured 0.1–0.15 s, prior-art.md §5).
-    For benchmarks over an in-memory controller.
+    For benchmarks over an in-memory controller; ``now`` and ``sleep`` let a test run the
+    line on its own clock.
     """
 
-    def __init__(self, inner: Link, latency: float = 0.0) -> None:
+    def __init__(
+        self,
+        inner: Link,
+        latency: float = 0.0,
+        *,
+        now: Callable[[], float] = time.monotonic,
+        sleep: Callable[[float], None] = time.sleep,
+    ) -> None:
         super().__init__(inner, f"{inner.description}, paced")
         self.char_time = inner.settings.seconds_per_char
         self.latency = latency
+        self._now = now
+        self._sleep = sleep
         self._tx_free = 0.0
         self._rx_free = 0.0
         self._request_ends: deque[float] = deque()
@@ -148,10 +158,10 @@ class PacedLink(_Wrapper):
 
     def _write(self, data: bytes) -> None:
         with self._pace_lock:
-            self._tx_free = max(time.monotonic(), self._tx_free) + len(data) * self.char_time
+            self._tx_free = max(self._now(), self._tx_free) + len(data) * self.char_time
             until = self._tx_free
             self._request_ends.extend([until] * max(1, data.count(b"\r")))
-        _sleep_until(until)
+        self._sleep_until(until)
         super()._write(data)
 
     def _read(self, timeout: float) -> bytes:
@@ -165,18 +175,17 @@ class PacedLink(_Wrapper):
                     if not piece and not ends_reply:
                         break
                     asked = self._request_ends[0] if self._request_ends else 0.0
-                    start = max(time.monotonic(), self._rx_free, asked + self.latency)
+                    start = max(self._now(), self._rx_free, asked + self.latency)
                     self._rx_free = start + (len(piece) + ends_reply) * self.char_time
                     if ends_reply and self._request_ends:
                         self._request_ends.popleft()
                 until = self._rx_free
-            _sleep_until(until)
+            self._sleep_until(until)
         return data
 
-
-def _sleep_until(when: float) -> None:
-    while (left := when - time.monotonic()) > 0:
-        time.sleep(left)
+    def _sleep_until(self, when: float) -> None:
+        while (left := when - self._now()) > 0:
+            self._sleep(left)
 
 
 __all__ = ["PacedLink", "TraceEvent", "TraceLink", "load_trace", "render"]

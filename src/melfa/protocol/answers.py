@@ -1,4 +1,4 @@
-"""Typed readings of the answers to OPEN, JPOSF/PPOSF, STATE, DSTATE and ERROR.
+"""Typed readings of the answers to OPEN, JPOSF/PPOSF, STATE, DSTATE, HNDSTS and ERROR.
 
 Each type parses the text after ``QoK``/``Qok`` (`parse`) and writes it back (`to_answer`),
 so the virtual controller builds its answers with the same code the client reads them with.
@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 
 from melfa.protocol.error_table import ErrorLevel
 from melfa.protocol.errors import RemoteProtocolError
+from melfa.protocol.limits import HANDS
 
 POSITION_UNKNOWN_TEXT = "position unknown (origin or encoder not set)"
 """How a ``****`` position reads to a person [TRACE K9b-C4]."""
@@ -416,6 +417,45 @@ class State:
                 opt(self.mechanism_number),
             ]
         )
+
+
+# --------------------------------------------------------------------------------- HNDSTS
+
+
+@dataclass(frozen=True)
+class HandStatus:
+    """``HNDSTS`` answer [DOC S1 §5.2.56]: for each of the 8 hands
+    ``<output signal>;<1 open, 2 closed>;<0 single, 1 double solenoid>``
+    (``900;2;1;902;1;1;…``: hand n on output signal 900 + 2(n-1)).
+
+    ``hands`` holds True (open), False (closed) or None (the field is missing or neither).
+
+    >>> HandStatus.parse("900;2;1;902;1;1").hands
+    (False, True, None, None, None, None, None, None)
+    >>> HandStatus((True,) + (False,) * 7).to_answer()[:20]
+    '900;1;1;902;2;1;904;'
+    """
+
+    hands: tuple[bool | None, ...]
+
+    @classmethod
+    def parse(cls, answer: str) -> HandStatus:
+        """Read the answer; a hand whose field is missing or unknown reads None."""
+        fields = _strip(answer).split(";")
+        states = {"1": True, "2": False}
+        return cls(
+            tuple(
+                states.get(fields[3 * i + 1]) if 3 * i + 1 < len(fields) else None
+                for i in range(len(HANDS))
+            )
+        )
+
+    def to_answer(self) -> str:
+        """Answer text (an unknown hand as closed, like a controller's unused output)."""
+        parts: list[str] = []
+        for i, hand in enumerate(self.hands[: len(HANDS)]):
+            parts += [str(900 + 2 * i), "1" if hand else "2", "1"]
+        return ";".join(parts)
 
 
 # ---------------------------------------------------------------------------------- ERROR

@@ -27,6 +27,7 @@ from melfa.protocol import (
     DState,
     ErrorCode,
     ErrorStatus,
+    HandStatus,
     Jog,
     JogMode,
     LocalProtocolError,
@@ -386,6 +387,11 @@ class Robot:
         """``STATE``: program, line, override, run/stop status bits, error."""
         with self._operation():
             return State.parse(self._call("STATE").answer)
+
+    def hand_status(self) -> HandStatus:
+        """``HNDSTS``: each hand open, closed or unknown."""
+        with self._operation():
+            return HandStatus.parse(self._call("HNDSTS").answer)
 
     def dstate(self) -> DState:
         """The short status (run/stop bits, error, line), read with ``STATE``: a real

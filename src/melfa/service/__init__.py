@@ -15,6 +15,7 @@ from melfa.service.bus import EventBus, Subscription
 from melfa.service.config import ServiceConfig
 from melfa.service.errors import (
     Cancelled,
+    InvalidArgument,
     JogBusy,
     LeaseRequired,
     LinkDown,
@@ -61,6 +62,7 @@ __all__ = [
     "Event",
     "EventBus",
     "Gate",
+    "InvalidArgument",
     "JogBusy",
     "JogChanged",
     "JogFrame",

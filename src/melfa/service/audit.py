@@ -22,7 +22,8 @@ class MemoryAuditSink:
     """Keeps entries in a list (tests, the embedded default).
 
     >>> sink = MemoryAuditSink()
-    >>> sink.write(AuditEvent(command_id=1, command="run"))
+    >>> from melfa.vocab.commands import Command
+    >>> sink.write(AuditEvent(command_id=1, command=Command.RUN))
     >>> [e.result for e in sink.entries]
     ['accepted']
     """

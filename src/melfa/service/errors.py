@@ -17,6 +17,16 @@ class ServiceError(Exception):
     """Base of the service's own errors (our rules, not the controller's)."""
 
 
+class InvalidArgument(ServiceError, ValueError):
+    """A caller's argument makes no sense (a hand outside 1–8, an unknown jog axis): the
+    only error the web answers with 422, naming ``field`` when there is one. Any other
+    exception from the service is a bug or a failure, never "your input is invalid"."""
+
+    def __init__(self, message: str, field: str | None = None) -> None:
+        super().__init__(message)
+        self.field = field
+
+
 class ServiceClosed(ServiceError):
     """The service is closing or closed; nothing more is accepted."""
 
@@ -83,6 +93,7 @@ class ThesisMessageError(ServiceError):
 
 __all__ = [
     "Cancelled",
+    "InvalidArgument",
     "JogBusy",
     "LeaseRequired",
     "LinkDown",

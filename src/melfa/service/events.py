@@ -14,6 +14,8 @@ from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
 from melfa.vocab.activity import Activity
+from melfa.vocab.commands import Command
+from melfa.vocab.jog import JogEnd
 from melfa.vocab.link import LinkStatus
 
 
@@ -140,7 +142,7 @@ class CommandResult(Event):
 
     NAME: ClassVar[str] = "result"
     command_id: int
-    command: str
+    command: Command
     ok: bool
     error: str = ""
     error_number: int | None = None
@@ -152,7 +154,7 @@ class UploadProgress(Event):
 
     NAME: ClassVar[str] = "progress"
     command_id: int
-    command: str
+    command: Command
     sent: int
     total: int
 
@@ -168,18 +170,27 @@ class LeaseChanged(Event):
     since: dt.datetime | None = None
     holder_state: str | None = None
     """As `StateSnapshot.lease_state`."""
+    command: Command | None = None
+    """The command that took a free lease (``reason``: ``taken by Move to``)."""
 
 
 @dataclass(frozen=True, kw_only=True)
 class JogChanged(Event):
-    """A hold-to-move jog began or ended (``reason``: released, heartbeat lost, stop …)."""
+    """A hold-to-move jog began or ended; an end says why (``end``, `JogEnd`), who caused
+    it when a person did (``by``: STOP, take-over) and the controller's text of a refusal
+    (``detail``)."""
 
     NAME: ClassVar[str] = "jog"
     active: bool
     frame: JogFrame | None = None
     axis: int | None = None
     direction: int | None = None
+    end: JogEnd | None = None
+    by: str | None = None
+    detail: str = ""
     reason: str = ""
+    """The same as a sentence (``stopped by ann``), for clients that do not read ``end``
+    yet; it goes once none does."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -193,7 +204,7 @@ class AuditEvent(Event):
 
     NAME: ClassVar[str] = "audit"
     command_id: int
-    command: str
+    command: Command
     detail: str = ""
     result: str = "accepted"
     moves: bool = True

@@ -13,6 +13,7 @@ import threading
 from dataclasses import dataclass
 
 from melfa.protocol import JogMode
+from melfa.service.errors import InvalidArgument
 from melfa.service.events import Actor, JogFrame
 
 _MODES = {JogFrame.TOOL: JogMode.TOOL, JogFrame.XYZ: JogMode.XYZ, JogFrame.JOINT: JogMode.JOINT}
@@ -37,30 +38,30 @@ class JogRequest:
 
     @classmethod
     def make(cls, frame: JogFrame | str, axis: int | str, direction: int | str) -> JogRequest:
-        """Check and normalise; `ValueError` with a clear message on nonsense."""
+        """Check and normalise; `InvalidArgument` with a clear message on nonsense."""
         try:
             frame = JogFrame(frame) if isinstance(frame, str) else frame
         except ValueError:
             names = ", ".join(f.value for f in JogFrame)
-            raise ValueError(f"jog frame {frame!r} is not one of {names}") from None
+            raise InvalidArgument(f"jog frame {frame!r} is not one of {names}", "frame") from None
         axes = _JOINTS if frame is JogFrame.JOINT else _CARTESIAN
         if isinstance(axis, str):
             key = axis.strip().upper()
             if key not in axes:
-                raise ValueError(f"jog axis {axis!r} is not one of {', '.join(axes)}")
+                raise InvalidArgument(f"jog axis {axis!r} is not one of {', '.join(axes)}", "axis")
             index = axes.index(key)
         else:
             index = int(axis)
             if not 0 <= index <= 5:
-                raise ValueError(f"jog axis {axis} is outside 0–5")
+                raise InvalidArgument(f"jog axis {axis} is outside 0–5", "axis")
         if isinstance(direction, str):
             sign = {"+": 1, "-": -1, "+1": 1, "-1": -1}.get(direction.strip())
             if sign is None:
-                raise ValueError(f"jog direction {direction!r} is not + or -")
+                raise InvalidArgument(f"jog direction {direction!r} is not + or -", "direction")
         else:
             sign = int(direction)
             if sign not in (1, -1):
-                raise ValueError(f"jog direction {direction} is not +1 or -1")
+                raise InvalidArgument(f"jog direction {direction} is not +1 or -1", "direction")
         return cls(frame, index, sign)
 
     @property

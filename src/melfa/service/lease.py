@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from melfa.service.errors import LeaseRequired, NotAllowed
 from melfa.service.events import Actor, Role, utc_now
+from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
 
 
@@ -51,6 +52,8 @@ class LeaseChange:
     previous: Actor | None
     actor: Actor | None
     reason: str
+    command: Command | None = None
+    """The command that took a free lease (``reason`` names it in the student's words)."""
 
 
 @dataclass(frozen=True)

@@ -16,22 +16,25 @@ import enum
 import heapq
 import itertools
 import threading
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from melfa.kin import Pose, fk, pose_inv, pose_mul
 from melfa.link import LinkError
-from melfa.protocol import RemoteProtocolError, State, error_text
-from melfa.protocol.answers import JOINT_NAMES, POSE_NAMES, RunStatus, StopStatus
+from melfa.protocol import RemoteProtocolError
+from melfa.protocol.answers import RunStatus
 from melfa.robot import ControllerError, Robot, RobotError
+from melfa.service.clock import Clock
 from melfa.service.config import ServiceConfig
-from melfa.service.errors import LinkDown
-from melfa.service.events import Alarm, LinkStatus
+from melfa.service.errors import LinkDown, ServiceClosed
+from melfa.service.events import LinkStatus
+from melfa.service.polling import PollCommand, Poller
+from melfa.service.posts import BusyChanged, LinkChanged, Polled, Post
+from melfa.vocab.commands import Command
 
-Clock = Callable[[], float]
-Post = Callable[..., None]
+IDLE_CHECK_S = 0.2
+"""Without polling, how often a job waiting for the arm to stop reads the status (≥ 100 ms
+while running [DOC S1 §3.3.3])."""
 
 
 class Priority(enum.IntEnum):
@@ -45,19 +48,13 @@ class Priority(enum.IntEnum):
 class Job:
     """One unit of work for the worker thread."""
 
-    name: str
+    command: Command
     priority: Priority
     fn: Callable[[Robot], Any]
     future: concurrent.futures.Future[Any] = field(default_factory=concurrent.futures.Future)
     moves: bool = True
     busy: str | None = None
     """Shown in the state while the job runs (``upload``)."""
-
-
-@dataclass
-class _JogView:
-    active: bool = False
-    last_sent: float = 0.0
 
 
 class Worker:
@@ -67,11 +64,11 @@ class Worker:
         self,
         connect: Callable[[], Robot],
         config: ServiceConfig,
-        post: Post,
+        post: Callable[[Post], None],
         *,
         listeners: Callable[[], int],
         jog_view: Callable[[], tuple[bool, float]],
-        clock: Clock = time.monotonic,
+        clock: Clock,
     ) -> None:
         self._connect = connect
         self.config = config
@@ -88,17 +85,10 @@ class Worker:
         self._first_attempt = threading.Event()
         self._thread = threading.Thread(target=self._main, name="melfa-service-worker", daemon=True)
         self.current: Job | None = None
-        # polling
-        self._cycle: list[str] = []
-        self._cycle_no = 0
+        self._poller = Poller(config)
         self._last_poll_end = -1e9
-        self._program_running = False
         self._rtt: dict[str, float] = {}
-        self._joints: tuple[float, ...] | None = None
-        self._tool_offset: Pose | None = None
-        self._measured_joints: tuple[float, ...] | None = None
-        self._joints_still = False
-        self._error_texts: dict[int, str] = {}
+        self._last_error = ""
         self.polls = 0
 
     # ------------------------------------------------------------------ lifecycle
@@ -114,7 +104,7 @@ class Worker:
         self._closing.set()
         self.cancel_queued(lambda job: True, error)
         with self._cond:
-            self._cond.notify_all()
+            self._clock.notify(self._cond)
 
     def join(self, timeout: float | None = None) -> bool:
         self._thread.join(timeout)
@@ -125,18 +115,16 @@ class Worker:
     def submit(self, job: Job) -> concurrent.futures.Future[Any]:
         """Queue ``job``; it fails at once with `LinkDown` while the link is down."""
         if self._closing.is_set():
-            from melfa.service.errors import ServiceClosed
-
             job.future.set_exception(ServiceClosed("the robot service is closing"))
             return job.future
         if self.status is not LinkStatus.CONNECTED:
             job.future.set_exception(
-                LinkDown(f"the robot link is {self.status.value}; {job.name} was not sent")
+                LinkDown(f"the robot link is {self.status.value}; {job.command.label} was not sent")
             )
             return job.future
         with self._cond:
             heapq.heappush(self._heap, (int(job.priority), next(self._seq), job))
-            self._cond.notify_all()
+            self._clock.notify(self._cond)
         return job.future
 
     def cancel_queued(self, which: Callable[[Job], bool], error: BaseException) -> list[Job]:
@@ -157,7 +145,7 @@ class Worker:
 
     def wake(self) -> None:
         with self._cond:
-            self._cond.notify_all()
+            self._clock.notify(self._cond)
 
     def stop_now(self) -> None:
         """Send STOP from the calling thread, overtaking the request in flight."""
@@ -177,6 +165,10 @@ class Worker:
     # ------------------------------------------------------------------ thread
 
     def _main(self) -> None:
+        with self._clock.thread():
+            self._serve()
+
+    def _serve(self) -> None:
         try:
             if not self._open("connecting"):
                 self._first_attempt.set()
@@ -208,18 +200,20 @@ class Worker:
                 wait = self._poll_wait()
                 if wait is not None and wait <= 0:
                     return None
-                self._cond.wait(0.5 if wait is None else wait)
+                self._clock.wait(self._cond, 0.5 if wait is None else wait)
 
     def _run(self, job: Job) -> None:
         if not job.future.set_running_or_notify_cancel():
             return
         robot = self.robot
         if robot is None:
-            job.future.set_exception(LinkDown(f"the robot link is down; {job.name} was not sent"))
+            job.future.set_exception(
+                LinkDown(f"the robot link is down; {job.command.label} was not sent")
+            )
             return
         self.current = job
         if job.busy:
-            self._post("busy", job.busy)
+            self._post(BusyChanged(job.busy))
         try:
             result = job.fn(robot)
         except BaseException as exc:
@@ -231,14 +225,14 @@ class Worker:
         finally:
             self.current = None
             if job.busy:
-                self._post("busy", None)
+                self._post(BusyChanged(None))
 
     # ------------------------------------------------------------------ link
 
     def _set_status(self, status: LinkStatus, detail: str = "") -> None:
         if status is not self.status:
             self.status = status
-            self._post("status", status, detail)
+            self._post(LinkChanged(status, detail))
 
     def _open(self, why: str) -> bool:
         try:
@@ -254,8 +248,7 @@ class Worker:
                 robot.link.close()
             return False
         self.robot = robot
-        self._tool_offset = None
-        self._measured_joints = None
+        self._poller.reconnected()
         self._set_status(LinkStatus.CONNECTED, f"{why}: {robot.link.description}")
         return True
 
@@ -265,19 +258,26 @@ class Worker:
         if self._closing.is_set():
             return
         self._set_status(LinkStatus.RECONNECTING, reason)
-        started = self._clock()
+        started = self._clock.now()
         delay = self.config.reconnect_initial_s
         while not self._closing.is_set():
-            if self._closing.wait(delay):
+            if self._pause(delay):
                 return
             if self._open("reconnected"):
                 return
             if (
-                self._clock() - started > self.config.lost_after_s
+                self._clock.now() - started > self.config.lost_after_s
                 and self.status is not LinkStatus.LOST
             ):
-                self._set_status(LinkStatus.LOST, getattr(self, "_last_error", reason))
+                self._set_status(LinkStatus.LOST, self._last_error or reason)
             delay = min(delay * 2, self.config.reconnect_max_s)
+
+    def _pause(self, seconds: float) -> bool:
+        """Wait ``seconds`` on the clock, or less when the service closes (True then)."""
+        with self._cond:
+            if not self._closing.is_set():
+                self._clock.wait(self._cond, seconds)
+            return self._closing.is_set()
 
     def _drop_robot(self, *, graceful: bool) -> None:
         robot, self.robot = self.robot, None
@@ -295,19 +295,19 @@ class Worker:
         """Seconds until the next poll may start (≤ 0: now), None when not polling."""
         if not self.config.polling or self.robot is None:
             return None
-        now = self._clock()
+        now = self._clock.now()
         listening = self._listeners() > 0
         due = self._last_poll_end + (
             self.config.poll_floor_s if listening else self.config.idle_poll_s
         )
-        if self._program_running:
+        if self._poller.program_running:
             due = max(due, self._last_poll_end + self.config.running_spacing_s)
         active, last_sent = self._jog_view()
         if active:
             # The JOG dead-man must be renewed within the watchdog: only poll when this
             # poll's round trip and the next JOG's fit in what is left of it.
             budget = self.config.jog_watchdog_s - self.config.jog_poll_margin_s
-            command = self._peek_poll()
+            command = self._poller.peek()
             need = (now - last_sent) + self.rtt(command) + self.rtt("JOG")
             # On a line too slow for any poll to fit (9600 baud: JPOSF alone is ~0.13 s),
             # poll anyway every `jog_poll_every_s`: the jog pauses for one poll, but the
@@ -323,154 +323,54 @@ class Worker:
         if not self.config.polling or self.robot is None or self._listeners() == 0:
             return False
         active, _ = self._jog_view()
-        return active and self._clock() - self._last_poll_end >= self.config.jog_poll_every_s
-
-    def _peek_poll(self) -> str:
-        if not self._cycle:
-            self._cycle = self._plan_cycle()
-        return self._cycle[0]
-
-    def _plan_cycle(self) -> list[str]:
-        n = self._cycle_no
-        self._cycle_no += 1
-        plan = ["JPOSF"]
-        moving = not self._joints_still
-        # One kind of pose per phase, never alternating: while moving, computed from every
-        # JPOSF once the tool offset is known (else measured by PPOSF every cycle); at
-        # rest, measured every `pose_every` cycles.
-        if (moving and self._tool_offset is None) or (
-            not moving and n % self.config.pose_every == 0
-        ):
-            plan.append("PPOSF")
-        if n % self.config.state_every == 0:
-            plan.append("STATE")
-        if n % self.config.hand_every == 0:
-            plan.append("HNDSTS")
-        return plan
+        return active and self._clock.now() - self._last_poll_end >= self.config.jog_poll_every_s
 
     def poll_while_moving(self, robot: Robot, timeout: float = 60.0) -> None:
         """In a job: wait until the arm stops (the status's RUN bit), reading the joints
         between checks (and the pose, until the tool offset is known), so snapshots keep
         flowing during the move: never a silent gap longer than one poll (a bare
-        `Robot.wait_idle` would hold the line for the whole move)."""
-        if not self.config.polling:
-            robot.wait_idle(timeout)
-            return
-        end = self._clock() + timeout
+        `Robot.wait_idle` would hold the line for the whole move). Without polling, only
+        the status is read, every `IDLE_CHECK_S`."""
+        polling = self.config.polling
+        end = self._clock.now() + timeout
         while True:
             if RunStatus.RUNNING not in robot.dstate().status.run:
                 return
-            if self._clock() > end:
+            if self._clock.now() > end:
                 raise RobotError(f"still moving after {timeout:g} s")
-            self._closing.wait(self.config.poll_floor_s)
-            self._poll(reconnect=False, command="JPOSF")
-            if self._tool_offset is None:
-                self._poll(reconnect=False, command="PPOSF")
+            self._pause(self.config.poll_floor_s if polling else IDLE_CHECK_S)
+            if polling:
+                self._poll(reconnect=False, command=PollCommand.JOINTS)
+                if self._poller.tool_offset is None:
+                    self._poll(reconnect=False, command=PollCommand.POSE)
 
-    def _poll(self, *, reconnect: bool = True, command: str | None = None) -> None:
-        """One poll request: the next of the cycle, or ``command``."""
+    def _poll(self, *, reconnect: bool = True, command: PollCommand | None = None) -> None:
+        """One poll request (the next of the cycle, or ``command``) and everything that can
+        come of it: the one place a poll's answer or failure is handled. A dropped link
+        reconnects (or, inside a job, fails the job); a refusal or a garbled answer skips
+        this read."""
         robot = self.robot
         if robot is None:
             return
         if command is None:
-            command = self._peek_poll()
-            self._cycle.pop(0)
-        started = self._clock()
-        update: dict[str, Any] = {}
+            command = self._poller.take()
+        started = self._clock.now()
         try:
-            update = self._poll_once(robot, command)
+            result = self._poller.read(robot, command)
         except LinkError as exc:
-            self._last_poll_end = self._clock()
+            self._last_poll_end = self._clock.now()
             if not reconnect:
                 raise  # inside a job: the job fails and `_run` reconnects once
             self._reconnect(str(exc))
             return
         except (ControllerError, RemoteProtocolError, RobotError):
-            update = {}
+            result = None
         finally:
-            self.measure(command, self._clock() - started)
-        self._last_poll_end = self._clock()
+            self.measure(command, self._clock.now() - started)
+        self._last_poll_end = self._clock.now()
         self.polls += 1
-        if update:
-            self._post("poll", update)
-
-    def _poll_once(self, robot: Robot, command: str) -> dict[str, Any]:
-        if command == "JPOSF":
-            position = robot.joints()
-            joints = position.values(*JOINT_NAMES)
-            update: dict[str, Any] = {"joints": joints}
-            if position.override is not None:
-                update["override"] = position.override
-            if position.speed is not None:
-                update["speed"] = position.speed
-            update["moving"] = bool(position.speed) or (
-                self._joints is not None and joints != self._joints
-            )
-            self._joints = joints
-            self._joints_still = not update["moving"]
-            # At rest where the last PPOSF was read, that measured pose stands: the one
-            # computed from 2-decimal joints can differ from it by ~0.5 mm, and alternating
-            # the two would make a still arm's pose flicker.
-            if self._tool_offset is not None and joints != self._measured_joints:
-                with contextlib.suppress(Exception):
-                    pose = pose_mul(fk(joints), self._tool_offset)
-                    update["pose"] = (pose.x, pose.y, pose.z, pose.a, pose.b, pose.c)
-                    update["pose_measured"] = False
-            return update
-        if command == "PPOSF":
-            position = robot.pose()
-            values = position.values(*POSE_NAMES)
-            update = {"pose": values, "pose_measured": True}
-            if position.fl1 is not None and position.fl2 is not None:
-                update["flags"] = (position.fl1, position.fl2)
-            # Learn the offset only from joints read at rest: joints read mid-move and a
-            # pose read after the stop would teach a wrong offset.
-            if not position.speed and self._joints is not None and self._joints_still:
-                with contextlib.suppress(Exception):
-                    x, y, z, a, b, c = values
-                    measured = Pose(x, y, z, a, b, c, position.fl1 or 7, position.fl2 or 0)
-                    self._tool_offset = pose_mul(pose_inv(fk(self._joints)), measured)
-                    self._measured_joints = self._joints
-            return update
-        if command == "STATE":
-            return self._state_update(robot, robot.state())
-        if command == "HNDSTS":
-            fields = robot.request("HNDSTS").answer.split(";")
-            hands = tuple(
-                {"1": True, "2": False}.get(fields[i + 1]) if i + 1 < len(fields) else None
-                for i in range(0, 24, 3)
-            )
-            return {"hands": hands}
-        return {}
-
-    def _state_update(self, robot: Robot, state: State) -> dict[str, Any]:
-        run = state.status.run
-        running = RunStatus.RUNNING in run
-        self._program_running = running
-        number = state.status.error
-        alarm = None
-        if number:
-            text = self._error_texts.get(number)
-            if text is None:
-                try:
-                    text = robot.error_text(number)
-                except (ControllerError, RemoteProtocolError, RobotError):
-                    text = error_text(number)
-                self._error_texts[number] = text
-            alarm = Alarm(number, text)
-        stop = state.status.stop
-        selected = StopStatus.PROGRAM_SELECT in stop
-        return {
-            "program": state.program,
-            "line": state.line,
-            "override": state.override,
-            "servo": RunStatus.SERVO_ON in run,
-            "running": running,
-            # An EXEC move sets RUN with PROGRAM SELECT still on; a program clears it.
-            "program_running": running and not selected,
-            "paused": not running and StopStatus.STOP in stop and not selected,
-            "alarm": alarm,
-        }
+        if result is not None:
+            self._post(Polled(result))
 
 
 __all__ = ["Job", "Priority", "Worker"]

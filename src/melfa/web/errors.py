@@ -25,6 +25,7 @@ from pydantic import BaseModel
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from melfa.link import LinkError
+from melfa.protocol import PositionUnknown
 from melfa.protocol.advice import advice_for
 from melfa.protocol.errors import LocalProtocolError, ProtocolError
 from melfa.robot import ControllerError
@@ -32,6 +33,7 @@ from melfa.robot.channel import StopNotConfirmed
 from melfa.robot.errors import RobotError, Stopped, UploadRefused
 from melfa.service import (
     Cancelled,
+    InvalidArgument,
     JogBusy,
     LeaseRequired,
     NoJog,
@@ -221,6 +223,10 @@ def from_refusal(exc: Refused) -> ApiError:
 def from_robot(exc: BaseException) -> ApiError | None:
     """A service, controller or link failure as an API error (None if not one of those)."""
     message = str(exc) or type(exc).__name__
+    if isinstance(exc, InvalidArgument):
+        # The one 422 for a service call: the caller's argument, named.
+        where = {"field": exc.field} if exc.field else None
+        return ApiError(422, "invalid-value", message, where=where)
     if isinstance(exc, Refused):
         return from_refusal(exc)
     if isinstance(exc, NotAllowed):
@@ -276,6 +282,8 @@ def from_robot(exc: BaseException) -> ApiError | None:
         )
     if isinstance(exc, RobotError):
         return ApiError(422, "robot-refused", message)
+    if isinstance(exc, PositionUnknown):
+        return ApiError(409, "position-unknown", message)
     return None
 
 
@@ -340,7 +348,7 @@ def install(app: FastAPI) -> None:
     app.add_exception_handler(RequestValidationError, validation_error)
     app.add_exception_handler(StoreError, store_error)
     app.add_exception_handler(Busy, busy)
-    for kind in (ServiceError, RobotError, LinkError, ProtocolError):
+    for kind in (ServiceError, RobotError, LinkError, ProtocolError, PositionUnknown):
         app.add_exception_handler(kind, robot_error)
     app.add_exception_handler(Exception, unexpected)
 

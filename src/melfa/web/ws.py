@@ -351,9 +351,7 @@ class Connection:
         except ApiError as exc:
             await self.error(exc, request_id)
         except Exception as exc:
-            mapped = from_robot(exc)
-            if mapped is None and isinstance(exc, ValueError | TypeError):
-                mapped = ApiError(422, "invalid-value", str(exc))
+            mapped = from_robot(exc)  # `InvalidArgument` is the only 422 among these
             if mapped is None:
                 _log.exception("WebSocket message failed: %r", text[:200])
                 mapped = ApiError(500, "internal-error", "the server failed; it was logged")

@@ -6,6 +6,7 @@ arm (L5640); STOP needs no rights and always answers [DOC S5].
 
 from __future__ import annotations
 
+from melfa.protocol.answers import HandStatus
 from melfa.protocol.error_table import ORIGIN_NOT_SET
 from melfa.protocol.errors import RemoteProtocolError
 from melfa.protocol.jog import Jog
@@ -107,10 +108,7 @@ def hndoff(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
 def hndsts(c: ControllerCore, arg: str, req: Request, now: float) -> Reply:
     # [DOC S1 §5.2.56] 8 x `<signal no>;<1 open, 2 closed>;<0 single / 1 double>`,
     # e.g. `900;2;1;902;1;1;…`: hand n uses output signals 900 + 2(n-1).
-    parts = []
-    for hand in HANDS:
-        parts += [str(900 + 2 * (hand - 1)), "1" if c.arm.hand_open(hand) else "2", "1"]
-    return Ok(";".join(parts))
+    return Ok(HandStatus(tuple(c.arm.hand_open(hand) for hand in HANDS)).to_answer())
 
 
 # ----------------------------------------------------------------------- EXEC, jog, stop

@@ -17,8 +17,9 @@ from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.lang.points import PointKind, parse_points
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
-from melfa.service import Actor, ServoPolicy
+from melfa.service import Actor, InvalidArgument, ServoPolicy
 from melfa.service.policy import plan_refusal
+from melfa.vocab.commands import Command
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out
 from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of
@@ -49,16 +50,18 @@ router = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSE
 T = TypeVar("T")
 
 
-async def operate(actor: Actor, name: str, call: Callable[[], Awaitable[T]]) -> T:
-    """Run one service call: a log line either way; the service's argument checks
-    (`ValueError`) become 422 ``invalid-value``."""
+async def operate(actor: Actor, name: Command | str, call: Callable[[], Awaitable[T]]) -> T:
+    """Run one service call with a log line either way. Its errors reach the one error
+    shape (`melfa.web.errors`): the service's `InvalidArgument` is the only 422; anything
+    unexpected is a 500 with a log line, never "your input is invalid"."""
     started = time.perf_counter()
     outcome = "ok"
+    name = str(name)
     try:
         return await call()
-    except ValueError as exc:
+    except InvalidArgument as exc:
         outcome = f"refused: {exc}"
-        raise ApiError(422, "invalid-value", str(exc)) from None
+        raise
     except Exception as exc:
         outcome = f"failed: {type(exc).__name__}: {exc}"
         raise
@@ -133,7 +136,7 @@ async def load_project(
     assert program is not None and points is not None
     plan = await planned(context, program, points)
     service = drive.service
-    report = await operate(actor, "load_project", lambda: service.load_project(actor, plan))
+    report = await operate(actor, Command.LOAD_PROJECT, lambda: service.load_project(actor, plan))
     return _upload_out(report, plan)
 
 
@@ -147,7 +150,9 @@ async def upload_program(
     assert program is not None
     plan = await planned(context, program, None)
     service = drive.service
-    report = await operate(actor, "upload_program", lambda: service.upload_program(actor, plan))
+    report = await operate(
+        actor, Command.UPLOAD_PROGRAM, lambda: service.upload_program(actor, plan)
+    )
     return _upload_out(report, plan)
 
 
@@ -162,14 +167,14 @@ async def upload_points(
     if plan.blocker is None and not plan.items:
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
-    report = await operate(actor, "upload_points", lambda: service.upload_points(actor, plan))
+    report = await operate(actor, Command.UPLOAD_POINTS, lambda: service.upload_points(actor, plan))
     return _upload_out(report)
 
 
 @router.delete("/program", response_model=Ok, summary="Delete the program")
 async def delete_program(drive: DriveDep) -> Ok:
     actor = drive.actor
-    await operate(actor, "delete", lambda: drive.service.delete(actor))
+    await operate(actor, Command.DELETE, lambda: drive.service.delete(actor))
     return Ok()
 
 
@@ -183,7 +188,7 @@ def servo_policy(servo_on: bool) -> ServoPolicy:
 async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
     actor = drive.actor
     policy = servo_policy(body.servo_on if body is not None else False)
-    await operate(actor, "run", lambda: drive.service.run(actor, servo=policy))
+    await operate(actor, Command.RUN, lambda: drive.service.run(actor, servo=policy))
     return Ok()
 
 
@@ -198,21 +203,21 @@ async def stop(
     thread, so logins, checks and other requests never delay it."""
     chosen = await find_target(context.targets, session.user.username, target)
     actor = chosen.actor(actor_of(session))
-    await operate(actor, "stop", lambda: chosen.stop(actor))
+    await operate(actor, Command.STOP, lambda: chosen.stop(actor))
     return Ok()
 
 
 @router.post("/reset-program", response_model=Ok, summary="Back to the first line")
 async def reset_program(drive: DriveDep) -> Ok:
     actor = drive.actor
-    await operate(actor, "reset_program", lambda: drive.service.reset_program(actor))
+    await operate(actor, Command.RESET_PROGRAM, lambda: drive.service.reset_program(actor))
     return Ok()
 
 
 @router.post("/reset-alarm", response_model=Ok, summary="Reset the alarm")
 async def reset_alarm(drive: DriveDep) -> Ok:
     actor = drive.actor
-    await operate(actor, "reset_alarm", lambda: drive.service.reset_alarm(actor))
+    await operate(actor, Command.RESET_ALARM, lambda: drive.service.reset_alarm(actor))
     return Ok()
 
 
@@ -222,7 +227,7 @@ async def exec_statement(body: ExecIn, drive: DriveDep) -> Ok:
     if any(c in body.statement for c in "\r\n"):
         raise ApiError(422, "invalid-value", "one statement only: no line breaks")
     try:
-        await operate(actor, "exec", lambda: drive.service.exec(actor, body.statement))
+        await operate(actor, Command.EXEC, lambda: drive.service.exec(actor, body.statement))
     except ControllerError as exc:
         # The student's own statement may be named (never a request melfa built).
         error = from_robot(exc)
@@ -237,10 +242,10 @@ async def hand(body: HandIn, drive: DriveDep) -> HandOut:
     actor = drive.actor
     service = drive.service
     if body.action == "toggle":
-        is_open = await operate(actor, "hand", lambda: service.hand_toggle(actor, body.hand))
+        is_open = await operate(actor, Command.HAND, lambda: service.hand_toggle(actor, body.hand))
     else:
         is_open = body.action == "open"
-        await operate(actor, "hand", lambda: service.hand(actor, is_open, body.hand))
+        await operate(actor, Command.HAND, lambda: service.hand(actor, is_open, body.hand))
     return HandOut(hand=body.hand, open=is_open)
 
 
@@ -277,7 +282,7 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
             flags = (point.fl1 or 0, point.fl2 or 0)
         await operate(
             actor,
-            "move_to",
+            Command.MOVE_TO,
             lambda: service.move_to(
                 actor,
                 target,
@@ -293,7 +298,7 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
     assert values6 is not None
     await operate(
         actor,
-        "move_to",
+        Command.MOVE_TO,
         lambda: service.move_to(
             actor,
             values6,
@@ -309,14 +314,16 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
 @router.post("/servo", response_model=Ok, summary="Servo on or off")
 async def servo(body: ServoIn, drive: DriveDep) -> Ok:
     actor = drive.actor
-    await operate(actor, "servo", lambda: drive.service.servo(actor, body.on))
+    await operate(actor, Command.SERVO, lambda: drive.service.servo(actor, body.on))
     return Ok()
 
 
 @router.post("/override", response_model=OverrideOut, summary="Set the speed override")
 async def override(body: OverrideIn, drive: DriveDep) -> OverrideOut:
     actor = drive.actor
-    value = await operate(actor, "override", lambda: drive.service.override(actor, body.percent))
+    value = await operate(
+        actor, Command.OVERRIDE, lambda: drive.service.override(actor, body.percent)
+    )
     return OverrideOut(percent=value)
 
 
@@ -327,7 +334,7 @@ async def jog_step(body: JogStepIn, drive: DriveDep) -> Ok:
     service = drive.service
     await operate(
         actor,
-        "jog_step",
+        Command.JOG_STEP,
         lambda: service.jog_step(
             actor, body.frame, body.axis, body.direction, servo=servo_policy(body.servo_on)
         ),
@@ -345,14 +352,14 @@ async def get_state(drive: DriveDep) -> StateOut:
 @router.get("/joints", response_model=ValuesOut, summary="Read the joints now")
 async def read_joints(drive: DriveDep) -> ValuesOut:
     actor = drive.actor
-    values = await operate(actor, "read_joints", lambda: drive.service.read_joints(actor))
+    values = await operate(actor, Command.READ_JOINTS, lambda: drive.service.read_joints(actor))
     return ValuesOut(names=list(JOINT_NAMES)[: len(values)], values=list(values))
 
 
 @router.get("/pose", response_model=ValuesOut, summary="Read the pose now")
 async def read_pose(drive: DriveDep) -> ValuesOut:
     actor = drive.actor
-    values = await operate(actor, "read_pose", lambda: drive.service.read_pose(actor))
+    values = await operate(actor, Command.READ_POSE, lambda: drive.service.read_pose(actor))
     return ValuesOut(names=list(POSE_NAMES)[: len(values)], values=list(values))
 
 

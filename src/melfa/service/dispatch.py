@@ -1,0 +1,261 @@
+"""The one way in for every command: admitted (the service open, its policy, audited as
+accepted), queued to the worker, awaited, and its outcome audited and published only once
+the controller answered (datasette's "events after success").
+
+`Dispatcher.admit` is the one place every command passes before it is queued, whoever
+calls (REST, the WebSocket, rosbridge, the thesis's messages, the ROS node, the desktop
+client): it asks `melfa.service.policy.Policy` (check-before-upload, the instructor's
+gate, the lease), and tells it how a command that carried an upload plan ended.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import dataclasses
+import itertools
+from collections.abc import Callable
+from typing import Any
+
+from melfa.lang.plan import UploadPlan
+from melfa.robot import Robot, UploadReport
+from melfa.service.audit import AuditSink
+from melfa.service.bus import EventBus
+from melfa.service.errors import JogBusy, Refused, ServiceError
+from melfa.service.events import Actor, AuditEvent, CommandResult, UploadProgress
+from melfa.service.lease import LeaseChange
+from melfa.service.lifecycle import Life
+from melfa.service.policy import Policy
+from melfa.service.posts import Post, Publish, ServoTurnedOn
+from melfa.service.servo import ServoPolicy, ensure_servo
+from melfa.service.worker import Job, Priority, Worker
+from melfa.vocab.commands import Command
+
+Work = Callable[[Robot], Any]
+
+
+def describe_error(exc: BaseException) -> str:
+    """One line for an audit entry or a result event; a policy refusal is the student's
+    words and the fix, as every door sends them."""
+    if isinstance(exc, Refused | JogBusy):  # already in the student's words
+        return str(exc)
+    text = str(exc) or type(exc).__name__
+    return f"{type(exc).__name__}: {text}"
+
+
+class Dispatcher:
+    """Admits, queues, audits and reports commands (event loop only)."""
+
+    def __init__(
+        self,
+        *,
+        life: Life,
+        policy: Policy,
+        bus: EventBus,
+        audit: AuditSink,
+        post: Callable[[Post], None],
+        lease_changed: Callable[[LeaseChange | None], None],
+        jogging: Callable[[], bool],
+    ) -> None:
+        self._life = life
+        self._policy = policy
+        self._lease = policy.lease
+        self._bus = bus
+        self.audit_sink = audit
+        self._post = post
+        self._lease_changed = lease_changed
+        self._jogging = jogging
+        self._ids = itertools.count(1)
+        self.worker: Worker | None = None
+        """Set when the service starts."""
+        self.moved = False
+        """A moving command finished and no poll has looked at the arm since."""
+
+    def next_id(self) -> int:
+        return next(self._ids)
+
+    def require_worker(self) -> Worker:
+        if self.worker is None:
+            raise ServiceError("the service has not been started (await service.start())")
+        return self.worker
+
+    # ------------------------------------------------------------------ the way in
+
+    def admit(
+        self,
+        actor: Actor,
+        command: Command,
+        detail: str,
+        command_id: int | None = None,
+        plan: UploadPlan | None = None,
+    ) -> tuple[int, bool]:
+        """Every command passes here before it is queued: refused (audited) when the
+        service is not open or the policy says no; else audited as accepted. Returns the
+        command's id and whether it took a free lease."""
+        self._life.check_open()
+        command_id = command_id if command_id is not None else self.next_id()
+        taken = self._check_policy(actor, command_id, command, detail, plan)
+        self.audit(actor, command_id, command, detail, "accepted")
+        return command_id, taken
+
+    def _check_policy(
+        self,
+        actor: Actor,
+        command_id: int,
+        command: Command,
+        detail: str,
+        plan: UploadPlan | None,
+    ) -> bool:
+        """The policy's one check (`Policy.admit`); a refusal is audited and raised. True
+        when this command took a free lease."""
+        try:
+            change = self._policy.admit(actor, command, plan)
+        except ServiceError as exc:
+            self.audit(actor, command_id, command, detail, f"refused: {exc}")
+            raise
+        if change is not None and change.holder is not None:
+            change = dataclasses.replace(
+                change, reason=f"taken by {command.label}", command=command
+            )
+        self._lease_changed(change)
+        return change is not None and change.holder is not None and self._lease.holds(actor)
+
+    def give_back(self, actor: Actor, taken: bool) -> None:
+        """A command that took a free lease failed: the lease goes back (never silently
+        kept by a failure), unless the arm is jogging for them."""
+        if taken and self._lease.holds(actor) and not self._jogging():
+            self._lease_changed(self._lease.release(actor, f"{actor.user}'s command failed"))
+
+    async def command(
+        self,
+        actor: Actor,
+        command: Command,
+        detail: str,
+        work: Work,
+        *,
+        priority: Priority = Priority.USER,
+        busy: str | None = None,
+        command_id: int | None = None,
+        plan: UploadPlan | None = None,
+    ) -> Any:
+        """Admit, queue, await the controller's answer; audit and publish the outcome."""
+        command_id, taken = self.admit(actor, command, detail, command_id, plan)
+        job = Job(command, priority, work, moves=command.moves, busy=busy)
+        future = self.require_worker().submit(job)
+        try:
+            result = await asyncio.wrap_future(future)
+        except BaseException as exc:
+            self._policy.done(command, plan, ok=False)
+            self.finish(actor, command_id, command, detail, exc)
+            self.give_back(actor, taken)
+            raise
+        self._policy.done(command, plan, ok=True)
+        self.finish(actor, command_id, command, detail, None)
+        if command.moves:
+            self.moved = True  # until a poll has seen whether it moves
+        return result
+
+    async def upload(
+        self,
+        actor: Actor,
+        command: Command,
+        run: Callable[[Robot, Callable[[int, int], None]], UploadReport],
+        plan: UploadPlan,
+    ) -> UploadReport:
+        """A command that sends ``plan``'s program or points, with `UploadProgress` as it
+        goes."""
+        command_id = self.next_id()
+
+        def progress(sent: int, total: int) -> None:
+            self._post(
+                Publish(
+                    UploadProgress(
+                        actor=actor,
+                        command_id=command_id,
+                        command=command,
+                        sent=sent,
+                        total=total,
+                    )
+                )
+            )
+
+        result: UploadReport = await self.command(
+            actor,
+            command,
+            "",
+            lambda robot: run(robot, progress),
+            busy="upload",
+            command_id=command_id,
+            plan=plan,
+        )
+        return result
+
+    async def read(self, command: Command, work: Work) -> Any:
+        """A read: no lease, no audit (it changes nothing)."""
+        self._life.check_open()
+        job = Job(command, Priority.USER, work, moves=False)
+        return await asyncio.wrap_future(self.require_worker().submit(job))
+
+    def servo_first(self, actor: Actor, command: Command, policy: ServoPolicy, work: Work) -> Work:
+        """Before a move: the servo rule of `melfa.service.servo` (audited when it acts)."""
+
+        def first(robot: Robot) -> Any:
+            if ensure_servo(robot, policy, command.value):
+                self._post(ServoTurnedOn(actor, command))
+            return work(robot)
+
+        return first
+
+    # ------------------------------------------------------------------ the record
+
+    def audit(
+        self,
+        actor: Actor,
+        command_id: int,
+        command: Command,
+        detail: str,
+        result: str,
+        moves: bool | None = None,
+    ) -> None:
+        entry = AuditEvent(
+            actor=actor,
+            command_id=command_id,
+            command=command,
+            detail=detail,
+            result=result,
+            moves=command.moves if moves is None else moves,
+        )
+        with contextlib.suppress(Exception):
+            self.audit_sink.write(entry)
+        self._bus.publish(entry)
+
+    def finish(
+        self,
+        actor: Actor,
+        command_id: int,
+        command: Command,
+        detail: str,
+        error: BaseException | None,
+    ) -> None:
+        """Outcome: audit entry and result event, only now that the reply is in."""
+        if error is None:
+            self.audit(actor, command_id, command, detail, "ok")
+            self._bus.publish(
+                CommandResult(actor=actor, command_id=command_id, command=command, ok=True)
+            )
+            return
+        text = describe_error(error)
+        self.audit(actor, command_id, command, detail, f"failed: {text}")
+        self._bus.publish(
+            CommandResult(
+                actor=actor,
+                command_id=command_id,
+                command=command,
+                ok=False,
+                error=text,
+                error_number=getattr(error, "number", None),
+            )
+        )
+
+
+__all__ = ["Dispatcher", "Work", "describe_error"]
