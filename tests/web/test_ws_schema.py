@@ -136,7 +136,7 @@ def test_every_message_of_a_session_validates_against_the_committed_schema(live:
     ann.send({"type": "ping", "id": 1})
     ann.until("pong", id=1)
     assert ann.rest("POST", "/api/robot/servo", {"on": True}).status_code == 200
-    ann.until("lease")
+    ann.until("lease", command="servo")  # a command took the free lease: which one, as a code
     ann.until("result", command="servo", ok=True)
     # A held key: start, heartbeat, release; then a jog the heartbeat lets lapse.
     ann.send({"type": "jog_start", "frame": "xyz", "axis": "Z", "direction": "+", "id": 2})
@@ -147,7 +147,7 @@ def test_every_message_of_a_session_validates_against_the_committed_schema(live:
     ann.until("jog", active=False)
     ann.send({"type": "jog_start", "frame": "joint", "axis": 0, "direction": -1, "id": 4})
     ann.until("ack", id=4)
-    ann.until("jog", active=False)  # no heartbeat: the dead-man ends it
+    ann.until("jog", active=False, end="heartbeat-lost")  # no heartbeat: the dead-man ends it
     ann.send({"type": "jog_heartbeat", "id": 5})
     ann.until("ack", id=5, op="jog_heartbeat")
     ann.send({"type": "hand_toggle", "hand": 1, "id": 6})

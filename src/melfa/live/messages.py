@@ -158,7 +158,7 @@ class LinkMessage(_Event):
 class ProgressMessage(_Event):
     type: Literal["progress"] = "progress"
     command_id: int
-    command: str
+    command: Command
     label: str
     """The command in the student's words."""
     sent: int
@@ -168,7 +168,7 @@ class ProgressMessage(_Event):
 class CommandResultMessage(_Event):
     type: Literal["result"] = "result"
     command_id: int
-    command: str
+    command: Command
     label: str
     ok: bool
     error: str = ""
