@@ -14,7 +14,6 @@ from melfa.lang.plan import UploadPlan
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT, span_text
 from melfa.robot import JogMethod, Robot, UploadReport
-from melfa.service.activity import Motion, MotionKind
 from melfa.service.config import ServiceConfig
 from melfa.service.dispatch import Dispatcher, Work
 from melfa.service.errors import InvalidArgument
@@ -23,6 +22,7 @@ from melfa.service.jogging import JogSession
 from melfa.service.servo import ServoPolicy
 from melfa.service.snapshots import Snapshots
 from melfa.service.statements import move_statements
+from melfa.vocab.activity import Motion, MotionKind
 from melfa.vocab.commands import Command
 
 

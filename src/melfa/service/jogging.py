@@ -19,7 +19,6 @@ from typing import Any
 
 from melfa.protocol.error_table import BUSY
 from melfa.robot import ControllerError, JogMethod, Robot
-from melfa.service.activity import Motion, MotionKind
 from melfa.service.bus import EventBus
 from melfa.service.clock import Clock
 from melfa.service.config import ServiceConfig
@@ -33,6 +32,7 @@ from melfa.service.posts import JogRefused, Post
 from melfa.service.servo import ServoPolicy
 from melfa.service.snapshots import Snapshots
 from melfa.service.worker import Job, Priority
+from melfa.vocab.activity import Motion, MotionKind
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 

@@ -8,10 +8,10 @@ import dataclasses
 import itertools
 from collections.abc import Callable
 
-from melfa.service.activity import Activity, Facts, Motion, activity_of
 from melfa.service.bus import EventBus
 from melfa.service.events import LinkStatus, StateSnapshot
 from melfa.service.lease import Lease
+from melfa.vocab.activity import Activity, Facts, Motion, activity_of
 
 Change = Callable[[StateSnapshot], StateSnapshot]
 
