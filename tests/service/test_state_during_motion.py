@@ -69,7 +69,7 @@ def _step_time(stop_first: bool) -> tuple[float, bool | None]:
     returned: list[int] = []
 
     async def main() -> bool | None:
-        service, _ = make_service(controller, poll_floor_s=0.005)
+        service, _ = make_service(controller, poll_floor_s=0.02)
         async with service:
             assert await until(lambda: service.state.joints is not None)
             await service.exec(ANN, "SERVO ON")
