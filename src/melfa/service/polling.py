@@ -108,7 +108,16 @@ class HandsRead:
         return dataclasses.replace(s, hands=self.hands)
 
 
-PollResult = JointsRead | PoseRead | StateRead | HandsRead
+@dataclass(frozen=True)
+class PositionUnknownRead:
+    """A position read showing ``****``: the controller does not know where the arm is
+    (origin or encoder data lost) [TRACE K9b-C4]. The state says so: no joints, no pose."""
+
+    def apply(self, s: StateSnapshot) -> StateSnapshot:
+        return dataclasses.replace(s, joints=None, pose=None, moving=None)
+
+
+PollResult = JointsRead | PoseRead | StateRead | HandsRead | PositionUnknownRead
 
 
 class Poller:

@@ -473,7 +473,14 @@ class RobotService(RobotCommands):
                 if status is not LinkStatus.CONNECTED and self._jog.active:
                     self._jog.end(JogEnd.LINK_DOWN, SERVICE_ACTOR, detail=status.value)
                 self._bus.publish(LinkStatusChanged(status=status, detail=detail))
-                self._update(lambda s: dataclasses.replace(s, link=status))
+                if status is LinkStatus.CONNECTED:
+                    self._update(lambda s: dataclasses.replace(s, link=status))
+                else:  # nothing is known while the link is down: no stale "running, moving"
+                    self._update(
+                        lambda s: dataclasses.replace(
+                            s, link=status, running=None, moving=None, program_running=None
+                        )
+                    )
             case Publish(event):
                 self._bus.publish(event)
             case ServoTurnedOn(actor, command):

@@ -15,22 +15,25 @@ import contextlib
 import enum
 import heapq
 import itertools
+import logging
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 from melfa.link import LinkError
-from melfa.protocol import RemoteProtocolError
+from melfa.protocol import PositionUnknown, RemoteProtocolError
 from melfa.protocol.answers import RunStatus
 from melfa.robot import ControllerError, Robot, RobotError
 from melfa.service.clock import Clock
 from melfa.service.config import ServiceConfig
 from melfa.service.errors import LinkDown, ServiceClosed
 from melfa.service.events import LinkStatus
-from melfa.service.polling import PollCommand, Poller
+from melfa.service.polling import PollCommand, Poller, PollResult, PositionUnknownRead
 from melfa.service.posts import BusyChanged, LinkChanged, Polled, Post
 from melfa.vocab.commands import Command
+
+log = logging.getLogger(__name__)
 
 IDLE_CHECK_S = 0.2
 """Without polling, how often a job waiting for the arm to stop reads the status (≥ 100 ms
@@ -179,7 +182,11 @@ class Worker:
                 if job is None:
                     if self._closing.is_set():
                         break
-                    self._poll()
+                    try:
+                        self._poll()
+                    except Exception as exc:  # nothing a reply does may end the worker
+                        log.exception("robot worker: unexpected failure, reconnecting")
+                        self._reconnect(f"unexpected failure: {exc}")
                 else:
                     self._run(job)
         finally:
@@ -355,6 +362,7 @@ class Worker:
         if command is None:
             command = self._poller.take()
         started = self._clock.now()
+        result: PollResult | None
         try:
             result = self._poller.read(robot, command)
         except LinkError as exc:
@@ -363,8 +371,21 @@ class Worker:
                 raise  # inside a job: the job fails and `_run` reconnects once
             self._reconnect(str(exc))
             return
+        except PositionUnknown:
+            result = PositionUnknownRead()  # ``****``: the origin is lost
         except (ControllerError, RemoteProtocolError, RobotError):
             result = None
+        except Exception as exc:
+            # A reply no parser expected: logged as it came, the line resynchronised.
+            log.warning(
+                "robot worker: the reply to %s was not understood (%s): %r",
+                command,
+                exc,
+                robot.channel.last_reply,
+            )
+            result = None
+            with contextlib.suppress(Exception):
+                robot.channel.resync()
         finally:
             self.measure(command, self._clock.now() - started)
         self._last_poll_end = self._clock.now()
