@@ -26,10 +26,6 @@ from melfa.protocol import error_table, span_text
 SRC = Path(__file__).resolve().parents[2] / "src" / "melfa"
 STATIC = SRC / "web" / "static"
 
-PENDING = {"service/service.py", "service/jog.py", "service/commands.py"}
-"""Still holding copies while the service is being split into modules (issue 21, part 3);
-they read protocol's facts once the split has landed, and this set is emptied."""
-
 
 def _python() -> Iterator[Path]:
     yield from sorted(SRC.rglob("*.py"))
@@ -69,7 +65,7 @@ def _lines(path: Path) -> list[str]:
 def _matches(paths: Iterator[Path], patterns: list[str], home: set[str]) -> list[str]:
     found = []
     for path in paths:
-        if str(path.relative_to(SRC)) in home | PENDING:
+        if str(path.relative_to(SRC)) in home:
             continue
         for number, text in enumerate(_lines(path), 1):
             if any(re.search(p, text) for p in patterns):
@@ -176,7 +172,7 @@ def test_axis_names_have_one_home() -> None:
     found = [
         _where(path, line)
         for path in _python()
-        if str(path.relative_to(SRC)) not in {"protocol/answers.py"} | PENDING
+        if path != SRC / "protocol" / "answers.py"
         for line in _name_runs(path)
     ]
     found += _matches(

@@ -98,7 +98,7 @@ class RobotCommands:
             raise InvalidArgument(f"hand {number} is outside {span_text(HANDS)}", "number")
         detail = f"{'open' if open_ else 'close'} {number}"
         await self._dispatch.command(actor, Command.HAND, detail, lambda r: r.hand(open_, number))
-        hands = list(self._snapshots.latest.hands or (None,) * 8)
+        hands = list(self._snapshots.latest.hands or (None,) * len(HANDS))
         hands[number - 1] = open_
         self._snapshots.update(lambda s: dataclasses.replace(s, hands=tuple(hands)))
 

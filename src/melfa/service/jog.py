@@ -12,13 +12,11 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass
 
-from melfa.protocol import JogMode
+from melfa.protocol import JOINT_NAMES, POSE_NAMES, JogMode
 from melfa.service.errors import InvalidArgument
 from melfa.service.events import Actor, JogFrame
 
 _MODES = {JogFrame.TOOL: JogMode.TOOL, JogFrame.XYZ: JogMode.XYZ, JogFrame.JOINT: JogMode.JOINT}
-_CARTESIAN = ("X", "Y", "Z", "A", "B", "C")
-_JOINTS = ("J1", "J2", "J3", "J4", "J5", "J6")
 
 
 @dataclass(frozen=True)
@@ -44,7 +42,7 @@ class JogRequest:
         except ValueError:
             names = ", ".join(f.value for f in JogFrame)
             raise InvalidArgument(f"jog frame {frame!r} is not one of {names}", "frame") from None
-        axes = _JOINTS if frame is JogFrame.JOINT else _CARTESIAN
+        axes = JOINT_NAMES if frame is JogFrame.JOINT else POSE_NAMES
         if isinstance(axis, str):
             key = axis.strip().upper()
             if key not in axes:
@@ -52,8 +50,8 @@ class JogRequest:
             index = axes.index(key)
         else:
             index = int(axis)
-            if not 0 <= index <= 5:
-                raise InvalidArgument(f"jog axis {axis} is outside 0–5", "axis")
+            if index not in range(len(axes)):
+                raise InvalidArgument(f"jog axis {axis} is outside 0–{len(axes) - 1}", "axis")
         if isinstance(direction, str):
             sign = {"+": 1, "-": -1, "+1": 1, "-1": -1}.get(direction.strip())
             if sign is None:
@@ -70,7 +68,7 @@ class JogRequest:
 
     @property
     def axis_name(self) -> str:
-        return (_JOINTS if self.frame is JogFrame.JOINT else _CARTESIAN)[self.axis]
+        return (JOINT_NAMES if self.frame is JogFrame.JOINT else POSE_NAMES)[self.axis]
 
     @property
     def label(self) -> str:
