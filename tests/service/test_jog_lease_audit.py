@@ -20,6 +20,7 @@ from melfa.service import (
 from melfa.service.service import describe_error
 from melfa.sim import SimConfig
 from melfa.sim.machine import SimArm
+from melfa.vocab.jog import JogEnd
 from tests.plans import program_plan
 from tests.service.helpers import (
     ANN,
@@ -73,8 +74,8 @@ def test_jog_stops_within_the_watchdog_when_heartbeats_stop() -> None:
             kinds = []
             while (event := events.get_nowait()) is not None:
                 assert isinstance(event, JogChanged)
-                kinds.append((event.active, event.reason))
-            assert kinds == [(True, ""), (False, "heartbeat lost")]
+                kinds.append((event.active, event.end))
+            assert kinds == [(True, None), (False, JogEnd.HEARTBEAT_LOST)]
 
     run(main())
 

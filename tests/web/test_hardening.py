@@ -125,7 +125,7 @@ def test_a_release_sent_right_behind_its_jog_start_stops_the_arm(live: Live) -> 
             elif message["type"] == "jog" and not message["active"]:
                 ended = message
         assert acks == [1, 2]
-        assert ended["reason"] == "released"
+        assert ended["end"] == "released"
         ws.send(json.dumps({"type": "ping", "id": 3}))
         until_type(ws, "pong", id=3)  # after the late heartbeat was handled
         settled = _settled(ws)

@@ -77,7 +77,7 @@ def test_jog_stops_and_lease_ends_when_the_socket_closes(web: Web) -> None:
             ws.send_json({"type": "jog_heartbeat"})
             until(viewer, "jog", active=True)
         ended = until(viewer, "jog", active=False)
-        assert ended["reason"] == "client disconnected"
+        assert ended["end"] == "client-disconnected"
         lease = until(viewer, "lease", holder=None)
         assert lease["reason"].endswith("holder disconnected")  # after the arm stopped
     assert web.service.state.jogging is False
@@ -109,7 +109,7 @@ def test_jog_release_and_hand_toggle_and_stop(web: Web) -> None:
             message = ws.receive_json()
             if message["type"] == "ack" or (message["type"] == "jog" and not message["active"]):
                 seen.append(message)
-        assert next(m for m in seen if m["type"] == "jog")["reason"] == "released"
+        assert next(m for m in seen if m["type"] == "jog")["end"] == "released"
         # The first toggle's result depends on whether a hand poll came first (unknown is
         # taken as open); the second always undoes the first.
         ws.send_json({"type": "hand_toggle", "hand": 1, "id": 3})

@@ -188,9 +188,6 @@ class JogChanged(Event):
     end: JogEnd | None = None
     by: str | None = None
     detail: str = ""
-    reason: str = ""
-    """The same as a sentence (``stopped by ann``), for clients that do not read ``end``
-    yet; it goes once none does."""
 
 
 @dataclass(frozen=True, kw_only=True)

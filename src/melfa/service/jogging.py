@@ -37,25 +37,6 @@ from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 
 
-def legacy_reason(end: JogEnd, by: str | None, detail: str) -> str:
-    """The sentence `JogChanged.reason` carried before `JogEnd` (clients still reading it)."""
-    match end:
-        case JogEnd.RELEASED | JogEnd.HEARTBEAT_LOST | JogEnd.CLIENT_DISCONNECTED:
-            return end.value.replace("-", " ")
-        case JogEnd.LEASE_RELEASED | JogEnd.LEASE_LOST | JogEnd.SERVICE_CLOSING:
-            return end.value.replace("-", " ")
-        case JogEnd.LEASE_ENDED:
-            return f"lease ended: {detail}"
-        case JogEnd.TAKEN_OVER:
-            return f"taken over by {by}"
-        case JogEnd.STOPPED:
-            return f"stopped by {by}"
-        case JogEnd.LINK_DOWN:
-            return f"link {detail}"
-        case JogEnd.REFUSED:
-            return f"jog refused: {detail}"
-
-
 class JogSession:
     """Who jogs, the override they jog at, and how their jog ends."""
 
@@ -187,7 +168,6 @@ class JogSession:
         if request is None:
             return
         self._override_target = None
-        reason = legacy_reason(why, by, detail)
         self._dispatch.audit(
             owner or actor or SERVICE_ACTOR,
             self.keeper.command_id,
@@ -197,10 +177,12 @@ class JogSession:
         )
         worker = self._dispatch.worker
         if worker is not None:
-            worker.cancel_queued(lambda job: job.command is Command.JOG, Cancelled(reason))
+            worker.cancel_queued(
+                lambda job: job.command is Command.JOG, Cancelled(f"the jog ended: {why.words(by)}")
+            )
             if send_stop and self._life.running:
                 worker.submit(Job(Command.JOG_STOP, Priority.JOG, self._jog_stop))
-        self._changed(actor, request, active=False, reason=reason, end=why, by=by, detail=detail)
+        self._changed(actor, request, active=False, end=why, by=by, detail=detail)
 
     def _changed(
         self,
@@ -208,7 +190,6 @@ class JogSession:
         request: JogRequest,
         *,
         active: bool,
-        reason: str = "",
         end: JogEnd | None = None,
         by: str | None = None,
         detail: str = "",
@@ -224,7 +205,6 @@ class JogSession:
                 end=end,
                 by=by,
                 detail=detail,
-                reason=reason,
             )
         )
         self._snapshots.update()
@@ -363,4 +343,4 @@ class JogSession:
             self._post(JogRefused(exc))
 
 
-__all__ = ["JogSession", "legacy_reason"]
+__all__ = ["JogSession"]
