@@ -200,7 +200,6 @@ class JogMessage(_Event):
     end: JogEnd | None = None
     by: str | None = None
     detail: str = ""
-    reason: str = ""
 
 
 class _Ack(_Sent):
