@@ -18,6 +18,7 @@ import typer
 from rich.console import Console as RichConsole
 
 from melfa.cli.checking import FileKind, UsageError, read_text_file
+from melfa.cli.start_options import FeedOption, JointsOption, ServoOnOption
 from melfa.cli.typer_app import app
 from melfa.sim.debug.cell import Cell, CellError
 from melfa.sim.debug.console import Console
@@ -82,21 +83,9 @@ def debug(
         float,
         typer.Option("--max-time", metavar="S", help="Stop a run after S simulated seconds."),
     ] = DEFAULT_MAX_TIME_S,
-    servo_on: Annotated[
-        bool, typer.Option("--servo-on", help="Start with the servo on (as a program left it).")
-    ] = False,
-    joints: Annotated[
-        str | None,
-        typer.Option(
-            "--joints", metavar="J1,…,J6", help="Start the arm at these joints (degrees)."
-        ),
-    ] = None,
-    feed: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--feed", metavar="N=TEXT", help="A line for the program's INPUT #N; repeatable."
-        ),
-    ] = None,
+    servo_on: ServoOnOption = False,
+    joints: JointsOption = None,
+    feed: FeedOption = None,
 ) -> None:
     """Debug a program on a simulated RV-6S: break, step, next, finish, print, info vars…"""
     settings: list[tuple[int, int]] = []

@@ -20,6 +20,7 @@ from rich.console import Console
 
 from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.checking import FileKind, UsageError, read_text_file
+from melfa.cli.start_options import FeedOption, JointsOption, ServoOnOption
 from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
@@ -277,21 +278,9 @@ def sim(
         float,
         typer.Option("--max-time", metavar="S", help="With --run: stop after S simulated seconds."),
     ] = DEFAULT_MAX_TIME_S,
-    servo_on: Annotated[
-        bool, typer.Option("--servo-on", help="Start with the servo on (as a program left it).")
-    ] = False,
-    joints: Annotated[
-        str | None,
-        typer.Option(
-            "--joints", metavar="J1,…,J6", help="Start the arm at these joints (degrees)."
-        ),
-    ] = None,
-    feed: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--feed", metavar="N=TEXT", help="A line for the program's INPUT #N; repeatable."
-        ),
-    ] = None,
+    servo_on: ServoOnOption = False,
+    joints: JointsOption = None,
+    feed: FeedOption = None,
 ) -> None:
     """Run the virtual CR2B-574 controller until Ctrl-C, or trace one program (--run)."""
     if pty and tcp is not None:
