@@ -11,6 +11,7 @@ from melfa.service import Actor, LeaseChanged, LeaseRequired, MemoryAuditSink, R
 from melfa.service.config import WhenHolderLeaves
 from melfa.service.lease import HolderState, Lease
 from melfa.vocab.commands import Command
+from melfa.vocab.lease import LeaseReason
 from tests.service.helpers import (
     ANN,
     BOB,
@@ -52,7 +53,7 @@ def test_pure_lease_shared_by_a_users_sessions_and_idle_expiry() -> None:
     assert lease.expire() is None
     clock.now = 561
     change = lease.expire()
-    assert change is not None and change.reason == "idle timeout" and lease.holder is None
+    assert change is not None and change.reason is LeaseReason.IDLE_TIMEOUT and lease.holder is None
 
 
 def test_pure_lease_connections_orphan_and_reconnect() -> None:
@@ -68,7 +69,7 @@ def test_pure_lease_connections_orphan_and_reconnect() -> None:
     with pytest.raises(LeaseRequired, match="ann holds"):
         lease.check(BOB)
     back = lease.connected(ANN_TAB2)  # she comes back before the move ends
-    assert back is not None and back.reason == "holder reconnected"
+    assert back is not None and back.reason is LeaseReason.HOLDER_RECONNECTED
     assert lease.info().state is HolderState.CONNECTED
     lease.disconnected(ANN_TAB2, moving=True)
     ended = lease.motion(False)
@@ -117,11 +118,14 @@ def test_a_failed_command_gives_back_the_lease_it_took() -> None:
             while (event := events.get_nowait()) is not None:
                 assert isinstance(event, LeaseChanged)
                 reasons.append((event.reason, event.command))
-            # The student's words for the command, never its method name.
             assert reasons == [
-                ("taken by Instruction", Command.EXEC),
-                ("bob's command failed", None),
+                (LeaseReason.TAKEN_BY_COMMAND, Command.EXEC),
+                (LeaseReason.COMMAND_FAILED, None),
             ]
+            # The student's words for the command, never its method name.
+            assert reasons[0][0].words("bob", Command.EXEC.label) == (
+                "bob took control by using Instruction"
+            )
 
     run(main())
 
@@ -157,7 +161,7 @@ def test_motion_keeps_its_owner_until_it_ends() -> None:
                 assert isinstance(event, LeaseChanged)
                 if event.holder is None:
                     break
-            assert event.reason == "motion ended; holder disconnected"
+            assert event.reason is LeaseReason.MOTION_ENDED
             assert not controller.moving
             joints = await service.read_joints(BOB)
             assert joints == pytest.approx(FAR, abs=0.05)  # it finished the move

@@ -22,6 +22,7 @@ from melfa.protocol.limits import HANDS
 from melfa.vocab.activity import Activity
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
+from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LinkStatus
 
 PROTOCOL_VERSION = 1
@@ -181,7 +182,8 @@ class LeaseMessage(_Event):
     type: Literal["lease"] = "lease"
     holder: ActorOut | None
     previous: ActorOut | None
-    reason: str
+    reason: LeaseReason
+    """Why (a client shows `LeaseReason.words`)."""
     since: datetime | None = None
     holder_state: str | None = None
     command: Command | None = None

@@ -30,6 +30,7 @@ from melfa.service.posts import Post, Publish, ServoTurnedOn
 from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
 from melfa.vocab.commands import Command
+from melfa.vocab.lease import LeaseReason
 
 Work = Callable[[Robot], Any]
 
@@ -115,7 +116,7 @@ class Dispatcher:
             raise
         if change is not None and change.holder is not None:
             change = dataclasses.replace(
-                change, reason=f"taken by {command.label}", command=command
+                change, reason=LeaseReason.TAKEN_BY_COMMAND, command=command
             )
         self._lease_changed(change)
         return change is not None and change.holder is not None and self._lease.holds(actor)
@@ -124,7 +125,7 @@ class Dispatcher:
         """A command that took a free lease failed: the lease goes back (never silently
         kept by a failure), unless the arm is jogging for them."""
         if taken and self._lease.holds(actor) and not self._jogging():
-            self._lease_changed(self._lease.release(actor, f"{actor.user}'s command failed"))
+            self._lease_changed(self._lease.release(actor, LeaseReason.COMMAND_FAILED))
 
     async def command(
         self,

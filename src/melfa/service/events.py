@@ -16,6 +16,7 @@ from typing import Any, ClassVar
 from melfa.vocab.activity import Activity
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
+from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LinkStatus
 
 
@@ -166,12 +167,12 @@ class LeaseChanged(Event):
     NAME: ClassVar[str] = "lease"
     holder: Actor | None
     previous: Actor | None
-    reason: str
+    reason: LeaseReason
     since: dt.datetime | None = None
     holder_state: str | None = None
     """As `StateSnapshot.lease_state`."""
     command: Command | None = None
-    """The command that took a free lease (``reason``: ``taken by Move to``)."""
+    """The command that took a free lease (``reason``: `LeaseReason.TAKEN_BY_COMMAND`)."""
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 from melfa.service.errors import LeaseRequired, NotAllowed
 from melfa.service.events import Actor, Role, utc_now
 from melfa.vocab.commands import Command
+from melfa.vocab.lease import LeaseReason
 from melfa.vocab.refusals import Refusal
 
 
@@ -51,9 +52,9 @@ class LeaseChange:
     holder: Actor | None
     previous: Actor | None
     actor: Actor | None
-    reason: str
+    reason: LeaseReason
     command: Command | None = None
-    """The command that took a free lease (``reason`` names it in the student's words)."""
+    """The command that took a free lease (with `LeaseReason.TAKEN_BY_COMMAND`)."""
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,7 @@ class Lease:
     >>> lease = Lease()
     >>> ann = Actor("ann", Role.STUDENT, "s1")
     >>> lease.acquire(ann).reason
-    'acquired'
+    <LeaseReason.ACQUIRED: 'acquired'>
     >>> lease.holds(Actor("ann", Role.STUDENT, "s2"))  # her other tab
     True
     >>> try:
@@ -176,7 +177,7 @@ class Lease:
             return None
         if self.holder is not None:
             raise LeaseRequired(self.holder)
-        return self._set(actor, actor, "acquired")
+        return self._set(actor, actor, LeaseReason.ACQUIRED)
 
     def take_over(self, actor: Actor) -> LeaseChange | None:
         """An instructor takes the lease from whoever holds it."""
@@ -186,9 +187,11 @@ class Lease:
             )
         if self.holds(actor):
             return None
-        return self._set(actor, actor, "taken over")
+        return self._set(actor, actor, LeaseReason.TAKEN_OVER)
 
-    def release(self, actor: Actor, reason: str = "released") -> LeaseChange | None:
+    def release(
+        self, actor: Actor, reason: LeaseReason = LeaseReason.RELEASED
+    ) -> LeaseChange | None:
         """The holder gives the lease back (None if ``actor``'s user does not hold it)."""
         if not self.holds(actor):
             return None
@@ -203,7 +206,7 @@ class Lease:
         if self.holds(actor) and self._orphaned:
             self._orphaned = False
             self._last_used = self._clock()
-            return LeaseChange(self.holder, self.holder, actor, "holder reconnected")
+            return LeaseChange(self.holder, self.holder, actor, LeaseReason.HOLDER_RECONNECTED)
         return None
 
     def disconnected(self, actor: Actor, *, moving: bool) -> tuple[bool, LeaseChange | None]:
@@ -219,8 +222,10 @@ class Lease:
             return True, None
         if moving:
             self._orphaned = True
-            return True, LeaseChange(self.holder, self.holder, actor, "holder disconnected")
-        return True, self._set(None, actor, "holder disconnected")
+            return True, LeaseChange(
+                self.holder, self.holder, actor, LeaseReason.HOLDER_LEFT_MOVING
+            )
+        return True, self._set(None, actor, LeaseReason.HOLDER_DISCONNECTED)
 
     def motion(self, moving: bool) -> LeaseChange | None:
         """The arm started or stopped moving. Motion counts as the holder's activity; when
@@ -232,7 +237,7 @@ class Lease:
         if was and not moving:
             self._last_used = self._clock()
         if not moving and self._orphaned:
-            return self._set(None, None, "motion ended; holder disconnected")
+            return self._set(None, None, LeaseReason.MOTION_ENDED)
         return None
 
     # ------------------------------------------------------------------ ending
@@ -246,15 +251,15 @@ class Lease:
             and not self._orphaned
             and self._clock() - self._last_used > self.idle_timeout
         ):
-            return self._set(None, None, "idle timeout")
+            return self._set(None, None, LeaseReason.IDLE_TIMEOUT)
         return None
 
-    def clear(self, reason: str) -> LeaseChange | None:
+    def clear(self, reason: LeaseReason) -> LeaseChange | None:
         if self.holder is None:
             return None
         return self._set(None, None, reason)
 
-    def _set(self, holder: Actor | None, actor: Actor | None, reason: str) -> LeaseChange:
+    def _set(self, holder: Actor | None, actor: Actor | None, reason: LeaseReason) -> LeaseChange:
         previous = self.holder
         self.holder = holder
         self._orphaned = False

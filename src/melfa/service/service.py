@@ -68,6 +68,7 @@ from melfa.service.snapshots import Change, Snapshots
 from melfa.service.worker import Worker
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
+from melfa.vocab.lease import LeaseReason
 
 LAST_CONNECTION = "last connection closed"
 """The audit detail of the stop sent when an owner's last connection closes."""
@@ -218,7 +219,7 @@ class RobotService(RobotCommands):
                 await self._housekeeping
         self._jog.end(JogEnd.SERVICE_CLOSING, SERVICE_ACTOR)
         worker.shutdown(ServiceClosed("the robot service closed before this command was sent"))
-        self._lease_changed(self._lease.clear("service closed"))
+        self._lease_changed(self._lease.clear(LeaseReason.SERVICE_CLOSED))
         loop = asyncio.get_running_loop()
         await loop.run_in_executor(None, worker.join, self.config.close_timeout_s)
         self._stop_pool.shutdown(wait=False)
@@ -422,7 +423,9 @@ class RobotService(RobotCommands):
         if change is None:
             return
         if self._jog.active and change.holder is None:
-            self._jog.end(JogEnd.LEASE_ENDED, change.actor, detail=change.reason, send_stop=True)
+            self._jog.end(
+                JogEnd.LEASE_ENDED, change.actor, detail=change.reason.words(), send_stop=True
+            )
         info = self._lease.info()
         self._bus.publish(
             LeaseChanged(

@@ -14,6 +14,7 @@ from fastapi.responses import Response
 from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
+from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
 
 router = APIRouter(include_in_schema=False)
@@ -37,6 +38,7 @@ def vocabulary() -> dict[str, Any]:
         "LINK_WORDS": {status.value: words for status, words in LINK_WORDS.items()},
         "COMMANDS": {c.value: {"label": c.label, "moves": c.moves} for c in Command},
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
+        "LEASE_REASONS": {r.value: {"words": r.template} for r in LeaseReason},
     }
 
 
