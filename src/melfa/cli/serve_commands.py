@@ -16,6 +16,7 @@ import errno
 import ipaddress
 import os
 import socket
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -231,9 +232,9 @@ def serve(
     web_socket, *bridge_sockets = sockets
     robot_text = "virtual controller (in process)" if parsed.is_sim else spec
     shown = f"[{host}]" if ":" in host else host
-    _out.print(
+    said = [
         f"melfa serving on http://{shown}:{_port_of(web_socket)}/  (robot: {escape(robot_text)})"
-    )
+    ]
     served: list[tuple[uvicorn.Server, list[socket.socket]]] = [
         (uvicorn.Server(config), [web_socket])
     ]
@@ -260,9 +261,14 @@ def serve(
         )
         served.append((bridge_server, bridge_sockets))
         bridge_port = _port_of(bridge_sockets[0])
-        _out.print(f"rosbridge on ws://{shown}:{bridge_port}/  (mode {rosbridge_mode})")
+        said.append(f"rosbridge on ws://{shown}:{bridge_port}/  (mode {rosbridge_mode})")
+
+    def announce() -> None:
+        for line in said:
+            _out.print(line)
+
     try:
-        asyncio.run(_serve_all(served))
+        asyncio.run(_serve_all(served, announce))
     except KeyboardInterrupt:
         # uvicorn re-raises Ctrl+C after its clean shutdown: said, then exit 130 (melfa.cli).
         _out.print("melfa stopped")
@@ -294,16 +300,31 @@ def _port_of(sock: socket.socket) -> int:
     return int(sock.getsockname()[1])
 
 
-async def _serve_all(served: list[tuple[uvicorn.Server, list[socket.socket]]]) -> None:
+async def _serve_all(
+    served: list[tuple[uvicorn.Server, list[socket.socket]]], announce: Callable[[], object]
+) -> None:
     """Run the web server and the optional rosbridge server on one loop, each on its own
-    sockets; the first one handles Ctrl+C, and when it ends the others end too."""
+    sockets; the first one handles Ctrl+C, and when it ends the others end too.
+
+    ``announce`` ("serving on …") is called once the first has started, when uvicorn's
+    Ctrl+C handling is in place: a stop right after the line (a lab's service manager, a
+    script) is then a clean stop, never a traceback from a loop that had not begun."""
     (first, first_sockets), *others = served
     for other, _ in others:
         other.capture_signals = contextlib.nullcontext  # type: ignore[method-assign,assignment]
     tasks = [asyncio.create_task(other.serve(sockets=socks)) for other, socks in others]
+    herald = asyncio.create_task(_when_started(first, announce))
     try:
         await first.serve(sockets=first_sockets)
     finally:
+        herald.cancel()
         for other, _ in others:
             other.should_exit = True
-        await asyncio.gather(*tasks, return_exceptions=True)
+        await asyncio.gather(herald, *tasks, return_exceptions=True)
+
+
+async def _when_started(server: uvicorn.Server, announce: Callable[[], object]) -> None:
+    """Call ``announce`` once ``server`` has started (uvicorn says so by a flag only)."""
+    while not server.started:
+        await asyncio.sleep(0.01)
+    announce()
