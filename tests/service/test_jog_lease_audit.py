@@ -255,7 +255,9 @@ def test_close_fails_queued_commands_and_is_safe_twice() -> None:
     controller = RecordingController()
 
     async def main() -> None:
-        service, links = make_service(controller, polling=False)
+        # A paced line: the upload stays on the wire in the test's time, so the worker cannot
+        # finish it and take the queued run before close() (on a bare link it sometimes did).
+        service, links = make_service(controller, polling=False, pace=True)
         await service.start()
         await service.servo(ANN, True)
         progress = service.subscribe(UploadProgress)
