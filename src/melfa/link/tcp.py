@@ -50,7 +50,14 @@ class TcpLink(Link):
         try:
             self.sock.sendall(data)
         except OSError as exc:
-            raise LinkClosed(f"{self.description}: connection lost ({exc})") from None
+            raise self._lost(exc) from None
+
+    def _lost(self, exc: OSError | ValueError) -> LinkError:
+        """A failed socket call: a reset or broken pipe before a single reply is the port
+        refusing a second client (the close raced our request), like a close at once."""
+        if not self._received and isinstance(exc, (ConnectionResetError, BrokenPipeError)):
+            return LinkBusy(f"{self.description} closed the connection at once: {BUSY_HINT}")
+        return LinkClosed(f"{self.description}: connection lost ({exc})")
 
     def _read(self, timeout: float) -> bytes:
         try:
@@ -61,7 +68,7 @@ class TcpLink(Link):
                 return b""
             data = self.sock.recv(4096)
         except (OSError, ValueError) as exc:
-            raise LinkClosed(f"{self.description}: connection lost ({exc})") from None
+            raise self._lost(exc) from None
         if not data:
             if not self._received:
                 # Closed before a single reply: the port serves one client at a time.
