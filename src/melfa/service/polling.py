@@ -206,6 +206,12 @@ class Poller:
         flags = None
         if position.fl1 is not None and position.fl2 is not None:
             flags = (position.fl1, position.fl2)
+        if not position.speed:
+            # Measured at rest with the joints last read: while they still read the same,
+            # this pose stands (the first PPOSF after a move often comes before a JPOSF
+            # has seen the arm still; without this the next JPOSF replaced it with the
+            # pose computed from 2-decimal joints, ~0.07 mm away, on a still arm).
+            self._measured_joints = self._joints
         # Learn the offset only from joints read at rest: joints read mid-move and a pose
         # read after the stop would teach a wrong offset.
         if not position.speed and self._joints is not None and self._joints_still:
@@ -213,7 +219,6 @@ class Poller:
                 x, y, z, a, b, c = values
                 measured = Pose(x, y, z, a, b, c, position.fl1 or 7, position.fl2 or 0)
                 self.tool_offset = pose_mul(pose_inv(fk(self._joints)), measured)
-                self._measured_joints = self._joints
         return PoseRead(values, flags)
 
     def _state_read(self, robot: Robot, state: State) -> StateRead:
