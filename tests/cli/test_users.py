@@ -130,6 +130,8 @@ def test_remove_asks_unless_yes(data: Path) -> None:
     code, _, err = users(data, "remove", "ada", input="n\n")
     assert code == 1
     assert "nothing removed" in err
+    code, _, err = users(data, "remove", "ada", input="")  # Ctrl+D at the question
+    assert (code, "nothing removed" in err) == (1, True), err
     code, _, _ = users(data, "remove", "ada", input="y\n")
     assert code == 0
     code, _, _ = users(data, "remove", "bob", "--yes")

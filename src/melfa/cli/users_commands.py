@@ -19,7 +19,6 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
-import click
 import typer
 from rich.console import Console
 from rich.markup import escape
@@ -110,7 +109,7 @@ def _password(from_stdin: bool, generate: bool) -> tuple[str, bool]:
         return generate_password(), True
     try:
         typed: str = typer.prompt("Password", hide_input=True, confirmation_prompt=True)
-    except click.exceptions.Abort:
+    except typer.Abort:
         raise _fail("no password given", EXIT_USAGE) from None
     return typed, False
 
@@ -180,7 +179,7 @@ def remove(
                 confirmed = typer.confirm(
                     f"Remove {_describe(user)} and their personal workspace?", err=True
                 )
-            except click.exceptions.Abort:
+            except typer.Abort:
                 confirmed = False
             if not confirmed:
                 raise _fail("nothing removed", EXIT_REFUSED)
