@@ -21,7 +21,7 @@ ALLOWED: dict[str, set[str]] = {
     "robot": {"link", "protocol", "lang", "sim"},  # `sim` only for --robot sim, lazily
     "sim": {"protocol", "link", "lang", "kin"},
     "service": {"robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
-    "store": {"lang"},  # the service's audit sink adapter lives in web
+    "store": {"lang", "vocab"},  # vocab: the kinds of grading; the audit sink is in web
     "ros": {"service", "robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
     "web": {
         "service",

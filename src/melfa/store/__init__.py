@@ -20,6 +20,17 @@ from melfa.store.accounts import (
     normalize_group,
     normalize_username,
 )
+from melfa.store.assignment_access import allowed, published_to, require
+from melfa.store.assignment_models import (
+    Assignment,
+    AssignmentAction,
+    ClassRow,
+    Enrolment,
+    GradeKind,
+    Submission,
+    SubmissionSummary,
+)
+from melfa.store.assignments import AssignmentClosed, Assignments
 from melfa.store.audit import AuditLog
 from melfa.store.db import Database
 from melfa.store.enrol import EnrolmentError, EnrolmentReport, RowError, enrol, parse_enrolment
@@ -90,17 +101,24 @@ __all__ = [
     "AccessTokens",
     "Accounts",
     "AlreadyExists",
+    "Assignment",
+    "AssignmentAction",
+    "AssignmentClosed",
+    "Assignments",
     "AsyncStore",
     "AuditEntry",
     "AuditEvent",
     "AuditLog",
     "AuditPage",
+    "ClassRow",
     "Database",
     "DatabaseError",
+    "Enrolment",
     "EnrolmentError",
     "EnrolmentReport",
     "ExportedFile",
     "FileKind",
+    "GradeKind",
     "Group",
     "InvalidValue",
     "LoginAttempts",
@@ -125,6 +143,8 @@ __all__ = [
     "Sessions",
     "Store",
     "StoreError",
+    "Submission",
+    "SubmissionSummary",
     "TransferError",
     "User",
     "UserInputError",
@@ -133,6 +153,7 @@ __all__ = [
     "WorkspaceState",
     "Workspaces",
     "WrongExtension",
+    "allowed",
     "check_csrf",
     "clean_name",
     "database_path",
@@ -148,4 +169,6 @@ __all__ = [
     "points_to_file",
     "program_from_file",
     "program_to_file",
+    "published_to",
+    "require",
 ]

@@ -203,6 +203,55 @@ _WORKSPACE_NAMES = Migration(
 one a user had is named "My programs" and stays their default (the lowest id); a group's
 is named after the group. ``archived``: hidden from the switcher, never deleted."""
 
+_ASSIGNMENTS = Migration(
+    "0009_assignments",
+    (
+        """
+        CREATE TABLE assignments (
+            id INTEGER PRIMARY KEY,
+            title TEXT NOT NULL,
+            files TEXT NOT NULL CHECK (json_valid(files)),
+            group_id INTEGER REFERENCES groups (id) ON DELETE CASCADE,
+            variants INTEGER NOT NULL DEFAULT 0 CHECK (variants IN (0, 1)),
+            due TEXT,
+            attempts INTEGER CHECK (attempts IS NULL OR attempts >= 1),
+            author TEXT,
+            created TEXT NOT NULL
+        )
+        """,
+        """
+        CREATE TABLE assignment_students (
+            assignment_id INTEGER NOT NULL REFERENCES assignments (id) ON DELETE CASCADE,
+            user_id INTEGER NOT NULL REFERENCES users (id) ON DELETE CASCADE,
+            seed INTEGER NOT NULL,
+            workspace_id INTEGER NOT NULL REFERENCES workspaces (id) ON DELETE CASCADE,
+            opened TEXT NOT NULL,
+            PRIMARY KEY (assignment_id, user_id)
+        )
+        """,
+        """
+        CREATE TABLE submissions (
+            id INTEGER PRIMARY KEY,
+            assignment_id INTEGER NOT NULL REFERENCES assignments (id) ON DELETE CASCADE,
+            user_id INTEGER NOT NULL REFERENCES users (id) ON DELETE CASCADE,
+            kind TEXT NOT NULL CHECK (kind IN ('check', 'submit')),
+            workspace_id INTEGER NOT NULL REFERENCES workspaces (id) ON DELETE CASCADE,
+            revision INTEGER NOT NULL,
+            at TEXT NOT NULL,
+            passed INTEGER NOT NULL CHECK (passed IN (0, 1)),
+            score REAL NOT NULL,
+            preflight INTEGER CHECK (preflight IN (0, 1)),
+            report TEXT NOT NULL CHECK (json_valid(report))
+        )
+        """,
+        "CREATE INDEX submissions_student ON submissions (assignment_id, user_id, kind, id)",
+    ),
+)
+"""Assignments (the folder's files as JSON: ``assignment.toml`` and what it names, so the
+IDE exports the folder it imported), published to the class (``group_id`` NULL) or one
+group; each student's variant seed and workspace; every check and submission with its
+graded revision and report."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -212,5 +261,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _LOGIN_ADDRESSES,
     _KEPT_REVISIONS,
     _WORKSPACE_NAMES,
+    _ASSIGNMENTS,
 )
 """Every migration, in the order they apply. Append only."""

@@ -12,6 +12,7 @@ from typing import ParamSpec, TypeVar
 from argon2 import PasswordHasher
 
 from melfa.store.accounts import Accounts
+from melfa.store.assignments import Assignments
 from melfa.store.audit import AuditLog
 from melfa.store.db import Database
 from melfa.store.errors import DatabaseError
@@ -49,7 +50,8 @@ def database_path(data_dir: Path | str) -> Path:
 
 
 class Store:
-    """Accounts, sessions, login attempts, workspaces and the audit log of one file.
+    """Accounts, sessions, login attempts, workspaces, assignments and the audit log of one
+    file.
 
     Opening applies pending migrations. Every part is safe to use from many threads.
     """
@@ -72,6 +74,7 @@ class Store:
         self.workspaces = Workspaces(self.db, self.accounts, retention)
         self.audit = AuditLog(self.db)
         self.tokens = AccessTokens(self.db, self.accounts)
+        self.assignments = Assignments(self.db, self.workspaces)
 
     @classmethod
     def open_dir(cls, data_dir: Path | str, *, create: bool = True, **options: object) -> Store:

@@ -1,0 +1,115 @@
+"""The words of assignments in the IDE: what a student reads beside their work, and the
+instructor's class view (its columns, filters and CSV headings), in one place.
+
+Pure: the store keeps `GradeKind` values, the web layer filters rows by `ClassFilter` and
+writes the CSV with `COLUMN_WORDS`; the browser gets every table through ``/vocab.js``.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+
+class GradeKind(enum.StrEnum):
+    """Why a revision was graded: *Check my solution* (as often as wanted) or *Submit*
+    (counted against the attempts)."""
+
+    CHECK = "check"
+    SUBMIT = "submit"
+
+
+GRADE_WORDS: dict[GradeKind, str] = {
+    GradeKind.CHECK: "Check my solution",
+    GradeKind.SUBMIT: "Submit",
+}
+"""The buttons, and what a grading of each kind is called in a history."""
+
+
+class ClassColumn(enum.StrEnum):
+    """The class view's columns, in order (the CSV export has the same, same order)."""
+
+    STUDENT = "student"
+    GROUP = "group"
+    VARIANT = "variant"
+    LATEST = "latest"
+    BEST = "best"
+    ATTEMPTS = "attempts"
+    LAST_SAVED = "last-saved"
+    PREFLIGHT = "preflight"
+
+
+COLUMN_WORDS: dict[ClassColumn, str] = {
+    ClassColumn.STUDENT: "Student",
+    ClassColumn.GROUP: "Group",
+    ClassColumn.VARIANT: "Variant",
+    ClassColumn.LATEST: "Latest check",
+    ClassColumn.BEST: "Best submission",
+    ClassColumn.ATTEMPTS: "Submissions",
+    ClassColumn.LAST_SAVED: "Last saved",
+    ClassColumn.PREFLIGHT: "Pre-flight",
+}
+
+
+class ClassFilter(enum.StrEnum):
+    """Which students the class view lists."""
+
+    ALL = "all"
+    STUCK = "stuck"
+    NOT_OPENED = "not-opened"
+    NOT_SUBMITTED = "not-submitted"
+    PASSED = "passed"
+
+
+STUCK_AFTER_MIN = 30
+"""Minutes after opening an assignment with no passing check: the student may need help."""
+
+
+@dataclass(frozen=True, slots=True)
+class FilterWords:
+    label: str
+    hint: str
+
+
+FILTER_WORDS: dict[ClassFilter, FilterWords] = {
+    ClassFilter.ALL: FilterWords("Everyone", "every student it was handed to"),
+    ClassFilter.STUCK: FilterWords(
+        f"No passing check after {STUCK_AFTER_MIN} min",
+        f"opened it at least {STUCK_AFTER_MIN} minutes ago and nothing has passed yet",
+    ),
+    ClassFilter.NOT_OPENED: FilterWords("Not opened", "has not opened it yet"),
+    ClassFilter.NOT_SUBMITTED: FilterWords("Not submitted", "opened it but has not submitted"),
+    ClassFilter.PASSED: FilterWords("Passed", "a submission passed every check"),
+}
+
+
+RESULT_WORDS: dict[str, str] = {
+    "passed": "passed",
+    "failed": "failed",
+    "none": "not checked yet",
+    "not-opened": "not opened",
+    "preflight-ok": "passed",
+    "preflight-failed": "errors",
+    "unknown": "—",
+    "no-limit": "no limit",
+    "closed": "Submissions are closed",
+    "attempts-left": "{left} of {total} submissions left",
+    "attempts-unlimited": "Submit as often as you like",
+    "due": "Due {due}",
+    "variant": "Your variant: {words}",
+    "score": "{passed} of {total} checks passed",
+}
+"""Short words the student's panel and the class view fill in (``{…}`` placeholders)."""
+
+
+__all__ = [
+    "COLUMN_WORDS",
+    "FILTER_WORDS",
+    "GRADE_WORDS",
+    "RESULT_WORDS",
+    "STUCK_AFTER_MIN",
+    "ClassColumn",
+    "ClassFilter",
+    "FilterWords",
+    "GradeKind",
+]
