@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import enum
 from collections import deque
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from melfa.kin import Joints, Pose
@@ -56,12 +57,16 @@ class TrajectoryRecorder:
     def __init__(self, max_samples: int = 20000, max_events: int = 5000) -> None:
         self._samples: deque[TrajectorySample] = deque(maxlen=max_samples)
         self._events: deque[HandEvent | MoveEvent] = deque(maxlen=max_events)
+        self.listeners: list[Callable[[HandEvent | MoveEvent], None]] = []
+        """Called with each event as it is added (the cell's parts follow the hand)."""
 
     def add_sample(self, sample: TrajectorySample) -> None:
         self._samples.append(sample)
 
     def add_event(self, event: HandEvent | MoveEvent) -> None:
         self._events.append(event)
+        for listener in self.listeners:
+            listener(event)
 
     @property
     def samples(self) -> list[TrajectorySample]:

@@ -37,6 +37,8 @@ from melfa.kin.reach import unreachable_points
 from melfa.kin.solver import fk_batch
 from melfa.lang.points import PointDef
 from melfa.sim.debug.cell import Cell
+from melfa.sim.debug.cell_run import CellIO, CellRun
+from melfa.sim.debug.cell_world import HandAction, PartState
 from melfa.sim.debug.engine import (
     DEFAULT_MAX_TIME_S,
     INSTANT,
@@ -159,6 +161,10 @@ class Report:
     findings: tuple[Finding, ...]
     path: tuple[PathPoint, ...] = field(default_factory=tuple)
     error: ErrorReport | None = None
+    parts: tuple[PartState, ...] = field(default_factory=tuple)
+    """Where each part of the cell ended (in the cell's order)."""
+    hands: tuple[HandAction, ...] = field(default_factory=tuple)
+    """Every close and open of the gripper's hand: time, line, pose, the part."""
 
     @property
     def ok(self) -> bool:
@@ -179,6 +185,8 @@ class Report:
             "findings": [f.to_json() for f in self.findings],
             "path": [[p.time, p.x, p.y, p.z, p.move, p.line] for p in self.path],
             "error": self.error.to_json() if self.error else None,
+            "parts": [p.to_json() for p in self.parts],
+            "hands": [h.to_json() for h in self.hands],
         }
 
 
@@ -196,14 +204,18 @@ def preflight(
     Raises `DebugError` when the program or its points cannot be loaded at all.
     """
     point_defs = load_points(points, program)
-    d = Debugger(program, point_defs, clock=lambda: 0.0, speed=INSTANT, max_time=max_time)
+    cell = cell if cell is not None else Cell()
+    io = CellIO()
+    d = Debugger(program, point_defs, clock=lambda: 0.0, speed=INSTANT, io=io, max_time=max_time)
+    run = CellRun(cell, d.arm, io, now=lambda: d.interp.now, line_of=d.line_of_step)
     for bit, value in inputs:
         d.set_input(bit, value)
     d.run()
+    run.reset()
     waits = 0
     while d.state is RunState.RUNNING:
         if d.poll() is None and d.waiting:
-            waits += 1
+            waits = 0 if run.world.running else waits + 1
             if waits >= 3:  # nobody will set the input it waits for
                 break
     finished = d.state is RunState.FINISHED
@@ -244,7 +256,7 @@ def preflight(
         start=d.interp.now - d.time,
         tool=arm.tool,
         base=arm.base,
-        cell=cell if cell is not None else Cell(),
+        cell=cell,
         limits=limits if limits is not None else Limits(),
     )
     return Report(
@@ -255,6 +267,8 @@ def preflight(
         tuple(extra) + report.findings,
         report.path,
         stop.error if stop is not None else None,
+        tuple(run.parts()),
+        tuple(run.actions),
     )
 
 
