@@ -33,6 +33,8 @@ from melfa.vocab.commands import Command
 from melfa.vocab.lease import LeaseReason
 
 Work = Callable[[Robot], Any]
+DoneHook = Callable[[Actor, Command, UploadPlan | None, bool], None]
+"""``(actor, command, plan, ok)`` after a command's answer (or failure)."""
 
 
 def describe_error(exc: BaseException) -> str:
@@ -71,6 +73,8 @@ class Dispatcher:
         """Set when the service starts."""
         self.moved = False
         """A moving command finished and no poll has looked at the arm since."""
+        self.done_hooks: list[DoneHook] = []
+        """Told how every admitted command ended (the run recorder follows loads and runs)."""
 
     def next_id(self) -> int:
         return next(self._ids)
@@ -147,14 +151,20 @@ class Dispatcher:
             result = await asyncio.wrap_future(future)
         except BaseException as exc:
             self._policy.done(command, plan, ok=False)
+            self._done(actor, command, plan, ok=False)
             self.finish(actor, command_id, command, detail, exc)
             self.give_back(actor, taken)
             raise
         self._policy.done(command, plan, ok=True)
+        self._done(actor, command, plan, ok=True)
         self.finish(actor, command_id, command, detail, None)
         if command.moves:
             self.moved = True  # until a poll has seen whether it moves
         return result
+
+    def _done(self, actor: Actor, command: Command, plan: UploadPlan | None, ok: bool) -> None:
+        for hook in self.done_hooks:
+            hook(actor, command, plan, ok)
 
     async def upload(
         self,
@@ -259,4 +269,4 @@ class Dispatcher:
         )
 
 
-__all__ = ["Dispatcher", "Work", "describe_error"]
+__all__ = ["Dispatcher", "DoneHook", "Work", "describe_error"]

@@ -30,6 +30,7 @@ import dataclasses
 from collections.abc import Callable
 from typing import Any
 
+from melfa.lang.plan import UploadPlan
 from melfa.link import Link, LinkSettings, parse_robot
 from melfa.robot import Robot, RobotSettings
 from melfa.robot.opener import open_robot_link
@@ -64,6 +65,7 @@ from melfa.service.posts import (
     Publish,
     ServoTurnedOn,
 )
+from melfa.service.recording import RunRecorder, Sink
 from melfa.service.snapshots import Change, Snapshots
 from melfa.service.worker import Worker
 from melfa.vocab.commands import Command
@@ -133,6 +135,22 @@ class RobotService(RobotCommands):
         self._stop_pool = concurrent.futures.ThreadPoolExecutor(1, "melfa-stop")
         self._housekeeping: asyncio.Task[None] | None = None
         self._closed_event: asyncio.Event | None = None
+        self.recorder: RunRecorder | None = None
+        """Records every run (`record_runs`; the lab robot's, not a private simulator's)."""
+
+    def record_runs(self, sink: Sink, **options: Any) -> RunRecorder:
+        """Record every run of this robot from its state stream, each finished recording
+        handed to ``sink`` (`melfa.service.recording`)."""
+        recorder = RunRecorder(self.clock, sink, **options)
+        self.recorder = recorder
+
+        def done(actor: Actor, command: Command, plan: UploadPlan | None, ok: bool) -> None:
+            recorder.command_done(actor, command, plan, ok)
+            if recorder.active:
+                self._listeners_changed()  # poll at the listening rate while it runs
+
+        self._dispatch.done_hooks.append(done)
+        return recorder
 
     @classmethod
     def from_spec(
@@ -218,6 +236,8 @@ class RobotService(RobotCommands):
             with contextlib.suppress(asyncio.CancelledError):
                 await self._housekeeping
         self._jog.end(JogEnd.SERVICE_CLOSING, SERVICE_ACTOR)
+        if self.recorder is not None:
+            self.recorder.close()
         worker.shutdown(ServiceClosed("the robot service closed before this command was sent"))
         self._lease_changed(self._lease.clear(LeaseReason.SERVICE_CLOSED))
         loop = asyncio.get_running_loop()
@@ -274,7 +294,8 @@ class RobotService(RobotCommands):
         """Subscribers wanting snapshots, plus one while a REST reader showed interest."""
         interest = self.clock.now() < self._interest_until
         # A holder gone while the arm moves: poll to see the motion end, then free the lease.
-        return self._bus.state_listeners + interest + self._lease.orphaned
+        recording = self.recorder is not None and self.recorder.active
+        return self._bus.state_listeners + interest + self._lease.orphaned + recording
 
     def publish(self, event: Event) -> None:
         """Put an event on the bus (adapters such as `ThesisMessages` use this)."""
@@ -464,6 +485,8 @@ class RobotService(RobotCommands):
                     self._dispatch.moved = False
                 self._update(result.apply)
                 snapshot = self._snapshots.latest
+                if self.recorder is not None:
+                    self.recorder.polled(result, snapshot)
                 # Motion keeps the holder's lease; a STATE read showing a still, idle arm
                 # ends an orphaned one.
                 if snapshot.moving or snapshot.running or self._jog.active:
@@ -476,6 +499,8 @@ class RobotService(RobotCommands):
                 if status is not LinkStatus.CONNECTED and self._jog.active:
                     self._jog.end(JogEnd.LINK_DOWN, SERVICE_ACTOR, detail=status.value)
                 self._bus.publish(LinkStatusChanged(status=status, detail=detail))
+                if self.recorder is not None:
+                    self.recorder.link_changed(status)
                 if status is LinkStatus.CONNECTED:
                     self._update(lambda s: dataclasses.replace(s, link=status))
                 else:  # nothing is known while the link is down: no stale "running, moving"

@@ -251,6 +251,49 @@ _ASSIGNMENTS = Migration(
 IDE exports the folder it imported), published to the class (``group_id`` NULL) or one
 group; each student's variant seed and workspace; every check and submission with its
 graded revision and report."""
+_RUNS = Migration(
+    "0010_runs",
+    (
+        """
+        CREATE TABLE runs (
+            id INTEGER PRIMARY KEY,
+            target TEXT NOT NULL,
+            username TEXT NOT NULL COLLATE NOCASE,
+            started TEXT NOT NULL,
+            duration REAL NOT NULL,
+            outcome TEXT NOT NULL,
+            fingerprint TEXT,
+            loaded_by TEXT,
+            program TEXT,
+            frame_count INTEGER NOT NULL,
+            frames BLOB,
+            simulated BLOB,
+            simulated_by TEXT,
+            cycle_real REAL,
+            cycle_simulated REAL,
+            report TEXT NOT NULL DEFAULT '{}',
+            kept INTEGER NOT NULL DEFAULT 0 CHECK (kept IN (0, 1))
+        )
+        """,
+        "CREATE INDEX runs_user ON runs (username, started)",
+        "CREATE INDEX runs_started ON runs (started)",
+        """
+        CREATE TABLE simulations (
+            username TEXT NOT NULL COLLATE NOCASE,
+            fingerprint TEXT NOT NULL,
+            created TEXT NOT NULL,
+            cycle_time REAL,
+            path BLOB NOT NULL,
+            PRIMARY KEY (username, fingerprint)
+        )
+        """,
+        "CREATE INDEX simulations_fingerprint ON simulations (fingerprint, created)",
+    ),
+)
+"""Recorded runs on a shared robot (``target``): who, when, how it ended, the program's
+fingerprint and text, the encoded samples (``frames``, NULL once thinned) and the simulated
+path it is compared with; ``report``: the deviation found (JSON). ``simulations``: each
+user's latest passed pre-flight path per fingerprint, what a later real run is compared with."""
 
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
@@ -262,5 +305,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _KEPT_REVISIONS,
     _WORKSPACE_NAMES,
     _ASSIGNMENTS,
+    _RUNS,
 )
 """Every migration, in the order they apply. Append only."""

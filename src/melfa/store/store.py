@@ -18,6 +18,8 @@ from melfa.store.db import Database
 from melfa.store.errors import DatabaseError
 from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
+from melfa.store.run_retention import RunRetention
+from melfa.store.runs import Runs
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions
 from melfa.store.timeutil import Clock, system_clock
 from melfa.store.tokens import AccessTokens
@@ -50,8 +52,8 @@ def database_path(data_dir: Path | str) -> Path:
 
 
 class Store:
-    """Accounts, sessions, login attempts, workspaces, assignments and the audit log of one
-    file.
+    """Accounts, sessions, login attempts, workspaces, assignments, the audit log and
+    recorded runs of one file.
 
     Opening applies pending migrations. Every part is safe to use from many threads.
     """
@@ -65,6 +67,7 @@ class Store:
         session_policy: SessionPolicy | None = None,
         login_policy: LoginPolicy | None = None,
         retention: RetentionPolicy | None = None,
+        run_retention: RunRetention | None = None,
     ) -> None:
         self.db = Database(path, clock=clock)
         self.passwords = Passwords(hasher)
@@ -75,6 +78,7 @@ class Store:
         self.audit = AuditLog(self.db)
         self.tokens = AccessTokens(self.db, self.accounts)
         self.assignments = Assignments(self.db, self.workspaces)
+        self.runs = Runs(self.db, run_retention)
 
     @classmethod
     def open_dir(cls, data_dir: Path | str, *, create: bool = True, **options: object) -> Store:
