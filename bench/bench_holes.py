@@ -23,106 +23,24 @@ from __future__ import annotations
 import argparse
 import json
 import multiprocessing
-import os
 import selectors
 import socket
 import statistics
-import subprocess
-import sys
-import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
-from pathlib import Path
+from collections.abc import Callable
+from contextlib import suppress
 from typing import Any
 
 import httpx
-from argon2 import PasswordHasher
 from websockets.sync.client import connect
 
-PASSWORD = "bench-lantern-9"
-STUDENT_PASSWORD = "student-lantern-9"
+from serving import ADMIN_PASSWORD as PASSWORD
+from serving import load, ms, p, rss_mib, serve, sign_in
+
 LOOP = "10 MOV P1\n20 MOV P2\n30 GOTO 10\n"
 LOOP_POINTS = "P1=(300,0,400,180,0,180)(7,0)\nP2=(300,100,450,180,0,180)(7,0)\n"
 TYPING = "\n".join(f"{10 * i} MOV P{i % 9 + 1}" for i in range(1, 400)) + "\n"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def rss_mib(pid: int) -> float:
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024
-    return float("nan")
-
-
-def p(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * len(ordered)))] if ordered else float("nan")
-
-
-def ms(values: list[float]) -> str:
-    if not values:
-        return "no samples"
-    return f"p50 {statistics.median(values) * 1000:6.0f} ms  p95 {p(values, 0.95) * 1000:6.0f} ms"
-
-
-def load() -> str:
-    return " ".join(Path("/proc/loadavg").read_text().split()[:3])
-
-
-@contextmanager
-def serve(students: int) -> Iterator[tuple[str, int]]:
-    data = Path(tempfile.mkdtemp(prefix="melfa-bench-holes-"))
-    from melfa.store import Store
-
-    cheap = PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
-    with Store.open_dir(data, hasher=cheap) as store:
-        store.accounts.ensure_admin(PASSWORD)
-        store.accounts.create_user("teach", STUDENT_PASSWORD, role="instructor")
-        for n in range(students):
-            store.accounts.create_user(f"s{n:02d}", STUDENT_PASSWORD)
-    port = free_port()
-    env = {**os.environ, "MELFA_ADMIN_PASSWORD": PASSWORD}
-    env.pop("MELFA_ROBOT", None)
-    server = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)],
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    url = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(600):
-            try:
-                if httpx.get(url + "/api/health", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.1)
-        yield url, server.pid
-    finally:
-        server.terminate()
-        server.wait(30)
-
-
-def sign_in(url: str, user: str, password: str = STUDENT_PASSWORD) -> dict[str, str]:
-    """A session; asked again, as a person would, while the server says "too many at once"
-    (a class signing in together from one address: 16 at once per address)."""
-    with httpx.Client(base_url=url, timeout=60) as c:
-        for _ in range(100):
-            reply = c.post("/api/session", json={"username": user, "password": password})
-            if reply.status_code not in (429, 503):
-                break
-            time.sleep(1.0)
-        reply.raise_for_status()
-        token, csrf = reply.cookies["melfa_session"], reply.json()["csrf_token"]
-    return {"Cookie": f"melfa_session={token}", "X-CSRF-Token": csrf, "token": token}
 
 
 def rest_stops(url: str, who: dict[str, str], n: int, gap: float = 0.1) -> list[float]:
@@ -429,7 +347,7 @@ def main() -> None:
     parser.add_argument("--only", default="1234")
     args = parser.parse_args()
     print(f"load average before: {load()} (2 cores)")
-    with serve(args.students) as (url, pid):
+    with serve(args.students, instructors=1) as (url, pid):
         who = sign_in(url, "admin", PASSWORD)
         idle = rest_stops(url, who, 40)
         print(f"0. STOP (REST) idle: {ms(idle)}")

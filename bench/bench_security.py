@@ -14,38 +14,16 @@ bounded abuse run against idle — all in one run against a real `melfa serve` p
 from __future__ import annotations
 
 import argparse
-import os
 import socket
 import statistics
-import subprocess
-import sys
-import tempfile
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import httpx
 
-PASSWORD = "bench-lantern-9"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
-def rss_mib(pid: int) -> float:
-    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-        if line.startswith("VmRSS:"):
-            return int(line.split()[1]) / 1024
-    return float("nan")
-
-
-def p(values: list[float], q: float) -> float:
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
+from serving import ADMIN_PASSWORD as PASSWORD
+from serving import p, rss_mib, serve
 
 
 def main() -> None:
@@ -53,25 +31,8 @@ def main() -> None:
     parser.add_argument("--flood", type=int, default=120)
     parser.add_argument("--stops", type=int, default=40)
     args = parser.parse_args()
-    data = Path(tempfile.mkdtemp(prefix="melfa-bench-"))
-    port = free_port()
-    env = {**os.environ, "MELFA_ADMIN_PASSWORD": PASSWORD}
-    env.pop("MELFA_ROBOT", None)
-    server = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "serve", "--port", str(port), "--data", str(data)],
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    url = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(300):
-            try:
-                if httpx.get(url + "/api/health", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.1)
+    with serve(cheap=False) as (url, pid):
+        port = int(url.rsplit(":", 1)[1])
         with httpx.Client(base_url=url, timeout=60) as c:
             reply = c.post("/api/session", json={"username": "admin", "password": PASSWORD})
             token, csrf = reply.cookies["melfa_session"], reply.json()["csrf_token"]
@@ -88,7 +49,7 @@ def main() -> None:
             return out
 
         idle = stops(args.stops)
-        idle_rss = rss_mib(server.pid)
+        idle_rss = rss_mib(pid)
 
         program = "\n".join(f"{10 * i} MOV P{i % 50 + 1}" for i in range(1, 70_000))[:999_000]
         stop_flag = threading.Event()
@@ -136,10 +97,7 @@ def main() -> None:
             for job in jobs:
                 job.result()
         time.sleep(1.0)
-        after_rss = rss_mib(server.pid)
-    finally:
-        server.terminate()
-        server.wait(30)
+        after_rss = rss_mib(pid)
 
     print(
         f"STOP idle:        p50 {statistics.median(idle) * 1000:7.1f} ms   "
