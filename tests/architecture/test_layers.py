@@ -22,6 +22,8 @@ ALLOWED: dict[str, set[str]] = {
     "sim": {"protocol", "link", "lang", "kin"},
     "service": {"robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
     "store": {"lang", "vocab"},  # vocab: the kinds of grading; the audit sink is in web
+    # Grading on the simulator: pure but for `grade.folder` (reads an assignment folder).
+    "grade": {"sim", "lang", "kin", "protocol"},
     "ros": {"service", "robot", "link", "protocol", "sim", "kin", "lang", "vocab"},
     "web": {
         "service",
@@ -35,6 +37,7 @@ ALLOWED: dict[str, set[str]] = {
         "lang",
         "vocab",
         "live",
+        "grade",
     },
     # A client of the web API; only the pure parts below (file reading, student texts).
     "desktop": {"lang", "protocol", "vocab", "live"},
@@ -45,7 +48,8 @@ IMPURE = {
     "socket", "serial", "sqlite3", "asyncio", "threading", "subprocess", "select",
     "os", "pathlib", "io", "time", "urllib", "http", "uvicorn", "fastapi", "pty",
 }  # fmt: skip
-PURE_PARTS = ("lang", "kin", "protocol", "vocab", "live")
+PURE_PARTS = ("lang", "kin", "protocol", "vocab", "live", "grade")
+IO_MODULES = {"grade/folder.py"}  # the one module of a pure part that reads files
 
 
 def _imports(path: Path) -> list[str]:
@@ -81,6 +85,7 @@ def test_pure_parts_do_no_io(part: str) -> None:
     wrong = [
         f"{path.relative_to(SRC)} imports {name}"
         for path in _files(part)
+        if path.relative_to(SRC).as_posix() not in IO_MODULES
         for name in _imports(path)
         if name.split(".")[0] in IMPURE
     ]

@@ -14,6 +14,10 @@ made, sampled every `Limits.sample_s`):
 * the tool (the TCP under the program's TOOL) below the cell's table plane or inside one of
   its boxes (`cell.Cell`).
 
+The report also keeps what a grader reads of the run (`melfa.grade`): where the tool ended
+(`final`), the outputs on at the end (`outputs`) and each move with its line, times and
+where it ended (`moves`).
+
 Each `Finding` carries the line of the user's text whose move caused it and the `Segment`
 of the path (move index and simulated times) where it happens, so a 3D view can colour
 that part of the path. Pure logic: no clock, no I/O.
@@ -153,6 +157,17 @@ class PathPoint:
 
 
 @dataclass(frozen=True, slots=True)
+class MoveAt:
+    """A move of the run: when it began and ended (simulated seconds since the start), the
+    line of the user's text, and the TCP pose at its end."""
+
+    start: float
+    end: float
+    line: int | None
+    target: Pose
+
+
+@dataclass(frozen=True, slots=True)
 class Report:
     finished: bool
     cycle_time: float | None  # simulated seconds from start to END (None: it did not end)
@@ -165,6 +180,9 @@ class Report:
     """Where each part of the cell ended (in the cell's order)."""
     hands: tuple[HandAction, ...] = field(default_factory=tuple)
     """Every close and open of the gripper's hand: time, line, pose, the part."""
+    final: Pose | None = None  # the TCP pose (under TOOL and BASE) where the run ended
+    outputs: dict[int, int] = field(default_factory=dict)  # output bits on at the end
+    moves: tuple[MoveAt, ...] = field(default_factory=tuple)
 
     @property
     def ok(self) -> bool:
@@ -259,6 +277,7 @@ def preflight(
         cell=cell,
         limits=limits if limits is not None else Limits(),
     )
+    start = d.interp.now - d.time
     return Report(
         finished,
         d.time if finished else None,
@@ -269,6 +288,17 @@ def preflight(
         stop.error if stop is not None else None,
         tuple(run.parts()),
         tuple(run.actions),
+        final=arm.pose,
+        outputs=d.io.outputs(),
+        moves=tuple(
+            MoveAt(
+                m.time - start,
+                m.end_time - start,
+                d.line_of_step(m.line),
+                arm.to_pose(m.plan.end_joints),
+            )
+            for m in arm.recorder.moves
+        ),
     )
 
 
