@@ -62,6 +62,24 @@ class AlarmOut(_Sent):
     fix: Fix | None = None
     """The one action that fixes it (``reset-alarm``, ``servo-on-retry``…), if any."""
     fix_label: str | None = None
+    step: int | None = None
+    """The program's step when the alarm came while it ran (None: not a run-time error)."""
+    line: int | None = None
+    """That step's line in the text loaded (the slot's step map), when melfa loaded it."""
+    own: bool = False
+    """The program raised it itself (its ``ERROR`` statement: 9000–9299)."""
+
+
+class SlotOut(_Sent):
+    """What melfa loaded into the controller's slot (`melfa.service.slot.Slot`)."""
+
+    user: str = Field(description="Who loaded it.")
+    at: datetime = Field(description="When the load finished (UTC).")
+    fingerprint: str = Field(
+        description="The program and points as sent; `run`'s `expect` names it."
+    )
+    workspace_id: int | None = None
+    workspace: str = Field("", description="The workspace it came from, by name.")
 
 
 class AdviceOut(_Sent):
@@ -104,6 +122,8 @@ class StateOut(_Sent):
     activity: Activity = Activity.OFFLINE
     """The one word every view shows (`melfa.vocab.activity`)."""
     activity_detail: str = ""
+    slot: SlotOut | None = None
+    """Whose program the controller's slot holds (None: nothing known)."""
 
 
 # --- server → client -----------------------------------------------------------------------

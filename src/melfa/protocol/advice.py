@@ -38,6 +38,7 @@ from melfa.protocol.error_table import (
     TB_ENABLED,
     VARIABLE_NOT_DEFINED,
     error_code,
+    is_user_error,
 )
 
 
@@ -202,6 +203,13 @@ _TEXTS: dict[int, tuple[str, str, Fix | None]] = {
 
 def advice_for(number: int) -> Advice:
     """What error ``number`` means for a student, with its fix if one action fixes it."""
+    if is_user_error(number):
+        return Advice(
+            f"Your program stopped itself: its ERROR {number} statement ran.",
+            "That is your own error, on the line the editor marks; reset the alarm to go on.",
+            error_code(number),
+            Fix.RESET_ALARM,
+        )
     text = _TEXTS.get(number)
     if text is not None:
         what, todo, fix = text
@@ -222,4 +230,5 @@ __all__ = [
     "Fix",
     "advice_for",
     "error_code",
+    "is_user_error",
 ]

@@ -238,8 +238,19 @@ ERROR_MESSAGES: Mapping[int, ErrorInfo] = MappingProxyType(_TABLE)
 """Error number -> (level letter, message). Read-only."""
 
 
+USER_ERRORS: Final = range(9000, 9300)
+"""The numbers a program's own ``ERROR`` statement raises [DOC S1 ERROR]."""
 USER_ERROR_LEVELS: Final = ((range(9000, 9100), _H), (range(9200, 9300), _C))
 """A program's own ``ERROR 9xxx``: 9000–9099 are H, 9200–9299 C, the rest L [DOC S1 ERROR]."""
+
+
+def is_user_error(number: int) -> bool:
+    """Whether ``number`` is one a program raises itself (``ERROR 9100``).
+
+    >>> is_user_error(9100), is_user_error(2000)
+    (True, False)
+    """
+    return number in USER_ERRORS
 
 
 def error_level(number: int) -> ErrorLevel | None:
@@ -250,7 +261,7 @@ def error_level(number: int) -> ErrorLevel | None:
     for numbers, level in USER_ERROR_LEVELS:
         if number in numbers:
             return level
-    return None
+    return _L if number in USER_ERRORS else None
 
 
 def error_code(number: int, level: ErrorLevel | None = None) -> str:

@@ -7,6 +7,7 @@ stop, state).
 from __future__ import annotations
 
 import dataclasses
+import datetime as dt
 from collections.abc import Sequence
 from typing import Any
 
@@ -15,11 +16,12 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT, span_text
 from melfa.robot import JogMethod, Robot, UploadReport
 from melfa.service.config import ServiceConfig
-from melfa.service.dispatch import Dispatcher, Work
-from melfa.service.errors import InvalidArgument
+from melfa.service.dispatch import Dispatcher, Done, Precondition, Work
+from melfa.service.errors import InvalidArgument, Refused
 from melfa.service.events import Actor, JogFrame
 from melfa.service.jogging import JogSession
 from melfa.service.servo import ServoPolicy
+from melfa.service.slot import LoadOrigin, after_load, refusal_to_run
 from melfa.service.snapshots import Snapshots
 from melfa.service.statements import move_statements
 from melfa.vocab.activity import Motion, MotionKind
@@ -44,42 +46,90 @@ class RobotCommands:
         work: Work,
         motion: Motion,
         servo: ServoPolicy | None,
+        precondition: Precondition | None = None,
     ) -> Any:
         """A command that moves the arm: the jog's override given back first, then the
-        servo rule (`melfa.service.servo`), then ``work``."""
+        servo rule (`melfa.service.servo`), then ``work``; the activity follows ``motion``
+        from asked to sent (`Dispatcher.telling_sent`) to moving and arrived."""
         policy = servo if servo is not None else self.config.motion_servo
-        self._snapshots.motion = motion
+        work = self._dispatch.telling_sent(motion, work)
         work = self._dispatch.servo_first(actor, command, policy, self._jog.restoring(work))
-        return await self._dispatch.command(actor, command, detail, work)
 
-    async def load_project(self, actor: Actor, plan: UploadPlan) -> UploadReport:
+        previous = self._snapshots.motion
+        self._snapshots.motion = motion
+        try:
+            if command is not Command.RUN:  # "Moving to P1" from the click on
+                self._snapshots.update()
+            return await self._dispatch.command(
+                actor, command, detail, work, precondition=precondition
+            )
+        except BaseException:
+            # Refused, or failed: the arm did not go (a STOP has cleared it already).
+            if self._snapshots.motion is motion:
+                self._snapshots.motion = previous
+                self._snapshots.update()
+            raise
+
+    def _loaded(
+        self, actor: Actor, command: Command, plan: UploadPlan | None, origin: LoadOrigin | None
+    ) -> Done:
+        """What a load or a delete tells the slot when it ends (`melfa.service.slot`)."""
+
+        def done(ok: bool) -> None:
+            at = dt.datetime.now(dt.UTC)
+            slot = after_load(
+                self._snapshots.latest.slot, actor.user, command, plan, ok, at, origin
+            )
+            self._snapshots.update(lambda s: dataclasses.replace(s, slot=slot))
+
+        return done
+
+    async def load_project(
+        self, actor: Actor, plan: UploadPlan, origin: LoadOrigin | None = None
+    ) -> UploadReport:
         """The plan's program and points (`melfa.lang.plan.plan_upload`) into the
         controller's program in one LOAD…SAVE session; `UploadProgress` events while it
-        goes. Polling pauses meanwhile."""
+        goes. Polling pauses meanwhile. The state's ``slot`` then names ``actor`` and the
+        ``origin`` (the workspace)."""
+        done = self._loaded(actor, Command.LOAD_PROJECT, plan, origin)
         return await self._dispatch.upload(
-            actor, Command.LOAD_PROJECT, lambda r, p: r.load_project(plan, p), plan
+            actor, Command.LOAD_PROJECT, lambda r, p: r.load_project(plan, p), plan, done
         )
 
-    async def upload_program(self, actor: Actor, plan: UploadPlan) -> UploadReport:
+    async def upload_program(
+        self, actor: Actor, plan: UploadPlan, origin: LoadOrigin | None = None
+    ) -> UploadReport:
         """Replace the program (steps and positions) with the plan's."""
+        done = self._loaded(actor, Command.UPLOAD_PROGRAM, plan, origin)
         return await self._dispatch.upload(
-            actor, Command.UPLOAD_PROGRAM, lambda r, p: r.upload_program(plan, p), plan
+            actor, Command.UPLOAD_PROGRAM, lambda r, p: r.upload_program(plan, p), plan, done
         )
 
     async def upload_points(self, actor: Actor, plan: UploadPlan) -> UploadReport:
         """Add or replace the plan's positions, keeping the steps."""
+        done = self._loaded(actor, Command.UPLOAD_POINTS, plan, None)
         return await self._dispatch.upload(
-            actor, Command.UPLOAD_POINTS, lambda r, p: r.upload_points(plan, p), plan
+            actor, Command.UPLOAD_POINTS, lambda r, p: r.upload_points(plan, p), plan, done
         )
 
-    async def run(self, actor: Actor, *, servo: ServoPolicy | None = None) -> None:
+    async def run(
+        self, actor: Actor, *, servo: ServoPolicy | None = None, expect: str | None = None
+    ) -> None:
         """Start the program (``RUN<program>;1``). ``servo``: what to do when the servo is
-        off (`melfa.service.servo`; default `ServiceConfig.motion_servo`)."""
-        await self._move(actor, Command.RUN, "", lambda r: r.run(), Motion(MotionKind.RUN), servo)
+        off (`melfa.service.servo`; default `ServiceConfig.motion_servo`). ``expect``: the
+        fingerprint of the program the caller means to run (the state's ``slot``); refused
+        when the slot holds another (`melfa.service.slot.refusal_to_run`)."""
+
+        def slot_check() -> Refused | None:
+            return refusal_to_run(self._snapshots.latest.slot, expect)
+
+        motion = Motion(MotionKind.RUN)
+        await self._move(actor, Command.RUN, "", lambda r: r.run(), motion, servo, slot_check)
 
     async def delete(self, actor: Actor) -> None:
         """Delete the program and its points."""
-        await self._dispatch.command(actor, Command.DELETE, "", lambda r: r.delete())
+        done = self._loaded(actor, Command.DELETE, None, None)
+        await self._dispatch.command(actor, Command.DELETE, "", lambda r: r.delete(), done=done)
 
     async def exec(
         self, actor: Actor, statement: str, *, servo: ServoPolicy = ServoPolicy.LEAVE

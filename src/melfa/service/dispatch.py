@@ -26,15 +26,20 @@ from melfa.service.events import Actor, AuditEvent, CommandResult, UploadProgres
 from melfa.service.lease import LeaseChange
 from melfa.service.lifecycle import Life
 from melfa.service.policy import Policy
-from melfa.service.posts import Post, Publish, ServoTurnedOn
+from melfa.service.posts import MotionSent, Post, Publish, ServoTurnedOn
 from melfa.service.servo import ServoPolicy, ensure_servo
 from melfa.service.worker import Job, Priority, Worker
+from melfa.vocab.activity import Motion
 from melfa.vocab.commands import Command
 from melfa.vocab.lease import LeaseReason
 
 Work = Callable[[Robot], Any]
 DoneHook = Callable[[Actor, Command, UploadPlan | None, bool], None]
 """``(actor, command, plan, ok)`` after a command's answer (or failure)."""
+Precondition = Callable[[], Refused | None]
+"""A command's own check before the policy's (a run's expected slot): a refusal or None."""
+Done = Callable[[bool], None]
+"""Told how an admitted command ended (True: the controller answered ok)."""
 
 
 def describe_error(exc: BaseException) -> str:
@@ -93,12 +98,17 @@ class Dispatcher:
         detail: str,
         command_id: int | None = None,
         plan: UploadPlan | None = None,
+        precondition: Precondition | None = None,
     ) -> tuple[int, bool]:
         """Every command passes here before it is queued: refused (audited) when the
-        service is not open or the policy says no; else audited as accepted. Returns the
-        command's id and whether it took a free lease."""
+        service is not open, its ``precondition`` or the policy says no; else audited as
+        accepted. Returns the command's id and whether it took a free lease."""
         self._life.check_open()
         command_id = command_id if command_id is not None else self.next_id()
+        refused = precondition() if precondition is not None else None
+        if refused is not None:
+            self.audit(actor, command_id, command, detail, f"refused: {refused}")
+            raise refused
         taken = self._check_policy(actor, command_id, command, detail, plan)
         self.audit(actor, command_id, command, detail, "accepted")
         return command_id, taken
@@ -142,9 +152,12 @@ class Dispatcher:
         busy: str | None = None,
         command_id: int | None = None,
         plan: UploadPlan | None = None,
+        precondition: Precondition | None = None,
+        done: Done | None = None,
     ) -> Any:
-        """Admit, queue, await the controller's answer; audit and publish the outcome."""
-        command_id, taken = self.admit(actor, command, detail, command_id, plan)
+        """Admit, queue, await the controller's answer; audit and publish the outcome
+        (``done`` is told it first)."""
+        command_id, taken = self.admit(actor, command, detail, command_id, plan, precondition)
         job = Job(command, priority, work, moves=command.moves, busy=busy)
         future = self.require_worker().submit(job)
         try:
@@ -152,11 +165,15 @@ class Dispatcher:
         except BaseException as exc:
             self._policy.done(command, plan, ok=False)
             self._done(actor, command, plan, ok=False)
+            if done is not None:
+                done(False)
             self.finish(actor, command_id, command, detail, exc)
             self.give_back(actor, taken)
             raise
         self._policy.done(command, plan, ok=True)
         self._done(actor, command, plan, ok=True)
+        if done is not None:
+            done(True)
         self.finish(actor, command_id, command, detail, None)
         if command.moves:
             self.moved = True  # until a poll has seen whether it moves
@@ -172,9 +189,10 @@ class Dispatcher:
         command: Command,
         run: Callable[[Robot, Callable[[int, int], None]], UploadReport],
         plan: UploadPlan,
+        done: Done | None = None,
     ) -> UploadReport:
         """A command that sends ``plan``'s program or points, with `UploadProgress` as it
-        goes."""
+        goes; ``done`` as in `command`."""
         command_id = self.next_id()
 
         def progress(sent: int, total: int) -> None:
@@ -198,6 +216,7 @@ class Dispatcher:
             busy="upload",
             command_id=command_id,
             plan=plan,
+            done=done,
         )
         return result
 
@@ -216,6 +235,16 @@ class Dispatcher:
             return work(robot)
 
         return first
+
+    def telling_sent(self, motion: Motion, work: Work) -> Work:
+        """``work``, then the news that the controller took ``motion`` (`MotionSent`)."""
+
+        def sent(robot: Robot) -> Any:
+            result = work(robot)
+            self._post(MotionSent(motion))
+            return result
+
+        return sent
 
     # ------------------------------------------------------------------ the record
 
@@ -269,4 +298,4 @@ class Dispatcher:
         )
 
 
-__all__ = ["Dispatcher", "DoneHook", "Work", "describe_error"]
+__all__ = ["Dispatcher", "Done", "DoneHook", "Precondition", "Work", "describe_error"]

@@ -13,6 +13,7 @@ import enum
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
+from melfa.service.slot import Slot
 from melfa.vocab.activity import Activity
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
@@ -66,6 +67,10 @@ class Alarm:
 
     number: int
     text: str
+    step: int | None = None
+    """The program's step when the alarm came while it ran (None: not a run-time error)."""
+    line: int | None = None
+    """That step's line in the loaded text (`Slot.line_of`), when melfa loaded it."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -125,6 +130,10 @@ class StateSnapshot(Event):
     """What the robot does, the one word every view shows (`melfa.vocab.activity`)."""
     activity_detail: str = ""
     """The target of a move (``P1``) or the running line (``line 30``)."""
+    slot: Slot | None = None
+    """What melfa loaded into the controller's slot, by whom, when (`melfa.service.slot`);
+    None: nothing known (nothing loaded since the service started, a failed load, a
+    delete)."""
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from melfa.service.events import Actor, Event, LinkStatus
 from melfa.service.polling import PollResult
+from melfa.vocab.activity import Motion
 from melfa.vocab.commands import Command
 
 
@@ -57,13 +58,22 @@ class JogRefused:
     error: BaseException
 
 
-Post = Polled | BusyChanged | LinkChanged | Publish | ServoTurnedOn | JogRefused
+@dataclass(frozen=True, eq=False)
+class MotionSent:
+    """The controller answered the command of ``motion`` (posted from the job itself, so
+    it comes before the next poll's news)."""
+
+    motion: Motion
+
+
+Post = Polled | BusyChanged | LinkChanged | Publish | ServoTurnedOn | JogRefused | MotionSent
 
 
 __all__ = [
     "BusyChanged",
     "JogRefused",
     "LinkChanged",
+    "MotionSent",
     "Polled",
     "Post",
     "Publish",

@@ -60,6 +60,7 @@ from melfa.service.posts import (
     BusyChanged,
     JogRefused,
     LinkChanged,
+    MotionSent,
     Polled,
     Post,
     Publish,
@@ -416,6 +417,7 @@ class RobotService(RobotCommands):
         worker.cancel_queued(lambda job: True, Cancelled(f"cancelled: {actor.user} pressed stop"))
         self._jog.end(JogEnd.STOPPED, actor, by=actor.user)
         self._dispatch.moved = False
+        self._snapshots.motion_ended()
         return command_id
 
     async def _stop_wait(self, actor: Actor, detail: str, command_id: int) -> None:
@@ -483,7 +485,7 @@ class RobotService(RobotCommands):
             case Polled(result):
                 if isinstance(result, JointsRead):
                     self._dispatch.moved = False
-                self._update(result.apply)
+                self._snapshots.update(result.apply, state_read=isinstance(result, StateRead))
                 snapshot = self._snapshots.latest
                 if self.recorder is not None:
                     self.recorder.polled(result, snapshot)
@@ -517,6 +519,8 @@ class RobotService(RobotCommands):
                 self._update(lambda s: dataclasses.replace(s, servo=True))
             case JogRefused(error):
                 self._jog.refused(error)
+            case MotionSent(motion):
+                self._snapshots.motion_sent(motion)
 
 
 __all__ = ["RobotService", "describe_error"]

@@ -3,8 +3,9 @@ activity line, the jog pad, the 3D view, the desktop client, ROS), and the stude
 sentence for it, written once.
 
 Pure: `activity_of` computes the word from the polled state and the service's note of the
-motion it last started (`Motion`), so a *Move to* is never reported as "running line 50"
-and a held jog key never as "not moving". `ACTIVITY_WORDS` holds the sentence of each
+motion it last started (`Motion`, with its `MotionPhase`), so a *Move to* is never reported
+as "running line 50" (not even with a program paused), "At P1" is said only once the arm
+has arrived, and a held jog key never as "not moving". `ACTIVITY_WORDS` holds the sentence of each
 word; `said` fills it (the browser gets the same table in the generated ``/vocab.js`` and
 fills it the same way).
 """
@@ -26,6 +27,8 @@ class Activity(enum.StrEnum):
     RUNNING = "running"
     PAUSED = "paused"
     """The program was stopped mid-way: *Run* continues, *Reset program* starts over."""
+    AT = "at"
+    """A *Move to* arrived: the arm stands at its point (until the next motion)."""
     MOVING = "moving"
     """The arm moves and melfa did not start it (the pendant, another program)."""
     IDLE = "idle"
@@ -69,6 +72,7 @@ ACTIVITY_WORDS: dict[Activity, ActivityWords] = {
         "Paused at {detail}", "Paused", "paused", Tone.CALM,
         "Run continues; Reset program starts over",
     ),
+    Activity.AT: ActivityWords("At {detail}", "At the point", "idle", Tone.CALM),
     Activity.MOVING: ActivityWords(
         "Robot moving (not started by melfa)", "Robot moving (not started by melfa)", "moving",
         Tone.BUSY,
@@ -131,12 +135,41 @@ class MotionKind(enum.Enum):
     EXEC = "exec"
 
 
+class MotionPhase(enum.Enum):
+    """Where a motion melfa started is (the service moves it on from its STATE reads)."""
+
+    ASKED = "asked"
+    """Queued or on the wire: the controller has not answered yet."""
+    SENT = "sent"
+    """The controller took it; no STATE read since has shown the arm move."""
+    MOVING = "moving"
+    """A STATE read showed it moving."""
+    ARRIVED = "arrived"
+    """A STATE read after it was sent showed the arm still: it is over."""
+
+
 @dataclass(frozen=True)
 class Motion:
-    """The motion the service last started, and what to call it (``P1``, ``X+``)."""
+    """The motion the service last started, what to call it (``P1``, ``X+``), and where it
+    is (`MotionPhase`)."""
 
     kind: MotionKind
     label: str = ""
+    phase: MotionPhase = MotionPhase.ASKED
+
+    def after_state_read(self, moving: bool) -> Motion:
+        """The motion after a STATE read that showed the arm ``moving`` (or still).
+
+        >>> m = Motion(MotionKind.MOVE_TO, "P1", MotionPhase.SENT)
+        >>> m.after_state_read(True).phase, m.after_state_read(False).phase
+        (<MotionPhase.MOVING: 'moving'>, <MotionPhase.ARRIVED: 'arrived'>)
+        >>> Motion(MotionKind.MOVE_TO, "P1").after_state_read(False).phase  # not answered yet
+        <MotionPhase.ASKED: 'asked'>
+        """
+        if self.phase is MotionPhase.ASKED or self.phase is MotionPhase.ARRIVED:
+            return self
+        phase = MotionPhase.MOVING if moving else MotionPhase.ARRIVED
+        return self if phase is self.phase else Motion(self.kind, self.label, phase)
 
 
 @dataclass(frozen=True)
@@ -155,13 +188,18 @@ class Facts:
 
 
 def activity_of(facts: Facts, motion: Motion | None) -> tuple[Activity, str]:
-    """The activity and its detail (the target, the line).
+    """The activity and its detail (the target, the line). A motion melfa started and
+    that has not arrived is "moving to" whatever the program's flags say (a *Move to*
+    with a program paused); one that arrived is "at" its point until the next.
 
     >>> activity_of(Facts(True, running=True, program_running=False),
     ...             Motion(MotionKind.MOVE_TO, "P1"))
     (<Activity.MOVING_TO: 'moving-to'>, 'P1')
     >>> activity_of(Facts(True, running=True, program_running=True, line=30), None)
     (<Activity.RUNNING: 'running'>, 'line 30')
+    >>> activity_of(Facts(True, running=False, paused=True, line=35),
+    ...             Motion(MotionKind.MOVE_TO, "Ppila", MotionPhase.ARRIVED))
+    (<Activity.AT: 'at'>, 'Ppila')
     """
     if not facts.connected:
         return Activity.OFFLINE, ""
@@ -172,10 +210,15 @@ def activity_of(facts: Facts, motion: Motion | None) -> tuple[Activity, str]:
     if facts.jogging:
         return Activity.JOGGING, motion.label if motion and motion.kind is MotionKind.STEP else ""
     moving = bool(facts.running) or bool(facts.moving)
+    ours = motion is not None and motion.kind is not MotionKind.RUN
+    if ours and motion is not None and motion.phase is not MotionPhase.ARRIVED:
+        return Activity.MOVING_TO, motion.label
     if facts.program_running or (facts.running and motion and motion.kind is MotionKind.RUN):
         return Activity.RUNNING, f"line {facts.line}" if facts.line else ""
-    if moving and motion is not None and motion.kind is not MotionKind.RUN:
-        return Activity.MOVING_TO, motion.label
+    if moving and ours and motion is not None:  # arrived, and moving again: not ours
+        return Activity.MOVING, ""
+    if ours and motion is not None and motion.kind is MotionKind.MOVE_TO:
+        return Activity.AT, motion.label
     if facts.paused:
         return Activity.PAUSED, f"line {facts.line}" if facts.line else ""
     if moving:
@@ -192,6 +235,7 @@ __all__ = [
     "Facts",
     "Motion",
     "MotionKind",
+    "MotionPhase",
     "Tone",
     "activity_of",
     "jog_detail",

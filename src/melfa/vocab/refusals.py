@@ -36,6 +36,12 @@ class Refusal(enum.StrEnum):
     SIMULATION_REQUIRED = "simulation-required"
     """The instructor's gate: the lab robot loads and runs only a program and points that
     passed pre-flight (a simulated run without errors)."""
+    SLOT_CHANGED = "slot-changed"
+    """A run named the program it meant (its fingerprint), and the controller's slot holds
+    another: someone loaded in between."""
+    SLOT_UNKNOWN = "slot-unknown"
+    """A run named the program it meant, and what the slot holds is not known (a load
+    failed on the way, or it was deleted)."""
 
     def words(self, **facts: object) -> tuple[str, str]:
         """(what happened, the fix), with ``facts`` filled in."""
@@ -83,6 +89,18 @@ _WORDS: dict[Refusal, _Words] = {
         "Run Pre-flight (or debug it on My simulator), then load and run it again.",
         "preflight",
         "Run pre-flight",
+    ),
+    Refusal.SLOT_CHANGED: _Words(
+        "The robot now holds {who}'s program, not the one you meant to run.",
+        "Look at what is loaded, or load yours, then press Run again.",
+        "load-project",
+        "Load project",
+    ),
+    Refusal.SLOT_UNKNOWN: _Words(
+        "Nobody knows which program the robot holds now: the last load did not finish.",
+        "Load the project, then press Run again.",
+        "load-project",
+        "Load project",
     ),
 }
 assert set(_WORDS) == set(Refusal), "every refusal has its words"

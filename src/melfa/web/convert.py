@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from melfa.lang.diagnostics import Diagnostic, Severity
-from melfa.protocol.advice import FIX_LABELS, Fix, advice_for
+from melfa.protocol.advice import FIX_LABELS, Fix, advice_for, is_user_error
 from melfa.service import Actor, StateSnapshot, event_to_dict
 from melfa.store import Revision, RevisionInfo, User, Workspace, WorkspaceState
 from melfa.web.models import (
@@ -106,7 +106,9 @@ def state_dict(snapshot: StateSnapshot) -> dict[str, Any]:
         fix = advice.to_json()
         if fix["fix"] is None or fix["fix"] == Fix.SERVO_ON_RETRY.value:
             fix.update(fix=Fix.RESET_ALARM.value, fix_label=FIX_LABELS[Fix.RESET_ALARM])
-        out["alarm"].update(fix)
+        out["alarm"].update(fix, own=is_user_error(snapshot.alarm.number))
+    if out.get("slot") is not None:
+        out["slot"].pop("step_lines", None)  # the service's, for naming lines; not sent
     return out
 
 

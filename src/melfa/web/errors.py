@@ -200,6 +200,8 @@ REFUSAL_STATUS: dict[Refusal, int] = {
     Refusal.PROGRAM_HAS_ERRORS: 422,
     Refusal.POINTS_HAVE_ERRORS: 422,
     Refusal.SIMULATION_REQUIRED: 409,
+    Refusal.SLOT_CHANGED: 409,
+    Refusal.SLOT_UNKNOWN: 409,
 }
 """The HTTP status of each policy refusal (the code is the refusal's own)."""
 assert set(REFUSAL_STATUS) == set(Refusal), "every refusal has its status"

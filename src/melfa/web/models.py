@@ -242,6 +242,11 @@ class UploadOut(BaseModel):
         description="Step number the controller reports -> line of the program as sent "
         "(`melfa.lang.plan.UploadPlan.step_lines`): the running line in the student's own text.",
     )
+    fingerprint: str | None = Field(
+        None,
+        description="The program and points as sent: the state's `slot.fingerprint` while "
+        "the slot holds them, and what `run`'s `expect` names.",
+    )
 
 
 SERVO_ON_FIELD = Field(
@@ -254,6 +259,12 @@ SERVO_ON_FIELD = Field(
 
 class RunIn(Input):
     servo_on: bool = SERVO_ON_FIELD
+    expect: Annotated[str, Field(min_length=1, max_length=64)] | None = Field(
+        None,
+        description="The fingerprint of the program you mean to run (the state's "
+        "`slot.fingerprint` you were shown): refused with 409 slot-changed when the slot "
+        "holds another by now. Without it, whatever is loaded runs.",
+    )
 
 
 class ExecIn(Input):

@@ -96,7 +96,7 @@ async def start(
     """Loads the program and its points (a program with errors is refused, as for an
     upload), sets the breakpoints and inputs; it does not run yet (``run`` or ``step``).
     Replaces a session already open."""
-    program, points = await sources(context, session, body)
+    program, points, _ = await sources(context, session, body)
     assert program is not None and points is not None
     checked_program(await planned(context, program, points), body.check)
     speed = _speed(body.speed)

@@ -66,7 +66,7 @@ async def run_preflight(
     """Runs the program (from the body, else the workspace) at instant speed on a fresh
     simulated arm in the lab's cell; nothing moves. A report without errors lets the lab
     robot run the same text when the gate is on."""
-    program, points = await sources(context, session, body)
+    program, points, _ = await sources(context, session, body)
     assert program is not None and points is not None
     plan = await planned(context, program, points)
     checked_program(plan, body.check)

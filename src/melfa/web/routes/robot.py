@@ -19,9 +19,10 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
 from melfa.service import Actor, InvalidArgument, ServoPolicy
 from melfa.service.policy import plan_refusal
+from melfa.service.slot import LoadOrigin
 from melfa.vocab.commands import Command
 from melfa.web.context import WebContext
-from melfa.web.convert import state_out
+from melfa.web.convert import state_out, workspace_info
 from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of
 from melfa.web.errors import ERROR_RESPONSES, ApiError, from_refusal, from_robot
 from melfa.web.logs import robot_log
@@ -85,19 +86,24 @@ async def operate(actor: Actor, name: Command | str, call: Callable[[], Awaitabl
 
 async def sources(
     context: WebContext, session: SessionDep, body: SourceIn
-) -> tuple[str | None, str | None]:
-    """Program and points from the body, the rest from the workspace."""
+) -> tuple[str | None, str | None, LoadOrigin]:
+    """Program and points from the body, the rest from the workspace; where they came
+    from (the workspace named by ``workspace_id``, else the default one when it gave
+    text; nothing known when the body gave both)."""
     program, points = body.program, body.points
-    if program is None or points is None:
+    origin = LoadOrigin()
+    if program is None or points is None or body.workspace_id is not None:
         user = session.user
         if body.workspace_id is not None:
             ws = await open_workspace(context, user, body.workspace_id)
         else:
             ws = await default_workspace(context, user)
-        state = await context.db(context.store.workspaces.state, ws.id)
-        program = state.program if program is None else program
-        points = state.points if points is None else points
-    return program, points
+        origin = LoadOrigin(ws.id, workspace_info(ws).name)
+        if program is None or points is None:
+            state = await context.db(context.store.workspaces.state, ws.id)
+            program = state.program if program is None else program
+            points = state.points if points is None else points
+    return program, points, origin
 
 
 async def planned(context: WebContext, program: str | None, points: str | None) -> UploadPlan:
@@ -120,6 +126,7 @@ def _upload_out(report: object, plan: UploadPlan | None = None) -> UploadOut:
     if plan is not None:
         # The controller reports step numbers; the IDE shows the student's own lines.
         out.step_lines = dict(plan.step_lines)
+        out.fingerprint = plan.fingerprint
     return out
 
 
@@ -132,11 +139,13 @@ async def load_project(
     sent, and on the lab robot with the instructor's gate one that has not passed
     pre-flight."""
     actor = drive.actor
-    program, points = await sources(context, session, body)
+    program, points, origin = await sources(context, session, body)
     assert program is not None and points is not None
     plan = await planned(context, program, points)
     service = drive.service
-    report = await operate(actor, Command.LOAD_PROJECT, lambda: service.load_project(actor, plan))
+    report = await operate(
+        actor, Command.LOAD_PROJECT, lambda: service.load_project(actor, plan, origin)
+    )
     return _upload_out(report, plan)
 
 
@@ -146,12 +155,12 @@ async def upload_program(
 ) -> UploadOut:
     """The program alone (its positions cleared)."""
     actor = drive.actor
-    program, _ = await sources(context, session, body)
+    program, _, origin = await sources(context, session, body)
     assert program is not None
     plan = await planned(context, program, None)
     service = drive.service
     report = await operate(
-        actor, Command.UPLOAD_PROGRAM, lambda: service.upload_program(actor, plan)
+        actor, Command.UPLOAD_PROGRAM, lambda: service.upload_program(actor, plan, origin)
     )
     return _upload_out(report, plan)
 
@@ -161,7 +170,7 @@ async def upload_points(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
     actor = drive.actor
-    _, points = await sources(context, session, body)
+    _, points, _ = await sources(context, session, body)
     assert points is not None
     plan = await planned(context, None, points)
     if plan.blocker is None and not plan.items:
@@ -188,7 +197,8 @@ def servo_policy(servo_on: bool) -> ServoPolicy:
 async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
     actor = drive.actor
     policy = servo_policy(body.servo_on if body is not None else False)
-    await operate(actor, Command.RUN, lambda: drive.service.run(actor, servo=policy))
+    expect = body.expect if body is not None else None
+    await operate(actor, Command.RUN, lambda: drive.service.run(actor, servo=policy, expect=expect))
     return Ok()
 
 
@@ -264,7 +274,7 @@ async def move(body: MoveIn, session: SessionDep, drive: DriveDep, context: Cont
         source = SourceIn(
             program="", points=body.points, workspace_id=body.workspace_id, check=False
         )
-        _, points = await sources(context, session, source)
+        _, points, _ = await sources(context, session, source)
         point = parse_points(points or "").get(body.point.strip())
         if point is None:
             raise ApiError(
