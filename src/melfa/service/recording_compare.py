@@ -22,7 +22,9 @@ Pure: no I/O, no clock.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import json
+import zlib
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -147,4 +149,32 @@ def compare(
     return Comparison(largest, compared, cycle_real, cycle_sim)
 
 
-__all__ = ["Comparison", "Deviation", "SimSample", "SimulatedRun", "compare"]
+def simulated_run(
+    path: Iterable[tuple[float, float, float, float, int | None]], cycle_time: float | None
+) -> SimulatedRun:
+    """From pre-flight's path samples ``(t, x, y, z, line)``."""
+    return SimulatedRun(tuple(SimSample(*p) for p in path), cycle_time)
+
+
+def pack(run: SimulatedRun) -> bytes:
+    """A simulated run as stored (zlib'd JSON, mm to 0.01)."""
+    rows = [[round(s.t, 3), round(s.x, 2), round(s.y, 2), round(s.z, 2), s.line] for s in run.path]
+    return zlib.compress(json.dumps({"cycle_time": run.cycle_time, "path": rows}).encode(), 9)
+
+
+def unpack(data: bytes) -> SimulatedRun:
+    """The inverse of `pack`."""
+    value = json.loads(zlib.decompress(data))
+    return simulated_run((tuple(row) for row in value["path"]), value["cycle_time"])
+
+
+__all__ = [
+    "Comparison",
+    "Deviation",
+    "SimSample",
+    "SimulatedRun",
+    "compare",
+    "pack",
+    "simulated_run",
+    "unpack",
+]

@@ -40,7 +40,7 @@ from melfa.service.bus import EventBus, Subscription
 from melfa.service.clock import Clock
 from melfa.service.commands import RobotCommands
 from melfa.service.config import ServiceConfig, WhenHolderLeaves
-from melfa.service.dispatch import Dispatcher, describe_error
+from melfa.service.dispatch import Dispatcher, DoneHook, describe_error
 from melfa.service.errors import Cancelled, ServiceClosed
 from melfa.service.events import (
     SERVICE_ACTOR,
@@ -138,6 +138,7 @@ class RobotService(RobotCommands):
         self._closed_event: asyncio.Event | None = None
         self.recorder: RunRecorder | None = None
         """Records every run (`record_runs`; the lab robot's, not a private simulator's)."""
+        self._recorder_hook: DoneHook | None = None
 
     def record_runs(self, sink: Sink, **options: Any) -> RunRecorder:
         """Record every run of this robot from its state stream, each finished recording
@@ -151,7 +152,17 @@ class RobotService(RobotCommands):
                 self._listeners_changed()  # poll at the listening rate while it runs
 
         self._dispatch.done_hooks.append(done)
+        self._recorder_hook = done
         return recorder
+
+    def stop_recording(self) -> None:
+        """End a run under way (its recording goes to the sink) and record no more."""
+        recorder, self.recorder = self.recorder, None
+        if recorder is not None:
+            recorder.close()
+        if self._recorder_hook is not None:
+            self._dispatch.done_hooks.remove(self._recorder_hook)
+            self._recorder_hook = None
 
     @classmethod
     def from_spec(

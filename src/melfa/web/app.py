@@ -28,6 +28,7 @@ from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
 from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight as PreflightState
+from melfa.web.recorded_runs import RunKeeper
 from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
     audit,
@@ -39,6 +40,7 @@ from melfa.web.routes import (
     pages,
     preflight,
     robot,
+    runs,
     session,
     targets,
     tokens,
@@ -48,6 +50,7 @@ from melfa.web.routes import (
 )
 from melfa.web.routes.pages import STATIC
 from melfa.web.static_files import CachedStaticFiles
+from melfa.web.targets import LAB
 from melfa.web.targets import Targets as TargetRegistry
 from melfa.web.ws import router as ws_router
 
@@ -60,6 +63,7 @@ TAGS = [
     {"name": "debug", "description": "The debugger on your own simulator."},
     {"name": "preflight", "description": "A simulated run checked before the arm moves."},
     {"name": "lease", "description": "Who may move the robot."},
+    {"name": "runs", "description": "Recorded runs on the lab robot, and their replay."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
     {"name": "users", "description": "Accounts (admins)."},
     {"name": "tokens", "description": "My personal access tokens (for programs)."},
@@ -123,6 +127,10 @@ def create_app(
                 ),
             )
             app.state.web = context
+            keeper: RunKeeper | None = None
+            if the_service.recorder is None:  # every run on the lab robot is recorded
+                keeper = RunKeeper(context, LAB)
+                the_service.record_runs(keeper)
             reaper = asyncio.create_task(_reap(registry), name="melfa-private-reaper")
             sweeper = asyncio.create_task(_sweep(context), name="melfa-socket-sweeper")
             try:
@@ -133,6 +141,9 @@ def create_app(
                     with contextlib.suppress(asyncio.CancelledError):
                         await task
                 await registry.close()
+                if keeper is not None:
+                    the_service.stop_recording()  # a run under way ends with the server
+                    await keeper.drain()
                 context.pools.shutdown()
         finally:
             if service is None and the_service is not None:
@@ -162,6 +173,7 @@ def create_app(
         targets.router,
         debug.router,
         preflight.router,
+        runs.router,
         lease.router,
         audit.router,
         users.router,

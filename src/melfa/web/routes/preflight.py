@@ -17,6 +17,7 @@ from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, SessionDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input, SourceIn
+from melfa.web.recorded_runs import simulation_passed
 from melfa.web.routes.robot import checked_program, planned, sources
 
 router = APIRouter(prefix="/api", tags=["preflight"], responses=ERROR_RESPONSES)
@@ -80,6 +81,8 @@ async def run_preflight(
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
         context.service.policy.gate_passed(plan)
+        # What a later real run of the same text is compared with (its ghost and report).
+        await simulation_passed(context, session.user.username, plan.fingerprint, report)
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
 
 

@@ -1,0 +1,119 @@
+"""Where the lab robot's recorded runs go: `RunKeeper` is the service's sink
+(`melfa.service.recording`). When a recording ends it finds the simulated run to compare
+with (the runner's passed pre-flight of the same fingerprint, else a partner's), works out
+the report (`melfa.service.recording_compare`), encodes the frames and stores the run, off
+the event loop. A passed pre-flight is kept for later runs (`simulation_passed`)."""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+from typing import Any
+
+from melfa.service.recording import Recording
+from melfa.service.recording_compare import (
+    Comparison,
+    SimulatedRun,
+    compare,
+    pack,
+    simulated_run,
+    unpack,
+)
+from melfa.service.recording_frames import encode
+from melfa.sim.debug.preflight import Report
+from melfa.store.runs import NewRun
+from melfa.web.context import WebContext
+
+_log = logging.getLogger("melfa.web.runs")
+
+
+def report_of(comparison: Comparison) -> dict[str, Any]:
+    """The stored report (what the run routes send as ``report``)."""
+    largest = comparison.largest
+    return {
+        "deviation": None
+        if largest is None
+        else {
+            "mm": round(largest.mm, 2),
+            "t": largest.t,
+            "line": largest.line,
+            "real": [round(v, 2) for v in largest.real],
+            "simulated": [round(v, 2) for v in largest.simulated],
+        },
+        "compared": comparison.compared,
+        "cycle_difference": None
+        if comparison.cycle_difference is None
+        else round(comparison.cycle_difference, 3),
+    }
+
+
+class RunKeeper:
+    """Stores the lab robot's recordings (the service's sink, event loop only)."""
+
+    def __init__(self, context: WebContext, target: str) -> None:
+        self.context = context
+        self.target = target
+        self._pending: set[asyncio.Task[None]] = set()
+        self.saved = 0
+        """Runs stored since the server started (tests wait on it)."""
+
+    def __call__(self, recording: Recording) -> None:
+        task = asyncio.get_running_loop().create_task(self._save(recording))
+        self._pending.add(task)
+        task.add_done_callback(self._pending.discard)
+
+    async def drain(self) -> None:
+        """Wait for the runs being stored (before the store closes)."""
+        while self._pending:
+            await asyncio.gather(*list(self._pending), return_exceptions=True)
+
+    async def _save(self, rec: Recording) -> None:
+        context = self.context
+        store = context.store
+        try:
+            simulation = None
+            if rec.fingerprint is not None:
+                simulation = await context.db(store.runs.simulation, rec.user, rec.fingerprint)
+            simulated: SimulatedRun | None = (
+                unpack(simulation.path) if simulation is not None else None
+            )
+            comparison = await context.cpu(compare, rec.frames, simulated, rec.cycle_time)
+            frames = await context.cpu(encode, rec.frames)
+            loaded = rec.loaded
+            await context.db(
+                store.runs.save,
+                NewRun(
+                    target=self.target,
+                    username=rec.user,
+                    started=rec.started_at,
+                    duration=rec.duration,
+                    outcome=(rec.outcome.value if rec.outcome else "unknown"),
+                    fingerprint=rec.fingerprint,
+                    loaded_by=loaded.loaded_by if loaded else None,
+                    program=loaded.program if loaded else None,
+                    frame_count=len(rec.frames),
+                    frames=frames,
+                    simulated=simulation.path if simulation is not None else None,
+                    simulated_by=simulation.username if simulation is not None else None,
+                    cycle_real=rec.cycle_time,
+                    cycle_simulated=comparison.cycle_simulated,
+                    report=report_of(comparison),
+                ),
+            )
+            self.saved += 1
+        except Exception:
+            _log.exception("the run of %s could not be stored", rec.user)
+
+
+async def simulation_passed(
+    context: WebContext, user: str, fingerprint: str, report: Report
+) -> None:
+    """``user``'s pre-flight of ``fingerprint`` passed: keep its path for later real runs."""
+    path = [(p.time, p.x, p.y, p.z, p.line) for p in report.path]
+    data = await context.cpu(pack, simulated_run(path, report.cycle_time))
+    await context.db(
+        context.store.runs.record_simulation, user, fingerprint, report.cycle_time, data
+    )
+
+
+__all__ = ["RunKeeper", "report_of", "simulation_passed"]
