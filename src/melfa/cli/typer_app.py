@@ -39,6 +39,7 @@ COMMAND_MODULES: dict[str, str] = {
     "doctor": "doctor_commands",
     "sim": "sim_commands",
     "debug": "debug_commands",
+    "grade": "grade_commands",
     "users": "users_commands",
     "serve": "serve_commands",
     "ros": "ros_commands",

@@ -24,6 +24,7 @@ from melfa.grade.statements import lines_using, normalise
 from melfa.kin import Pose
 from melfa.kin.pose import pose_distance
 from melfa.lang import ast as A  # noqa: N812
+from melfa.sim.debug.cell_world import HandAction as Action
 from melfa.sim.debug.cell_world import HandChange
 from melfa.sim.debug.preflight import Report as Run
 from melfa.sim.debug.preflight import Severity
@@ -125,17 +126,16 @@ def hand(check: Hand, run: Run) -> Outcome:
     """The hand's opens (or closes), in order, each where the tool was (TCP, mm)."""
     change = HandChange.OPEN if check.action is HandAction.OPEN else HandChange.CLOSE
     past = "opened" if check.action is HandAction.OPEN else "closed"
-    events = [a for a in run.hands if a.hand == check.hand and a.change is change]
+    if check.with_part:
+        past = "let go of a part" if check.action is HandAction.OPEN else "took a part"
+    events = [
+        a
+        for a in run.hands
+        if a.hand == check.hand and a.change is change and (a.part or not check.with_part)
+    ]
     for i, want in enumerate(check.at):
         if i >= len(events):
-            # The arm may have gone there and not acted: point at the move that arrived.
-            arrived = [m for m in run.moves if math.dist(m.target.xyz, want) <= check.tolerance_mm]
-            return Outcome(
-                False,
-                f"hand {check.hand} {past} {len(events)} time{'s' if len(events) != 1 else ''}, "
-                f"never at {xyz_text(want)} (place {i + 1} of {len(check.at)})",
-                arrived[0].line if arrived else None,
-            )
+            return _missing(check, run, i, past, events)
         got = events[i]
         dist = math.dist(got.pose[:3], want)
         if dist > check.tolerance_mm:
@@ -210,3 +210,38 @@ def avoids(check: Avoids, program: A.Program) -> Outcome:
         line, name = min(used)
         return Outcome(False, f"line {line} uses {name}, which this assignment rules out", line)
     return Outcome(True, f"the program uses none of {', '.join(n for _, n in found)}")
+
+
+def _missing(check: Hand, run: Run, i: int, past: str, events: list[Action]) -> Outcome:
+    """The i-th place has no event: a close that took nothing after the last one that did
+    is the likely culprit (an open holding nothing is usual: a HOPEN at the start); else
+    the move that arrived there without the hand acting."""
+    want = check.at[i]
+    change = HandChange.OPEN if check.action is HandAction.OPEN else HandChange.CLOSE
+    after = events[-1].time if events else -math.inf
+    empty = [
+        a
+        for a in run.hands
+        if a.hand == check.hand and a.change is change and a.part is None and a.time > after
+    ]
+    place = f"place {i + 1} of {len(check.at)}"
+    if check.with_part and change is HandChange.CLOSE and empty:
+        a = empty[0]
+        return Outcome(
+            False,
+            f"hand {check.hand} closed but took no part at {xyz_text(a.pose)}, "
+            f"{math.dist(a.pose[:3], want):.1f} mm from {xyz_text(want)} ({place})",
+            a.line,
+        )
+    arrived = [m for m in run.moves if math.dist(m.target.xyz, want) <= check.tolerance_mm]
+    count = f"{len(events)} time{'s' if len(events) != 1 else ''}"
+    return Outcome(
+        False,
+        f"hand {check.hand} {past} {count}, never at {xyz_text(want)} ({place})"
+        + (
+            f"; the tool got there at line {arrived[0].line} and the hand did not act"
+            if arrived
+            else ""
+        ),
+        arrived[0].line if arrived else None,
+    )

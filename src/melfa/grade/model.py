@@ -96,12 +96,15 @@ class PartAt(_Check):
 
 
 class Hand(_Check):
-    """Hand `hand` opens (or closes) exactly at these tool positions, in this order."""
+    """Hand `hand` opens (or closes) exactly at these tool positions, in this order.
+    With `with_part` (the default) only a close that takes a part and an open that lets
+    one go count (a HOPEN at the start, to be sure, is not a place)."""
 
     kind: Literal[CheckKind.HAND]
     action: HandAction
     at: tuple[Vec3, ...] = Field(min_length=1)
     hand: int = 1
+    with_part: bool = True
     tolerance_mm: float = Field(2.0, gt=0)
     follows: str | None = None
 

@@ -54,13 +54,17 @@ class Report(BaseModel):
 
 
 def report_text(report: Report, name: str) -> str:
-    """A submission's report as the terminal shows it: one check a line."""
+    """A submission's report as the terminal shows it: one check a line, failures with
+    their line and why."""
     head = "passed" if report.passed else "failed"
-    out = [f"{name}: {head}, score {report.score:g} of {report.max_score:g}"]
+    cycle = f", cycle {report.cycle_time:.1f} s" if report.cycle_time is not None else ""
+    out = [f"{name}: {head}, score {report.score:g} of {report.max_score:g}{cycle}"]
     for c in report.checks:
-        mark = "ok  " if c.passed else "FAIL"
-        where = f" (line {c.line})" if c.line is not None and not c.passed else ""
-        out.append(f"  {mark} {c.title}{where}: {c.message}")
+        if c.passed:
+            out.append(f"  ok    {c.title}")
+        else:
+            where = f" (line {c.line})" if c.line is not None else ""
+            out.append(f"  FAIL  {c.title}{where}: {c.message}")
     return "\n".join(out) + "\n"
 
 
