@@ -238,3 +238,17 @@ def test_debug_starts_with_the_servo_on_at_given_joints_and_feeds_input(tmp_path
     assert (code, err) == (0, "")
     *_, finished, printed = out.splitlines()
     assert (finished.startswith("finished at line 4 after"), printed) == (True, "42")
+
+
+def test_debug_starts_at_a_pose_and_refuses_one_out_of_reach(tmp_path: Path) -> None:
+    program = "10 END\n"
+    code, out, err = melfa_debug(
+        tmp_path, "print P_CURR\nquit\n", "--pose", "300,100,500,180,0,180", program=program
+    )
+    assert (code, err) == (0, "")
+    assert out.splitlines()[-1] == "(+300.00,+100.00,+500.00,+180.00,+0.00,+180.00)(7,0)"
+    code, out, err = melfa_debug(
+        tmp_path, "quit\n", "--pose", "2000,0,500,180,0,180", program=program
+    )
+    assert code == 2 and "the start position is out of the RV-6S's reach" in err
+    assert "Traceback" not in err

@@ -193,6 +193,37 @@ def test_a_run_can_start_with_the_servo_on_elsewhere_and_with_input_lines(
         RunStart.parse(False, None, ["x=1"])
 
 
+def test_a_run_can_start_at_a_pose_in_xyz(tmp_path: Path) -> None:
+    """--pose is solved to joints by melfa.kin: the run starts (and, with nothing to do,
+    ends) with the arm's flange where the pose says, under its flags."""
+    prog, _ = write(tmp_path, "10 DLY 0.1\n20 END\n")
+    for given in ("300,100,500,180,0,180", "(+300.00,+100.00,+500.00,+180.00,+0.00,+180.00)(7,0)"):
+        code, text = trace(prog, None, start=RunStart.parse(True, None, None, given))
+        assert code == 0, text
+        assert "X 300.00 Y 100.00 Z 500.00 mm, A 180.00 B 0.00 C 180.00 °, (7,0)" in text
+
+
+def test_a_start_the_arm_cannot_take_is_refused_with_why() -> None:
+    with pytest.raises(
+        ValueError,
+        match=r"^--pose 2000,0,500,180,0,180: the start position is "
+        r"out of the RV-6S's reach \(its wrist centre is \d+ mm from the shoulder",
+    ):
+        RunStart.parse(False, None, None, "2000,0,500,180,0,180")
+    with pytest.raises(ValueError, match=r"reachable only with flags \(7,0\), not \(6,0\)"):
+        RunStart.parse(False, None, None, "400,0,645,180,0,180,6,0")
+    with pytest.raises(
+        ValueError,
+        match=r"^--joints 0,140,90,0,90,0: the start position has "
+        "J2 = 140°, beyond its limit",
+    ):
+        RunStart.parse(False, "0,140,90,0,90,0", None)
+    with pytest.raises(ValueError, match="^--pose '1,2' is not a position X,Y,Z,A,B,C"):
+        RunStart.parse(False, None, None, "1,2")
+    with pytest.raises(ValueError, match="give one"):
+        RunStart.parse(False, "0,0,90,0,90,0", None, "400,0,645,180,0,180")
+
+
 def test_points_are_read_with_the_programs_def_pos(tmp_path: Path) -> None:
     # get_box is a position only because the program says DEF POS GET_BOX.
     program = "10 DEF POS GET_BOX\n20 MOV get_box\n30 END\n"

@@ -18,7 +18,7 @@ import typer
 from rich.console import Console as RichConsole
 
 from melfa.cli.checking import FileKind, UsageError, read_text_file
-from melfa.cli.start_options import FeedOption, JointsOption, ServoOnOption
+from melfa.cli.start_options import FeedOption, JointsOption, PoseOption, ServoOnOption
 from melfa.cli.typer_app import app
 from melfa.sim.debug.cell import Cell, CellError
 from melfa.sim.debug.console import Console
@@ -85,6 +85,7 @@ def debug(
     ] = DEFAULT_MAX_TIME_S,
     servo_on: ServoOnOption = False,
     joints: JointsOption = None,
+    pose: PoseOption = None,
     feed: FeedOption = None,
 ) -> None:
     """Debug a program on a simulated RV-6S: break, step, next, finish, print, info vars…"""
@@ -104,7 +105,7 @@ def debug(
         errors.print(f"[red]error:[/] --max-time {max_time:g} must be > 0 seconds")
         raise typer.Exit(2)
     try:
-        start = RunStart.parse(servo_on, joints, feed)
+        start = RunStart.parse(servo_on, joints, feed, pose)
     except ValueError as exc:
         errors.print(f"[red]error:[/] {exc}")
         raise typer.Exit(2) from None

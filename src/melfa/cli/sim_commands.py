@@ -20,7 +20,7 @@ from rich.console import Console
 
 from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.checking import FileKind, UsageError, read_text_file
-from melfa.cli.start_options import FeedOption, JointsOption, ServoOnOption
+from melfa.cli.start_options import FeedOption, JointsOption, PoseOption, ServoOnOption
 from melfa.cli.typer_app import app
 from melfa.link.settings import BAUDRATES
 from melfa.sim import NO_PACING, Pacing, PtyServer, SimConfig, TcpServer, VirtualController
@@ -280,6 +280,7 @@ def sim(
     ] = DEFAULT_MAX_TIME_S,
     servo_on: ServoOnOption = False,
     joints: JointsOption = None,
+    pose: PoseOption = None,
     feed: FeedOption = None,
 ) -> None:
     """Run the virtual CR2B-574 controller until Ctrl-C, or trace one program (--run)."""
@@ -302,7 +303,7 @@ def sim(
                 raise typer.Exit(2) from None
             settings[bit] = value
         try:
-            start = RunStart.parse(servo_on, joints, feed)
+            start = RunStart.parse(servo_on, joints, feed, pose)
             # The one reader's rules (extension, not binary) before the run reads them.
             read_text_file(run, FileKind.PROGRAM)
             if points is not None:
@@ -318,6 +319,7 @@ def sim(
         ("--max-time", max_time != DEFAULT_MAX_TIME_S),
         ("--servo-on", servo_on),
         ("--joints", joints is not None),
+        ("--pose", pose is not None),
         ("--feed", bool(feed)),
     ):
         if given:

@@ -14,9 +14,17 @@ JointsOption = Annotated[
     str | None,
     typer.Option("--joints", metavar="J1,…,J6", help="Start the arm at these joints (degrees)."),
 ]
+PoseOption = Annotated[
+    str | None,
+    typer.Option(
+        "--pose",
+        metavar="X,Y,Z,A,B,C[,FL1,FL2]",
+        help="Start the arm at this position (mm, degrees; solved to joints).",
+    ),
+]
 FeedOption = Annotated[
     list[str] | None,
     typer.Option("--feed", metavar="N=TEXT", help="A line for the program's INPUT #N; repeatable."),
 ]
 
-__all__ = ["FeedOption", "JointsOption", "ServoOnOption"]
+__all__ = ["FeedOption", "JointsOption", "PoseOption", "ServoOnOption"]

@@ -104,6 +104,32 @@ def parse_feed(text: str) -> tuple[int, str]:
     return int(channel), line.strip()
 
 
+def parse_pose(text: str) -> tuple[tuple[float, ...], int | None, int | None]:
+    """`X,Y,Z,A,B,C[,FL1[,FL2]]` (mm and degrees, where the arm starts), or the controller's
+    form ``(X,Y,Z,A,B,C)(FL1,FL2)`` -> (six numbers, FL1, FL2: None when not given);
+    ValueError with what is wrong.
+
+    >>> parse_pose("400, 0, 645, 180, 0, 180")
+    ((400.0, 0.0, 645.0, 180.0, 0.0, 180.0), None, None)
+    >>> parse_pose("(+400.00,+0.00,+645.00,+180.00,+0.00,+180.00)(6,0)")
+    ((400.0, 0.0, 645.0, 180.0, 0.0, 180.0), 6, 0)
+    """
+    parts = [p.strip() for p in text.replace(")(", ",").strip().strip("()").split(",")]
+    numbers: list[float] = []
+    flags: list[int] = []
+    try:
+        numbers = [float(p) for p in parts[:6]]
+        flags = [int(p, 0) if not p.upper().startswith("&H") else int(p[2:], 16) for p in parts[6:]]
+    except ValueError:
+        numbers = []
+    if len(numbers) != 6 or len(flags) > 2:
+        raise ValueError(
+            f"{text!r} is not a position X,Y,Z,A,B,C (mm and degrees), optionally with its "
+            "flags FL1,FL2"
+        )
+    return tuple(numbers), (flags[0] if flags else None), (flags[1] if len(flags) > 1 else None)
+
+
 def parse_joints(text: str) -> tuple[float, ...]:
     """`J1,J2,J3,J4,J5,J6` in degrees (where the arm starts) -> six numbers; ValueError.
 
