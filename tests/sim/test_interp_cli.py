@@ -218,7 +218,7 @@ def test_a_start_the_arm_cannot_take_is_refused_with_why() -> None:
         "J2 = 140°, beyond its limit",
     ):
         RunStart.parse(False, "0,140,90,0,90,0", None)
-    with pytest.raises(ValueError, match="^--pose '1,2' is not a position X,Y,Z,A,B,C"):
+    with pytest.raises(ValueError, match=r"^--pose '1,2' is not a position X,Y,Z,A,B,C"):
         RunStart.parse(False, None, None, "1,2")
     with pytest.raises(ValueError, match="give one"):
         RunStart.parse(False, "0,0,90,0,90,0", None, "400,0,645,180,0,180")

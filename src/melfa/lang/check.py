@@ -37,7 +37,6 @@ from melfa.lang.check_names import NameChecks
 from melfa.lang.check_routines import RoutineChecks
 from melfa.lang.check_v import FunctionBlocks, VChecks, v_program, without_follow_ons
 from melfa.lang.diagnostics import Diagnostic, Severity
-from melfa.lang.lexer import tokenize
 from melfa.lang.model import (
     MAX_DEF_LENGTH,
     MAX_DIM_SIZE,
@@ -51,7 +50,7 @@ from melfa.lang.model import (
     RANGES,
     Kind,
 )
-from melfa.lang.parser import parse_tokens
+from melfa.lang.reparse import EDITOR
 from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import suggest
 
@@ -610,6 +609,7 @@ def check_ast(program: A.Program, points: Iterable[str] = ()) -> list[Diagnostic
 
 def check(text: str, points: Iterable[str] = ()) -> list[Diagnostic]:
     """Check a program; `points` are the names defined in its points file. Never raises.
+    Only the lines not seen before are lexed and parsed (`melfa.lang.reparse.EDITOR`).
 
     >>> [(d.line, d.code, d.message) for d in check("10 MOV P1\\n20 HOPEN\\n", ["P1"])]
     [(2, 'L4220', 'HOPEN needs a hand number (1 to 8), found the end of the line')]
@@ -619,7 +619,7 @@ def check(text: str, points: Iterable[str] = ()) -> list[Diagnostic]:
     # is built would only walk it again (about an eighth of a check, bench/bench_check.py).
     gc.disable()
     try:
-        return check_ast(parse_tokens(tokenize(text)), points)
+        return check_ast(EDITOR.parse(text), points)
     except Exception as exc:  # a bug of ours must not take the editor down
         return [internal_error(exc)]
     finally:

@@ -100,8 +100,9 @@ def _second_look(marker: int, tok: str) -> TokenKind:
     return TokenKind.LABEL if len(tok) > 1 else TokenKind.OP  # _STAR
 
 
-def tokenize(text: str) -> list[Token]:
-    """Split `text` into tokens; the last one is EOF. Never raises.
+def tokenize(text: str, first_line: int = 1) -> list[Token]:
+    """Split `text` into tokens; the last one is EOF. Never raises. `first_line` is the
+    number of the text's first line (a line lexed on its own, `melfa.lang.reparse`).
 
     >>> [(t.kind.name, t.text) for t in tokenize("10 MOV P1*P2\\n")][:5]
     [('LINE_NUMBER', '10'), ('KEYWORD', 'MOV'), ('IDENT', 'P1'), ('OP', '*'), ('IDENT', 'P2')]
@@ -119,7 +120,7 @@ def tokenize(text: str) -> list[Token]:
     t_keyword = TokenKind.KEYWORD
     t_ident = TokenKind.IDENT
     t_error = TokenKind.ERROR
-    line = 1
+    line = first_line
     line_start = 0  # offset of the current line's first character
     pos = 0  # offset of the end of the previous token
     prev = t_newline  # the kind of the previous token; start of text = new line
@@ -164,6 +165,10 @@ def tokenize(text: str) -> list[Token]:
                 continue
         append(new(Token, (kind, tok, line, col, line, col + len(tok), ws)))
         prev = kind
+    if len(tokens) > 1 and tokens[-2].kind is TokenKind.EOF:
+        # Text ending in spaces without a line end: `findall` matches the EOF twice (after
+        # the spaces, then empty); one EOF, or the last line read as a missing statement.
+        del tokens[-1]
     return tokens
 
 

@@ -13,6 +13,7 @@ first: ``^``, unary ``+ -``, ``* /``, ``\\``, ``MOD``, binary ``+ -``, ``<< >>``
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from operator import itemgetter
 from typing import Final
 
@@ -192,7 +193,7 @@ def _describe(tok: Token) -> str:
 class _LineParser:
     """Parses the tokens of one line (NEWLINE/EOF last, comments removed)."""
 
-    def __init__(self, toks: list[Token], labels: _Labels) -> None:
+    def __init__(self, toks: list[Token], labels: Labels) -> None:
         self.toks = toks
         self.i = 0
         self.issues: list[A.ParseIssue] = []
@@ -1427,22 +1428,35 @@ assert set(_BINARY) - {"MOD", "AND", "OR", "XOR"} <= {
 assert {"MOD", "AND", "OR", "XOR", "NOT"} <= KEYWORDS
 
 
-class _Labels:
+class Labels:
     """The labels jumped to anywhere in the file, computed only if a line needs them."""
 
-    def __init__(self, tokens: list[Token]) -> None:
+    def __init__(self, tokens: list[Token] | Callable[[], list[Token]]) -> None:
         self.tokens = tokens
         self.names: frozenset[str] | None = None
+        self.asked = False
+        """A line's parse asked (its result then depends on the rest of the file)."""
 
     def __contains__(self, name: object) -> bool:
+        self.asked = True
         if self.names is None:
-            self.names = frozenset(t.text[1:].upper() for t in self.tokens if t.kind is K.LABEL)
+            tokens = self.tokens if isinstance(self.tokens, list) else self.tokens()
+            self.names = frozenset(t.text[1:].upper() for t in tokens if t.kind is K.LABEL)
         return name in self.names
+
+
+def parse_line(tokens: list[Token], labels: Labels, start: int = 0, end: int = -1) -> A.Line:
+    """The tree of the line whose tokens are ``tokens[start:end + 1]`` (``end``: its NEWLINE
+    or the EOF; -1: the first from ``start``); `labels` are the file's, asked only by a line
+    with a mistake. A line lexed on its own is ``parse_line(tokenize(line, number), …)``."""
+    if end < 0:
+        end = next(k for k in range(start, len(tokens)) if tokens[k].kind in _END_KINDS)
+    return _parse_line(tokens, start, end, _LineParser([], labels))
 
 
 def parse_tokens(tokens: list[Token]) -> A.Program:
     """Build the tree from `tokenize` output (so callers that already lexed need not relex)."""
-    parser = _LineParser([], _Labels(tokens))  # one for every line: see `_LineParser.reset`
+    parser = _LineParser([], Labels(tokens))  # one for every line: see `_LineParser.reset`
     kinds = list(map(itemgetter(0), tokens))
     newline = K.NEWLINE
     lines: list[A.Line] = []
@@ -1524,7 +1538,7 @@ def parse_constant(
     ([1, 2, None, 4], 2, 17)
     """
     toks = [tok for tok in tokenize(line) if tok.kind is not K.COMMENT]
-    parser = _LineParser(toks, _Labels(toks))
+    parser = _LineParser(toks, Labels(toks))
     while toks[parser.i].kind is not K.EOF and toks[parser.i].column < column:
         parser.i += 1
     start = toks[parser.i]

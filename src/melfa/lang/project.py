@@ -28,6 +28,7 @@ from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
 from melfa.lang.points import PointDef, PointKind, PointsFile, parse_points
 from melfa.lang.record import Record
+from melfa.lang.reparse import EDITOR
 from melfa.lang.tokens import Token
 
 ReachCheck = Callable[[Sequence[PointDef], str], list[Diagnostic]]
@@ -101,11 +102,12 @@ def offset_only(program: A.Program) -> set[str]:
     return {name for name, count in offsets.items() if uses[name] == count}
 
 
-def parse_program(tokens: list[Token]) -> A.Program | Exception:
-    """The tree of a program's tokens, or the exception a bug of ours raised (kept, to be
+def parse_program(tokens: list[Token] | str) -> A.Program | Exception:
+    """The tree of a program's tokens, or of its text (only the lines not seen before are
+    parsed: `melfa.lang.reparse.EDITOR`), or the exception a bug of ours raised (kept, to be
     reported as a diagnostic by `check_program`: it must not take the editor down)."""
     try:
-        return parse_tokens(tokens)
+        return EDITOR.parse(tokens) if isinstance(tokens, str) else parse_tokens(tokens)
     except Exception as exc:
         return exc
 
@@ -136,7 +138,7 @@ def check_project(
     >>> [d.message for d in report.programs[0]], report.points
     (['Position PUP is not defined'], ((),))
     """
-    parsed = [parse_program(tokenize(text)) for text in programs]
+    parsed = [parse_program(text) for text in programs]
     trees = [p for p in parsed if isinstance(p, A.Program)]
     declared = declared_points(trees)
     files = [parse_points(text, declared) for text in points]
