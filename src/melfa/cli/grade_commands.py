@@ -81,12 +81,11 @@ def _grade_one(item: tuple[Submission, str | None]) -> Report:
 
 def grade_all(
     assignment: Assignment,
-    submissions: Sequence[Submission],
-    variant: str | None = None,
+    items: Sequence[tuple[Submission, str | None]],
     jobs: int = 1,
 ) -> list[Report]:
-    """Every submission's report, in order; in `jobs` worker processes when more than one."""
-    items = [(s, variant) for s in submissions]
+    """Each (submission, variant seed)'s report, in order; in `jobs` worker processes when
+    more than one."""
     if jobs <= 1 or len(items) <= 1:
         return [grade(assignment, s, variant) for s, variant in items]
     workers = min(jobs, len(items))
@@ -138,7 +137,7 @@ def grade_command(
         named = submissions_of(files)
     except UsageError as exc:
         raise _fail(str(exc)) from None
-    reports = grade_all(assignment, [n.submission for n in named], variant, jobs)
+    reports = grade_all(assignment, [(n.submission, variant) for n in named], jobs)
     rows = [(n.name, r) for n, r in zip(named, reports, strict=True)]
     if output is OutputFormat.JSON:
         data = [{"submission": name, **r.model_dump(mode="json")} for name, r in rows]
