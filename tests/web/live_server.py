@@ -73,9 +73,10 @@ class Live:
 
 
 @contextmanager
-def live_server(store: Store, settings: WebSettings) -> Iterator[Live]:
+def live_server(store: Store, settings: WebSettings, **options: Any) -> Iterator[Live]:
+    """``options``: more of `create_app`'s (``queue_clock``)."""
     port = free_port()
-    app = create_app(settings, store=store)
+    app = create_app(settings, store=store, **options)
     config = uvicorn_config(
         app,
         host="127.0.0.1",

@@ -47,6 +47,7 @@ def test_every_route_is_in_docs_api_md() -> None:
         "result",
         "lease",
         "jog",
+        "queue",
         "ack",
         "error",
         "pong",

@@ -70,8 +70,8 @@ def test_committed_schema_matches_the_models() -> None:
 def test_every_kind_of_server_message_is_in_the_schema() -> None:
     kinds = set(committed()["$defs"]["ServerMessage"]["discriminator"]["mapping"])
     assert kinds == {
-        "hello", "state", "debug", "link", "progress", "result", "lease", "jog", "ack",
-        "error", "pong",
+        "hello", "state", "debug", "link", "progress", "result", "lease", "jog", "queue",
+        "ack", "error", "pong",
     }  # fmt: skip
     assert set(committed()["$defs"]["ClientMessage"]["discriminator"]["mapping"]) == CLIENT_TYPES
 

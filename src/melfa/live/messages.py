@@ -24,6 +24,7 @@ from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LinkStatus
+from melfa.vocab.queue import EntryState, QueueStep, TurnEnd
 
 PROTOCOL_VERSION = 1
 
@@ -224,6 +225,80 @@ class JogMessage(_Event):
     detail: str = ""
 
 
+class QueueStepOut(_Sent):
+    """One transition of the queue (a client shows `QueueStep.words`)."""
+
+    kind: QueueStep
+    user: str | None = None
+    by: str | None = None
+    position: int | None = None
+    seconds: float | None = None
+
+
+class QueueEntryOut(_Sent):
+    """A student waiting for the shared robot."""
+
+    user: str
+    position: int
+    """1-based place in the line."""
+    state: EntryState
+    estimate: datetime
+    """When their turn should start (pre-flight cycle times and the turn length)."""
+    cycle_s: float | None = None
+    """The queued text's pre-flight cycle time (simulated seconds)."""
+    stale: bool = False
+    """Their workspace's text changed since they queued it."""
+    away: bool = False
+    """No connection open: the place is kept for the grace time."""
+    missed: int = 0
+    offer_ends: datetime | None = None
+    """While the arm is offered to them: the end of the claim window."""
+
+
+class QueueTurnOut(_Sent):
+    """Who is at the arm."""
+
+    user: str
+    started: datetime
+    ends: datetime
+    warned: bool
+    """The turn ends soon (they were told)."""
+    ending: bool
+    """Time is up: the program finishes, nothing new starts."""
+    away: bool
+    held: bool
+    """An instructor holds the arm; the turn's time left is kept."""
+    left_s: float
+    ready: bool
+    """Attended mode: the supervisor said the arm is ready for the next run."""
+    run_waiting: bool
+    """Attended mode: a run waits for the supervisor's *Arm ready*."""
+
+
+class QueueOut(_Sent):
+    """The queue of a shared robot (also ``GET /api/queue``)."""
+
+    target: str
+    now: datetime
+    """The server's time when this was sent (countdowns run from it)."""
+    active: bool
+    """Someone waits or is at the arm: only the queue gives the lease."""
+    paused: bool
+    attended: bool
+    turn: QueueTurnOut | None
+    entries: list[QueueEntryOut]
+    claim_s: float
+    turn_s: float
+    at_turn_end: TurnEnd
+
+
+class QueueMessage(QueueOut):
+    """The queue changed (``steps``: what happened), or its state on connecting (no steps)."""
+
+    type: Literal["queue"] = "queue"
+    steps: list[QueueStepOut] = Field(default_factory=list)
+
+
 class _Ack(_Sent):
     type: Literal["ack"] = "ack"
     id: RequestId = None
@@ -294,6 +369,7 @@ ServerMessage = Annotated[
     | CommandResultMessage
     | LeaseMessage
     | JogMessage
+    | QueueMessage
     | Ack
     | ErrorMessage
     | Pong,

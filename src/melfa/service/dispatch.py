@@ -158,6 +158,14 @@ class Dispatcher:
         """Admit, queue, await the controller's answer; audit and publish the outcome
         (``done`` is told it first)."""
         command_id, taken = self.admit(actor, command, detail, command_id, plan, precondition)
+        waiting = self._policy.attend(actor, command)
+        if waiting is not None:  # attended mode: the supervisor's Arm ready first
+            try:
+                await waiting
+            except BaseException as exc:
+                self.finish(actor, command_id, command, detail, exc)
+                self.give_back(actor, taken)
+                raise
         job = Job(command, priority, work, moves=command.moves, busy=busy)
         future = self.require_worker().submit(job)
         try:

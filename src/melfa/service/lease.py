@@ -17,6 +17,9 @@ Pure logic with an injected clock. Rules:
   meanwhile simply carries on.
 - An idle lease (no command, no jog, no motion for ``idle_timeout``) ends, whether it was
   taken from the IDE or over REST by a script.
+- While the lab's queue is active (`queued`: someone waits or is at the arm), a free lease
+  is never taken (neither by a command nor by *Take control*): only the queue gives it
+  (`grant`) and takes it back (`revoke`), `melfa.service.queue_keeper`.
 
 Every change returns a `LeaseChange` for the service to publish.
 """
@@ -115,6 +118,8 @@ class Lease:
         self._connections: dict[str, int] = {}
         self._motion = False
         self._orphaned = False
+        self.queued = False
+        """The queue gives the lease (`grant`); nobody takes a free one."""
 
     # ------------------------------------------------------------------ queries
 
@@ -145,6 +150,11 @@ class Lease:
             left = max(0.0, self.idle_timeout - (self._clock() - self._last_used))
         return LeaseInfo(holder, self._since, state, count, left)
 
+    @property
+    def _busy(self) -> Refusal:
+        """Why someone else's command is refused while a holder has the lease."""
+        return Refusal.QUEUE_ACTIVE if self.queued else Refusal.LEASE_REQUIRED
+
     # ------------------------------------------------------------------ taking and giving
 
     def check(self, actor: Actor) -> LeaseChange | None:
@@ -157,10 +167,12 @@ class Lease:
         if self.holder is None:
             if actor.role is Role.OBSERVER:
                 raise LeaseRequired(None, Refusal.OBSERVER, user=actor.user)
+            if self.queued:
+                raise LeaseRequired(None, Refusal.QUEUE_ACTIVE)
             if self.auto:
                 return self.acquire(actor)
             raise LeaseRequired(None, Refusal.LEASE_NOT_TAKEN)
-        raise LeaseRequired(self.holder)
+        raise LeaseRequired(self.holder, self._busy)
 
     def touch(self, actor: Actor) -> None:
         """Activity by the holder (a jog heartbeat) keeps an idle timeout away."""
@@ -176,8 +188,23 @@ class Lease:
             self._last_used = self._clock()
             return None
         if self.holder is not None:
-            raise LeaseRequired(self.holder)
+            raise LeaseRequired(self.holder, self._busy)
+        if self.queued:
+            raise LeaseRequired(None, Refusal.QUEUE_ACTIVE)
         return self._set(actor, actor, LeaseReason.ACQUIRED)
+
+    def grant(self, actor: Actor) -> LeaseChange | None:
+        """The queue gives the lease to ``actor`` (their turn), from whoever held it."""
+        if self.holds(actor):
+            self._last_used = self._clock()
+            return None
+        return self._set(actor, actor, LeaseReason.TURN_STARTED)
+
+    def revoke(self, actor: Actor) -> LeaseChange | None:
+        """The queue takes the lease back from ``actor`` at the end of their turn."""
+        if not self.holds(actor):
+            return None
+        return self._set(None, actor, LeaseReason.TURN_ENDED)
 
     def take_over(self, actor: Actor) -> LeaseChange | None:
         """An instructor takes the lease from whoever holds it."""

@@ -23,15 +23,26 @@ What it holds, in the order it asks:
    with ``auto`` a free lease is taken by the first command (the change is returned for
    the service to publish, and given back if the command fails).
 
+4. **The queue's turn** (`Turns`, the lab's `melfa.service.queue_keeper.QueueKeeper`):
+   once a turn's time is up nothing new starts (`Refusal.TURN_OVER`), and in attended mode
+   a run waits for the supervisor's *Arm ready* (`Policy.attend`). While the queue is
+   active the lease itself refuses a free take (`Refusal.QUEUE_ACTIVE`).
+
+Entering the queue asks the same policy (`Policy.may_queue`): the plan passes the checker
+and, with the gate on, passed pre-flight (its cycle time is kept for the queue's
+estimates, `Policy.cycle_time`).
+
 A private simulator has the lighter `Policy` without a gate; its lease has one possible
 holder, its owner (every session of theirs is one operator), so it never stands between
-them. The queue for the lab's arm (next) plugs in here: `admit` is the one seam.
+them.
 """
 
 from __future__ import annotations
 
 import threading
+from collections.abc import Awaitable
 from dataclasses import dataclass
+from typing import Protocol
 
 from melfa.lang.plan import Part, UploadPlan, digest
 from melfa.service.errors import Refused
@@ -64,13 +75,21 @@ class Gate:
         self.required = required
         self._lock = threading.Lock()
         self._passed: set[tuple[str, str]] = set()
+        self._cycles: dict[tuple[str, str], float] = {}
         self.loaded = Loaded(None, None)
 
-    def passed(self, plan: UploadPlan) -> None:
+    def passed(self, plan: UploadPlan, cycle_s: float | None = None) -> None:
         """``plan``'s program and points passed pre-flight (a simulated run without
-        errors)."""
+        errors), in ``cycle_s`` simulated seconds when it ended."""
         with self._lock:
-            self._passed.add((plan.program_digest, plan.points_digest))
+            key = (plan.program_digest, plan.points_digest)
+            self._passed.add(key)
+            if cycle_s is not None:
+                self._cycles[key] = cycle_s
+
+    def cycle_time(self, plan: UploadPlan) -> float | None:
+        with self._lock:
+            return self._cycles.get((plan.program_digest, plan.points_digest))
 
     def has_passed(self, plan: UploadPlan) -> bool:
         with self._lock:
@@ -132,12 +151,27 @@ def _sentence(text: str) -> str:
     return text if text.endswith((".", "?", "!")) else text + "."
 
 
+class Turns(Protocol):
+    """The queue's say in the policy (the lab's `QueueKeeper`)."""
+
+    def refusal(self, actor: Actor, command: Command) -> Refused | None:
+        """Why ``actor``'s ``command`` may not go now (None: it may)."""
+
+    def attend(self, actor: Actor, command: Command) -> Awaitable[None] | None:
+        """What the command waits for before it is queued (attended mode), or None."""
+
+    def stopped(self) -> None:
+        """Someone pressed STOP (a run waiting for the supervisor is dropped)."""
+
+
 class Policy:
     """One check for every command before it is queued (see the module doc)."""
 
     def __init__(self, lease: Lease, gate: Gate | None = None) -> None:
         self.lease = lease
         self.gate = gate
+        self.turns: Turns | None = None
+        """The queue of a shared robot (set by its keeper)."""
 
     def admit(
         self, actor: Actor, command: Command, plan: UploadPlan | None = None
@@ -150,17 +184,43 @@ class Policy:
                 raise refused
         if self.gate is not None and not self.gate.allows(command, plan):
             raise Refused(Refusal.SIMULATION_REQUIRED)
-        return self.lease.check(actor)
+        change = self.lease.check(actor)
+        if self.turns is not None:
+            refused = self.turns.refusal(actor, command)
+            if refused is not None:
+                raise refused
+        return change
+
+    def attend(self, actor: Actor, command: Command) -> Awaitable[None] | None:
+        """What an admitted command waits for before it is queued (None: nothing)."""
+        return None if self.turns is None else self.turns.attend(actor, command)
+
+    def stopped(self) -> None:
+        if self.turns is not None:
+            self.turns.stopped()
+
+    def may_queue(self, plan: UploadPlan) -> None:
+        """Whether ``plan`` may enter the queue: no error (the checker's, the points'),
+        and with the gate on, the same text passed pre-flight. Raises `Refused`."""
+        refused = plan_refusal(plan)
+        if refused is not None:
+            raise refused
+        if self.simulation_required and self.gate is not None and not self.gate.has_passed(plan):
+            raise Refused(Refusal.SIMULATION_REQUIRED)
+
+    def cycle_time(self, plan: UploadPlan) -> float | None:
+        """``plan``'s pre-flight cycle time, when it ran."""
+        return None if self.gate is None else self.gate.cycle_time(plan)
 
     @property
     def simulation_required(self) -> bool:
         """Whether the instructor's gate is on."""
         return self.gate is not None and self.gate.required
 
-    def gate_passed(self, plan: UploadPlan) -> None:
+    def gate_passed(self, plan: UploadPlan, cycle_s: float | None = None) -> None:
         """``plan`` passed pre-flight (the web's pre-flight records it; no gate: nothing)."""
         if self.gate is not None:
-            self.gate.passed(plan)
+            self.gate.passed(plan, cycle_s)
 
     def done(self, command: Command, plan: UploadPlan | None, ok: bool) -> None:
         """A command admitted earlier finished (``ok``) or failed."""
@@ -168,4 +228,4 @@ class Policy:
             self.gate.record(command, plan, ok)
 
 
-__all__ = ["Gate", "Loaded", "Policy", "plan_refusal"]
+__all__ = ["Gate", "Loaded", "Policy", "Turns", "plan_refusal"]

@@ -351,6 +351,24 @@ class RobotService(RobotCommands):
             self._jog.end(JogEnd.TAKEN_OVER, actor, by=actor.user, send_stop=True)
         self._lease_changed(change)
 
+    def grant_lease(self, actor: Actor) -> None:
+        """The queue gives the lease to ``actor`` for their turn (from whoever held it:
+        their jog ends)."""
+        self._life.check_open()
+        change = self._lease.grant(actor)
+        if change is not None and self._jog.active:
+            self._jog.end(JogEnd.LEASE_ENDED, actor, send_stop=True)
+        self._lease_changed(change)
+
+    def revoke_lease(self, actor: Actor) -> None:
+        """The queue takes the lease back from ``actor`` at the end of their turn (a jog
+        of theirs ends with it)."""
+        self._lease_changed(self._lease.revoke(actor))
+
+    def connections(self, user: str) -> int:
+        """Open connections (sockets) of ``user`` to this robot."""
+        return self._lease.connections(user)
+
     def connect(self, actor: Actor) -> None:
         """One connection of ``actor`` opened (an IDE tab, the desktop client, rosbridge):
         pair it with `disconnect`. A lease holder that comes back is connected again."""
@@ -426,6 +444,7 @@ class RobotService(RobotCommands):
         command_id = self._dispatch.next_id()
         self._dispatch.audit(actor, command_id, Command.STOP, detail, "accepted")
         worker.cancel_queued(lambda job: True, Cancelled(f"cancelled: {actor.user} pressed stop"))
+        self.policy.stopped()  # a run waiting for the supervisor is dropped too
         self._jog.end(JogEnd.STOPPED, actor, by=actor.user)
         self._dispatch.moved = False
         self._snapshots.motion_ended()

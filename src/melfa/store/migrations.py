@@ -294,6 +294,21 @@ _RUNS = Migration(
 fingerprint and text, the encoded samples (``frames``, NULL once thinned) and the simulated
 path it is compared with; ``report``: the deviation found (JSON). ``simulations``: each
 user's latest passed pre-flight path per fingerprint, what a later real run is compared with."""
+_QUEUES = Migration(
+    "0011_queues",
+    (
+        """
+        CREATE TABLE queues (
+            target TEXT PRIMARY KEY,
+            doc TEXT NOT NULL,
+            updated TEXT NOT NULL
+        )
+        """,
+    ),
+)
+"""The queue of each shared robot (``target``: ``lab``): its entries with the exact texts
+queued, the turn, paused and attended, as one JSON document (`melfa.service.queue`),
+rewritten at every transition so a restart keeps it."""
 
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
@@ -306,5 +321,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _WORKSPACE_NAMES,
     _ASSIGNMENTS,
     _RUNS,
+    _QUEUES,
 )
 """Every migration, in the order they apply. Append only."""

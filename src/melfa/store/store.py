@@ -18,6 +18,7 @@ from melfa.store.db import Database
 from melfa.store.errors import DatabaseError
 from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
+from melfa.store.queues import QueueDocs
 from melfa.store.run_retention import RunRetention
 from melfa.store.runs import Runs
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions
@@ -79,6 +80,7 @@ class Store:
         self.tokens = AccessTokens(self.db, self.accounts)
         self.assignments = Assignments(self.db, self.workspaces)
         self.runs = Runs(self.db, run_retention)
+        self.queues = QueueDocs(self.db)
 
     @classmethod
     def open_dir(cls, data_dir: Path | str, *, create: bool = True, **options: object) -> Store:

@@ -41,6 +41,10 @@ class LeaseReason(enum.StrEnum):
     """The arm stopped after its holder's last connection had closed."""
     IDLE_TIMEOUT = "idle-timeout"
     """Nothing was done for `ServiceConfig`'s idle time."""
+    TURN_STARTED = "turn-started"
+    """The queue gave the arm to the student whose turn began."""
+    TURN_ENDED = "turn-ended"
+    """The queue took the arm back at the end of a turn."""
     SERVICE_CLOSED = "service-closed"
     """The server shut down."""
 
@@ -65,6 +69,8 @@ _WORDS: dict[LeaseReason, str] = {
     LeaseReason.HOLDER_DISCONNECTED: "control is free: {by}'s last connection closed",
     LeaseReason.MOTION_ENDED: "control is free: the arm stopped after its holder left",
     LeaseReason.IDLE_TIMEOUT: "control ended after a while with nothing done",
+    LeaseReason.TURN_STARTED: "{by}'s turn at the robot began",
+    LeaseReason.TURN_ENDED: "{by}'s turn at the robot ended",
     LeaseReason.SERVICE_CLOSED: "the server is shutting down",
 }
 assert set(_WORDS) == set(LeaseReason), "every lease reason has its words"

@@ -42,6 +42,14 @@ class Refusal(enum.StrEnum):
     SLOT_UNKNOWN = "slot-unknown"
     """A run named the program it meant, and what the slot holds is not known (a load
     failed on the way, or it was deleted)."""
+    QUEUE_ACTIVE = "queue-active"
+    """The lab robot has a queue: the arm goes only to whoever's turn it is."""
+    TURN_OVER = "turn-over"
+    """The holder's turn at the lab robot is over: the program may finish, nothing new starts."""
+    NOT_YOUR_TURN = "not-your-turn"
+    """A claim from someone the arm is not offered to."""
+    NOT_QUEUED = "not-queued"
+    """A queue operation for someone who is not in the queue."""
 
     def words(self, **facts: object) -> tuple[str, str]:
         """(what happened, the fix), with ``facts`` filled in."""
@@ -101,6 +109,21 @@ _WORDS: dict[Refusal, _Words] = {
         "Load the project, then press Run again.",
         "load-project",
         "Load project",
+    ),
+    Refusal.QUEUE_ACTIVE: _Words(
+        "The lab robot has a queue: the arm goes to whoever's turn it is.",
+        "Join the queue with Run on the lab robot; the arm is offered to you when your turn comes.",
+    ),
+    Refusal.TURN_OVER: _Words(
+        "Your turn at the lab robot is over.",
+        "Let the program finish (or stop it); join the queue again for another run.",
+    ),
+    Refusal.NOT_YOUR_TURN: _Words(
+        "The arm is not offered to you yet.",
+        "Wait for your turn: the queue panel shows your place and when it comes.",
+    ),
+    Refusal.NOT_QUEUED: _Words(
+        "{user} is not in the queue.", "Join the queue with Run on the lab robot."
     ),
 }
 assert set(_WORDS) == set(Refusal), "every refusal has its words"

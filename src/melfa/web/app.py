@@ -7,6 +7,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import dataclasses
+import time
 from collections.abc import AsyncIterator
 
 from fastapi import FastAPI
@@ -17,6 +18,7 @@ from melfa import __version__
 from melfa.link import trace_file_sink
 from melfa.ros.rosapi import ParamBudget
 from melfa.service import RobotService
+from melfa.service.clock import Clock
 from melfa.store import Store
 from melfa.web import errors
 from melfa.web.audit_sink import ServiceAuditSink
@@ -28,6 +30,7 @@ from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
 from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight as PreflightState
+from melfa.web.queues import make_keeper
 from melfa.web.recorded_runs import RunKeeper
 from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
@@ -39,6 +42,7 @@ from melfa.web.routes import (
     model,
     pages,
     preflight,
+    queue,
     robot,
     runs,
     session,
@@ -62,6 +66,7 @@ TAGS = [
     {"name": "targets", "description": "Which robot: the lab's, or your own simulator."},
     {"name": "debug", "description": "The debugger on your own simulator."},
     {"name": "preflight", "description": "A simulated run checked before the arm moves."},
+    {"name": "queue", "description": "Turns at the shared robot, fair and in order."},
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "runs", "description": "Recorded runs on the lab robot, and their replay."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
@@ -82,10 +87,12 @@ def create_app(
     *,
     store: Store | None = None,
     service: RobotService | None = None,
+    queue_clock: Clock | None = None,
 ) -> FastAPI:
     """The web app. A given ``store`` / ``service`` is used as is and left open (the
     caller owns it; a given service must already be started); otherwise the lifespan
-    opens ``settings.data_dir`` and starts a service for ``settings.robot``."""
+    opens ``settings.data_dir`` and starts a service for ``settings.robot``. The lab's
+    queue runs on ``queue_clock`` (the wall clock by default; a test's `FakeClock`)."""
     config = settings or WebSettings()
 
     @contextlib.asynccontextmanager
@@ -126,6 +133,15 @@ def create_app(
                     limits.rosapi_param_chars, limits.rosapi_param_chars_total
                 ),
             )
+            turns = make_keeper(
+                LAB,
+                the_service,
+                the_store,
+                context.guard,
+                config.queue,
+                queue_clock or Clock(time.time),
+            )
+            context.queues[LAB] = await turns.start()
             app.state.web = context
             keeper: RunKeeper | None = None
             if the_service.recorder is None:  # every run on the lab robot is recorded
@@ -140,6 +156,8 @@ def create_app(
                     task.cancel()
                     with contextlib.suppress(asyncio.CancelledError):
                         await task
+                for queue in context.queues.values():
+                    await queue.close()
                 await registry.close()
                 if keeper is not None:
                     the_service.stop_recording()  # a run under way ends with the server
@@ -174,6 +192,7 @@ def create_app(
         debug.router,
         preflight.router,
         runs.router,
+        queue.router,
         lease.router,
         audit.router,
         users.router,

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from melfa.service import ServiceConfig
+from melfa.service.queue import QueueSettings
 from melfa.web.limits import Limits
 from melfa.web.pools import PoolSizes
 
@@ -50,6 +51,8 @@ class WebSettings:
     require_simulation: bool = False
     """The instructor's gate: the lab robot loads and runs a program only after the same
     text passed a simulated run without pre-flight errors (docs/ide.md)."""
+    queue: QueueSettings = field(default_factory=QueueSettings)
+    """The lab robot's queue: claim window, turn length, grace time, a turn's end."""
 
     def __post_init__(self) -> None:
         if not 0.5 <= self.snapshot_hz <= 200:

@@ -10,6 +10,7 @@ from typing import ParamSpec, TypeVar
 
 from melfa.ros.rosapi import ParamBudget
 from melfa.service import Actor, RobotService
+from melfa.service.queue_keeper import QueueKeeper
 from melfa.store import Store
 from melfa.web.config import WebSettings
 from melfa.web.guard import SocketGuard
@@ -60,6 +61,8 @@ class WebContext:
     guard: SocketGuard = field(default_factory=SocketGuard)
     rosapi_params: ParamBudget = field(default_factory=ParamBudget)
     """The rosapi parameters every /rosbridge socket holds, against one total."""
+    queues: dict[str, QueueKeeper] = field(default_factory=dict)
+    """The queue of each shared robot, by target id (``lab``)."""
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
         """Run a store call off the event loop, in the store's own pool (never behind a

@@ -202,6 +202,10 @@ REFUSAL_STATUS: dict[Refusal, int] = {
     Refusal.SIMULATION_REQUIRED: 409,
     Refusal.SLOT_CHANGED: 409,
     Refusal.SLOT_UNKNOWN: 409,
+    Refusal.QUEUE_ACTIVE: 423,
+    Refusal.TURN_OVER: 423,
+    Refusal.NOT_YOUR_TURN: 409,
+    Refusal.NOT_QUEUED: 409,
 }
 """The HTTP status of each policy refusal (the code is the refusal's own)."""
 assert set(REFUSAL_STATUS) == set(Refusal), "every refusal has its status"

@@ -78,6 +78,7 @@ from melfa.service import (
     event_to_dict,
 )
 from melfa.service.debugging import DebugUpdate
+from melfa.service.queue_keeper import QueueChanged
 from melfa.store import is_access_token
 from melfa.vocab.commands import command_label
 from melfa.web.config import SESSION_COOKIE
@@ -87,6 +88,7 @@ from melfa.web.deps import actor_of, find_session
 from melfa.web.errors import ApiError, from_robot
 from melfa.web.guard import MessageGate, TooManySockets
 from melfa.web.limits import origin_allowed as same_site
+from melfa.web.queues import message_of_change, queue_message
 from melfa.web.targets import LAB, Target, UnknownTarget
 
 router = APIRouter()
@@ -108,6 +110,8 @@ def message_of(event: Event) -> ServerMessage | None:
     """The WebSocket message for a service event (None: not sent to browsers)."""
     if isinstance(event, StateSnapshot):
         return StateMessage.model_validate(state_dict(event))
+    if isinstance(event, QueueChanged):
+        return message_of_change(event)
     if isinstance(event, AuditEvent) or not isinstance(
         event,
         DebugUpdate
@@ -495,10 +499,19 @@ async def live(websocket: WebSocket) -> None:
             jog_override_ceiling=service.config.jog_override_ceiling,
         )
     )
+    for keeper in context.queues.values():  # everyone sees the shared robots' queues
+        await connection.send(queue_message(keeper.view()))
     pump = asyncio.create_task(connection.pump(sub), name=f"ws-pump-{actor.user}")
     receive = asyncio.create_task(connection.receive(), name=f"ws-recv-{actor.user}")
     sender = asyncio.create_task(connection.sender(), name=f"ws-send-{actor.user}")
     connection.tasks = [pump, receive, sender]
+    queues = None
+    if not target.shared:  # on your own simulator, the lab's queue still reaches you
+        with contextlib.suppress(ServiceClosed):
+            queues = context.service.subscribe(QueueChanged)
+            connection.tasks.append(
+                asyncio.create_task(connection.pump(queues), name=f"ws-queue-{actor.user}")
+            )
     if connection.ended is not None or not handle.alive(dt.datetime.now(dt.UTC)):
         await connection.end(handle.revoked or "the session ended")
     try:
@@ -516,6 +529,8 @@ async def live(websocket: WebSocket) -> None:
             with contextlib.suppress(BaseException):
                 await task
         sub.close()
+        if queues is not None:
+            queues.close()
         connection.gate.close()
         await _goodbye(context, connection)
         with contextlib.suppress(Exception):

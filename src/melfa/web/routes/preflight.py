@@ -80,7 +80,7 @@ async def run_preflight(
     except DebugError as exc:
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
-        context.service.policy.gate_passed(plan)
+        context.service.policy.gate_passed(plan, report.cycle_time)
         # What a later real run of the same text is compared with (its ghost and report).
         await simulation_passed(context, session.user.username, plan.fingerprint, report)
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())

@@ -16,6 +16,7 @@ from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
+from melfa.vocab.queue import EntryState, QueueStep
 from melfa.vocab.runs import RunOutcome
 
 router = APIRouter(include_in_schema=False)
@@ -41,6 +42,8 @@ def vocabulary() -> dict[str, Any]:
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
         "LEASE_REASONS": {r.value: {"words": r.template} for r in LeaseReason},
         "RUN_OUTCOMES": {o.value: {"words": o.words} for o in RunOutcome},
+        "QUEUE_STEPS": {q.value: {"words": q.template} for q in QueueStep},
+        "QUEUE_STATES": {e.value: {"words": e.words} for e in EntryState},
     }
 
 

@@ -129,6 +129,8 @@ async def save_workspace(
         author=session.user,
         reason=SaveReason(body.reason),
     )
+    for queue in context.queues.values():  # a queued text that changed is marked stale
+        queue.workspace_saved(ws.id, result.revision.program, result.revision.points)
     return SaveOut(revision=revision_out(result.revision), created=result.created)
 
 
