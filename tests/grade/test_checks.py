@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from melfa.grade import Report, Submission, grade, load_assignment
 from melfa.grade.model import CheckKind
@@ -177,3 +179,36 @@ def test_every_kind_is_documented(kind: str) -> None:
 
     doc = (Path(__file__).resolve().parents[2] / "docs" / "assignments.md").read_text()
     assert f'`kind = "{kind}"`' in doc
+
+
+FRAGMENTS = [
+    "SERVO ON", "MOV P1", "MVS P2", "MVS P2, -50", "HOPEN 1", "HCLOSE 1", "DLY 0.1",
+    "GOSUB *UP", "GOTO *UP", "*UP", "RETURN", "END", "M1 = M1 + 1", "IF M1 > 2 THEN *UP",
+    "FOR M2 = 1 TO 2", "NEXT M2", "M_OUT(10) = M_IN(8)", "WAIT M_IN(8) = 1", "MOV P9",
+    "P3 = P1 + (0, 0, 2000, 0, 0, 0)", "MOV P3", "WIHLE", "MVS ,", "M1 = 1 / 0", "ERROR 9100",
+    "HLT", "TOOL (0, 0, 100, 0, 0, 0)", "OVRD 200", "\x00", "' comment",
+]  # fmt: skip
+EVERY = assignment(
+    '[[checks]]\nkind = "final-pose"\npose = [400, 0, 450]\n'
+    '[[checks]]\nkind = "visits"\nposes = [[400, 100, 400]]\n'
+    '[[checks]]\nkind = "hand"\naction = "open"\nat = [[400, 100, 400]]\n'
+    '[[checks]]\nkind = "no-collision"\n[[checks]]\nkind = "cycle-time"\nmax_s = 5\n'
+    '[[checks]]\nkind = "io"\ninputs = {8 = 1}\noutputs = {10 = 1}\n'
+    '[[checks]]\nkind = "uses"\nstatements = ["GOSUB"]\n'
+    '[[checks]]\nkind = "avoids"\nstatements = ["GOTO"]\n[[checks]]\nkind = "no-errors"\n',
+    extra="max_time_s = 20",
+)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.sampled_from(FRAGMENTS), max_size=12))
+def test_any_program_is_graded_never_raises(lines: list[str]) -> None:
+    """Whatever a student hands in, every check gets a result (a line within the program
+    when it names one), never an exception."""
+    program = "\n".join(lines) + "\n"
+    report = grade(EVERY, Submission(program, POINTS))  # type: ignore[arg-type]
+    assert len(report.checks) == 9
+    assert report.passed == all(c.passed for c in report.checks)
+    for c in report.checks:
+        assert c.message
+        assert c.line is None or 1 <= c.line <= max(1, len(lines)), (c, program)
