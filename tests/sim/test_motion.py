@@ -360,3 +360,22 @@ def test_mvs_samples_lie_on_the_line_whenever_the_move_is_accepted(
         if np.linalg.norm(b - a) > 1e-6:
             assert _distance_to_line(p, a, b) < 1e-6
     assert tcp(plan.end_joints) == pytest.approx(b, abs=1e-6)
+
+
+def test_sample_many_gives_what_sample_gives_at_each_time() -> None:
+    """The batched sampling pre-flight reads (one IK call per path) against `sample`."""
+    a = Pose(400, -150, 300, 180, 0, 180)
+    b = Pose(420, 150, 380, 180, 0, 150)
+    start = plan_joint(HOME, a, Speeds()).end_joints
+    plans: list[Plan] = [
+        plan_joint(HOME, b, Speeds()),
+        plan_linear(start, b, Speeds()),
+        plan_arch(start, b, Speeds()),
+    ]
+    plans.append(plans[1].stopped(plans[1].duration / 3))
+    for plan in plans:
+        ts = np.linspace(-0.1, plan.duration + 0.1, 37)
+        many = plan.sample_many(ts)
+        one = np.array([tuple(plan.sample(float(t))) for t in ts])
+        assert many.shape == (37, 6)
+        assert many == pytest.approx(one, abs=1e-9), type(plan).__name__

@@ -3,14 +3,15 @@ blocks end as a 3-2-1 pyramid, each taken and let go on its line, with no pre-fl
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
-from melfa.sim.debug.cell import CellError
+from melfa.sim.debug.cell import CellError, Shape, Solid
 from melfa.sim.debug.cell_templates import TEMPLATES, template, template_text
 from melfa.sim.debug.cell_world import HandChange
-from melfa.sim.debug.preflight import preflight
+from melfa.sim.debug.preflight import Kind, preflight
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 PROGRAM = (EXAMPLES / "pyramid.MB4").read_text(encoding="utf-8")
@@ -24,6 +25,7 @@ def line_of(text: str) -> int:
 def test_the_pyramid_stacks_the_blocks_in_the_thesis_bench() -> None:
     r = preflight(PROGRAM, POINTS, cell=template("thesis-bench"))
     assert r.finished and r.ok, [f.message for f in r.errors]
+    assert r.collisions == ()
     # the stack is taken from the top: block 6 first, to the first place of the bottom row
     expected = {
         "block 6": (380, 150, 100, "bench"),
@@ -56,3 +58,16 @@ def test_templates_load_and_unknown_names_say_which_exist() -> None:
     assert template_text("thesis-bench").lstrip().startswith("{")
     with pytest.raises(CellError, match="templates: thesis-bench"):
         template("pyramid")
+
+
+def test_a_post_between_the_stack_and_the_pyramid_is_hit_on_the_carrying_move() -> None:
+    bench = template("thesis-bench")
+    post = Solid("post", Shape.BOX, (40, 40, 400), (365, -50, 100))
+    r = preflight(PROGRAM, POINTS, cell=replace(bench, fixtures=(*bench.fixtures, post)))
+    hits = [c for c in r.collisions if c.obstacle == "post"]
+    assert hits and not r.ok
+    # the carrying move from the stack to the pyramid goes through it, each time
+    carrying = [c for c in hits if c.line == line_of("MOV Pdest, -80")]
+    assert len({c.move for c in carrying}) == 6
+    assert all(PROGRAM.splitlines()[c.line - 1].lstrip()[:3] in ("MOV", "MVS") for c in hits)
+    assert any(f.kind is Kind.COLLISION and "'post'" in f.message for f in r.errors)

@@ -69,10 +69,18 @@ def _as_batch(q: FloatArray) -> FloatArray:
 
 def fk_batch(joints: Sequence[float] | FloatArray) -> FloatArray:
     """Flange transforms (N, 4, 4) for joint rows (N, 6) in degrees."""
+    return frames_batch(joints)[:, -1]
+
+
+def frames_batch(joints: Sequence[float] | FloatArray) -> FloatArray:
+    """Every DH frame (N, 7, 4, 4) for joint rows (N, 6) in degrees: frame 0 is the base,
+    frame i is after joint i (its origin on joint i+1's axis), frame 6 the flange."""
     q = _as_batch(np.asarray(joints, dtype=float))
     theta = np.radians(q) + _OFFSET
     n = q.shape[0]
+    frames = np.empty((n, len(DH) + 1, 4, 4))
     out = np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
+    frames[:, 0] = out
     for i, row in enumerate(DH):
         ct, st = np.cos(theta[:, i]), np.sin(theta[:, i])
         ca, sa = math.cos(_ALPHA[i]), math.sin(_ALPHA[i])
@@ -90,7 +98,8 @@ def fk_batch(joints: Sequence[float] | FloatArray) -> FloatArray:
         t[:, 2, 3] = row.d
         t[:, 3, 3] = 1.0
         out = out @ t
-    return np.asarray(out, dtype=float)
+        frames[:, i + 1] = out
+    return frames
 
 
 def _fk_single(joints: Sequence[float]) -> FloatArray:

@@ -91,6 +91,11 @@ class Plan(ABC):
     def sample(self, t: float) -> Joints:
         """Joints (deg) at t seconds after the plan started."""
 
+    def sample_many(self, ts: FloatArray) -> FloatArray:
+        """Joints (N, 6) at each of the times `ts`: `sample` for many times in one call
+        (a path's IK is solved for all of them at once)."""
+        return np.array([tuple(self.sample(float(t))) for t in ts], dtype=float).reshape(-1, 6)
+
     @abstractmethod
     def stopped(self, t: float) -> Plan:
         """The decelerating stop begun at t: a new plan whose time 0 is t."""
@@ -112,6 +117,14 @@ class _PathLike(Plan):
         if t >= self.timing.duration:
             return self.end_joints
         return self.at_s(self.timing.s(t))
+
+    def sample_many(self, ts: FloatArray) -> FloatArray:
+        d = self.timing.duration
+        return self.at_s_many(np.array([self.timing.s(t) if t < d else 1.0 for t in ts.tolist()]))
+
+    def at_s_many(self, s: FloatArray) -> FloatArray:
+        """`at_s` for many parameters (N,) -> joints (N, 6)."""
+        return np.array([tuple(self.at_s(float(v))) for v in s], dtype=float).reshape(-1, 6)
 
     def stopped(self, t: float) -> Plan:
         s0, v0 = self.timing.state(t)
@@ -155,6 +168,9 @@ class JointPlan(_PathLike):
     def at_s(self, s: float) -> Joints:
         return Joints.of(self._q0 + s * self._dq)
 
+    def at_s_many(self, s: FloatArray) -> FloatArray:
+        return np.asarray(self._q0 + s[:, None] * self._dq, dtype=float)
+
 
 class PathPlan(_PathLike):
     """A Cartesian path (line or arc) with joints from IK at each sample."""
@@ -192,6 +208,22 @@ class PathPlan(_PathLike):
         q[5] = unwrap_j6(q[5:6], float(near[5]))[0]
         return Joints.of(q)
 
+    def at_s_many(self, s: FloatArray) -> FloatArray:
+        near = np.column_stack([np.interp(s, self.table_s, self.table_q[:, j]) for j in range(6)])
+        out = near.copy()
+        out[s <= 0.0] = self.start_joints
+        out[s >= 1.0] = self.end_joints
+        inner = (s > 0.0) & (s < 1.0)
+        if inner.any():
+            flange = self.frames.to_flange(self.path.at(s[inner]))
+            guess = near[inner]
+            q = ik_batch(flange, self.config, guess[:, 0], guess[:, 3])
+            bad = np.isnan(q[:, 0])  # cannot happen on a checked path; the table then
+            q[bad] = guess[bad]
+            q[:, 5] += 360.0 * np.round((guess[:, 5] - q[:, 5]) / 360.0)
+            out[inner] = q
+        return out
+
     def tcp_pose(self, s: float) -> Pose:
         """The TCP pose on the path at parameter s (for tests and the 3D view)."""
         return matrix_to_pose(self.path.at(np.array([s]))[0])
@@ -228,6 +260,18 @@ class SequencePlan(Plan):
             return self.end_joints
         i, local = self._locate(t)
         return self.parts[i].sample(local)
+
+    def sample_many(self, ts: FloatArray) -> FloatArray:
+        ts = np.asarray(ts, dtype=float)
+        out = np.empty((len(ts), 6))
+        which = np.clip(
+            np.searchsorted(self._offsets, ts, side="right") - 1, 0, len(self.parts) - 1
+        )
+        for i in np.unique(which).tolist():
+            rows = which == i
+            out[rows] = self.parts[i].sample_many(ts[rows] - float(self._offsets[i]))
+        out[ts >= self.duration] = self.end_joints
+        return out
 
     def stopped(self, t: float) -> Plan:
         i, local = self._locate(min(t, self.duration))

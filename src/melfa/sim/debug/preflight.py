@@ -40,9 +40,10 @@ from melfa.kin.pose import pose_to_matrix
 from melfa.kin.reach import unreachable_points
 from melfa.kin.solver import fk_batch
 from melfa.lang.points import PointDef
-from melfa.sim.debug.cell import Cell
+from melfa.sim.debug.cell import Cell, Solid
+from melfa.sim.debug.cell_collision import ArmBodies, Collision, move_collisions
 from melfa.sim.debug.cell_run import CellIO, CellRun
-from melfa.sim.debug.cell_world import HandAction, PartState
+from melfa.sim.debug.cell_world import TABLE, HandAction, PartState
 from melfa.sim.debug.engine import (
     DEFAULT_MAX_TIME_S,
     INSTANT,
@@ -89,6 +90,7 @@ class Kind(enum.Enum):
     SHOULDER_SINGULARITY = "shoulder-singularity"
     BELOW_FLOOR = "below-floor"
     IN_OBSTACLE = "in-obstacle"
+    COLLISION = "collision"
 
 
 @dataclass(frozen=True, slots=True)
@@ -183,6 +185,8 @@ class Report:
     final: Pose | None = None  # the TCP pose (under TOOL and BASE) where the run ended
     outputs: dict[int, int] = field(default_factory=dict)  # output bits on at the end
     moves: tuple[MoveAt, ...] = field(default_factory=tuple)
+    collisions: tuple[Collision, ...] = field(default_factory=tuple)
+    """A link or the gripper inside a fixture, a part or the table (each also a finding)."""
 
     @property
     def ok(self) -> bool:
@@ -205,6 +209,7 @@ class Report:
             "error": self.error.to_json() if self.error else None,
             "parts": [p.to_json() for p in self.parts],
             "hands": [h.to_json() for h in self.hands],
+            "collisions": [c.to_json() for c in self.collisions],
         }
 
 
@@ -276,6 +281,7 @@ def preflight(
         base=arm.base,
         cell=cell,
         limits=limits if limits is not None else Limits(),
+        loose=lambda t: run.world.loose_at(t).loose,
     )
     start = d.interp.now - d.time
     return Report(
@@ -299,6 +305,7 @@ def preflight(
             )
             for m in arm.recorder.moves
         ),
+        collisions=report.collisions,
     )
 
 
@@ -307,6 +314,8 @@ class Analysis:
     joints: tuple[JointMargin, ...]
     findings: tuple[Finding, ...]
     path: tuple[PathPoint, ...]
+    collisions: tuple[Collision, ...] = ()
+    checked: int = 0  # samples checked for collisions (coarse and fine)
 
 
 def analyse(
@@ -318,21 +327,27 @@ def analyse(
     base: Pose | None = None,
     cell: Cell | None = None,
     limits: Limits | None = None,
+    loose: Callable[[float], Sequence[Solid]] | None = None,
 ) -> Analysis:
     """Findings over a run's moves (`line_of` maps a move's step number to a text line;
-    `start` is the run's start on the moves' clock)."""
+    `start` is the run's start on the moves' clock; `loose(t)` the parts not held at a
+    time since the run began: default, the cell's parts where they start)."""
     cell = cell if cell is not None else Cell()
     limits = limits if limits is not None else Limits()
     best = [JointMargin(j + 1, math.inf, 0.0, 0.0, None, None) for j in range(6)]
     findings: list[Finding] = []
     path: list[PathPoint] = []
+    bodies = ArmBodies(cell.gripper, pose_to_matrix(base) if base is not None else None)
+    fixed = cell.obstacles
+    collisions: list[Collision] = []
+    checked = 0
     for index, move in enumerate(moves):
         end = move.plan.duration
         if index + 1 < len(moves):
             end = min(end, max(0.0, moves[index + 1].time - move.time))
         count = min(limits.max_samples, max(1, math.ceil(end / limits.sample_s)))
         ts = np.linspace(0.0, end, count + 1)
-        q = np.array([tuple(move.plan.sample(float(t))) for t in ts], dtype=float)
+        q = move.plan.sample_many(ts)
         times = ts + (move.time - start)
         line = line_of(move.line)
         flange = fk_batch(q)
@@ -346,6 +361,21 @@ def analyse(
         ]
         _joint_margins(best, q, times, index, line)
         findings += _move_findings(index, line, q, times, flange, xyz, cell, limits)
+        offset = move.time - start
+        parts = loose(offset) if loose is not None else cell.parts
+        found, n = move_collisions(
+            bodies,
+            move.plan.sample_many,
+            ts,
+            q,
+            tuple(fixed) + tuple(parts),
+            cell.floor_z,
+            move=index,
+            offset=offset,
+            line=line,
+        )
+        collisions += found
+        checked += n
     for jm in best:
         if jm.margin < limits.joint_margin_deg:
             where = f"line {jm.line}: " if jm.line else ""
@@ -359,7 +389,35 @@ def analyse(
                     jm.segment,
                 )
             )
-    return Analysis(tuple(best), tuple(findings), tuple(path))
+    tool = list(findings)
+    findings += [_collision_finding(c) for c in collisions if not _said(c, tool)]
+    return Analysis(tuple(best), tuple(findings), tuple(path), tuple(collisions), checked)
+
+
+def _said(c: Collision, findings: Sequence[Finding]) -> bool:
+    """The tool's own finding on that move (below the table, inside that box) says it."""
+    for f in findings:
+        if f.segment is None or f.segment.move != c.move:
+            continue
+        if f.kind is Kind.BELOW_FLOOR and c.obstacle == TABLE:
+            return True
+        if f.kind is Kind.IN_OBSTACLE and f.message.endswith(f"obstacle {c.obstacle!r}"):
+            return True
+    return False
+
+
+def _collision_finding(c: Collision) -> Finding:
+    what = TABLE if c.obstacle == TABLE else repr(c.obstacle)
+    text = f"the move takes the {c.body} {c.depth:.1f} mm into the {what}"
+    if c.obstacle != TABLE:
+        text = f"the move takes the {c.body} {c.depth:.1f} mm into {what}"
+    return Finding(
+        Kind.COLLISION,
+        Severity.ERROR,
+        f"line {c.line}: {text}" if c.line else text,
+        c.line,
+        Segment(c.move, c.start, c.end),
+    )
 
 
 def _move_findings(
