@@ -48,15 +48,7 @@ WRONG = [
     ("wrong/no-hopen.MB4", "sets each block down on its place", 46, "let go of a part 0 times"),
     ("wrong/goto.MB4", "no GOTO", 18, "line 18 uses GOTO"),
     ("wrong/goto.MB4", "picks and places in subroutines (GOSUB)", None, "does not use GOSUB"),
-    pytest.param(
-        "wrong/table.MB4",
-        "no collision, no pre-flight error",
-        45,
-        "bench",
-        marks=pytest.mark.xfail(
-            strict=True, reason="the arm's and gripper's collisions with fixtures (the cell's)"
-        ),
-    ),
+    ("wrong/table.MB4", "no collision, no pre-flight error", 45, "bench"),
 ]
 
 

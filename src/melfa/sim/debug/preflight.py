@@ -389,8 +389,8 @@ def analyse(
                     jm.segment,
                 )
             )
-    tool = list(findings)
-    findings += [_collision_finding(c) for c in collisions if not _said(c, tool)]
+    by_tool = list(findings)
+    findings += [_collision_finding(c) for c in collisions if not _said(c, by_tool)]
     return Analysis(tuple(best), tuple(findings), tuple(path), tuple(collisions), checked)
 
 
