@@ -111,8 +111,10 @@ def test_cycle_time_fails_when_the_run_never_ends() -> None:
 
 def test_io_sets_the_inputs_and_reads_the_outputs_at_the_end() -> None:
     assert run('[[checks]]\nkind = "io"\ninputs = {8 = 1}\noutputs = {10 = 1}')[0]
-    passed, message, _ = run('[[checks]]\nkind = "io"\noutputs = {10 = 1}')
-    assert not passed and "M_OUT(10) is 0, expected 1" in message
+    passed, message, line = run('[[checks]]\nkind = "io"\noutputs = {10 = 1}')
+    assert not passed and "M_OUT(10) is 0, expected 1" in message and line == 6
+    passed, message, line = run('[[checks]]\nkind = "io"\noutputs = {11 = 1}')
+    assert not passed and line is None and "never sets M_OUT(11)" in message
 
 
 def test_uses_and_avoids_read_the_tree() -> None:

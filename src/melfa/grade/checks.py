@@ -20,7 +20,7 @@ from melfa.grade.model import (
     Uses,
     Visits,
 )
-from melfa.grade.statements import lines_using, normalise
+from melfa.grade.statements import lines_setting_output, lines_using, normalise
 from melfa.kin import Pose
 from melfa.kin.pose import pose_distance
 from melfa.lang import ast as A  # noqa: N812
@@ -185,15 +185,20 @@ def cycle_time(check: CycleTime, run: Run) -> Outcome:
     return Outcome(True, f"the cycle takes {run.cycle_time:.1f} s")
 
 
-def io(check: Io, run: Run) -> Outcome:
+def io(check: Io, run: Run, program: A.Program) -> Outcome:
+    """The outputs at the end; a wrong one points at the last line that sets it."""
     wrong = [
-        f"M_OUT({bit}) is {run.outputs.get(bit, 0)}, expected {value}"
+        (bit, value)
         for bit, value in sorted(check.outputs.items())
         if run.outputs.get(bit, 0) != value
     ]
-    if wrong:
-        return Outcome(False, "at the end " + "; ".join(wrong))
-    return Outcome(True, "the outputs are as expected")
+    if not wrong:
+        return Outcome(True, "the outputs are as expected")
+    said = "; ".join(f"M_OUT({b}) is {run.outputs.get(b, 0)}, expected {v}" for b, v in wrong)
+    setting = lines_setting_output(program, wrong[0][0])
+    if not setting:
+        return Outcome(False, f"at the end {said}; the program never sets M_OUT({wrong[0][0]})")
+    return Outcome(False, f"at the end {said}", setting[-1])
 
 
 def uses(check: Uses, program: A.Program) -> Outcome:

@@ -140,7 +140,7 @@ def _judge(
             if isinstance(got, NotRun):
                 outcome = C.Outcome(False, got.message, got.line)
             else:
-                outcome = _on_run(check, got)
+                outcome = _on_run(check, got, program)
     return CheckResult(
         kind=check.kind,
         title=check.title or default_title(check),
@@ -151,7 +151,7 @@ def _judge(
     )
 
 
-def _on_run(check: Check, run: Run) -> C.Outcome:
+def _on_run(check: Check, run: Run, program: A.Program) -> C.Outcome:
     match check:
         case FinalPose():
             return C.final_pose(check, run)
@@ -166,7 +166,7 @@ def _on_run(check: Check, run: Run) -> C.Outcome:
         case CycleTime():
             return C.cycle_time(check, run)
         case Io():
-            return C.io(check, run)
+            return C.io(check, run, program)
     raise AssertionError(f"{check.kind} is not judged on a run")  # pragma: no cover
 
 

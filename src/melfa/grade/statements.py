@@ -90,3 +90,22 @@ def lines_using(program: A.Program, name: str) -> list[int]:
         if line.statement is not None and any(match(n) for n in A.walk(line.statement)):
             found.append(number)
     return found
+
+
+def lines_setting_output(program: A.Program, bit: int) -> list[int]:
+    """The lines that assign ``M_OUT(bit)`` (or ``M_OUT(expr)``, which may be it)."""
+    found = []
+    for number, line in enumerate(program.lines, start=1):
+        if line.statement is None:
+            continue
+        for node in A.walk(line.statement):
+            if not isinstance(node, A.Assign) or not isinstance(node.target, A.Index):
+                continue
+            target = node.target
+            if target.name.name.upper() != "M_OUT" or not target.args:
+                continue
+            index = A.constant_number(target.args[0])
+            if index is None or index == bit:
+                found.append(number)
+                break
+    return found
