@@ -74,6 +74,11 @@ class SubmissionSummary:
     score: float
     preflight: bool | None
     """Whether the text passed pre-flight (no pre-flight error); None: not known."""
+    max_score: float | None = None
+    """What every check passing would score (from the report); None: not in the report."""
+    fingerprint: str | None = None
+    """The graded text's fingerprint as the lab robot would load it (a recorded run of the
+    same fingerprint ran this text)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -106,3 +111,5 @@ class ClassRow:
     last_saved: datetime | None
     first_pass: datetime | None
     """When a check or submission of theirs first passed."""
+    fingerprints: tuple[str, ...] = ()
+    """The fingerprints of every text of theirs that was graded."""

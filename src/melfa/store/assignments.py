@@ -7,9 +7,8 @@ Rules (docs/store.md "Assignments"):
   files it names), so exporting gives the same folder back. The store never reads them: the
   grading engine (`melfa.grade`) does.
 * A student's copy is made once, the first time they open the assignment: a seed of their
-  own when it has variants (1, 2, 3 … in the order students open it, so two students never
-  share one; 0 for everybody without variants) and a personal workspace named after it
-  holding the starter text of their variant.
+  own when it has variants (never one already handed out; 0 for everybody without variants)
+  and a personal workspace named after it holding the starter text of their variant.
 * A check or submission records the workspace revision it graded, its report, and whether
   it passed; a submission is refused once the attempts are used or the due date has passed.
   Nothing is ever deleted.
@@ -38,13 +37,22 @@ from melfa.store.timeutil import from_text, from_text_or_none, to_text
 from melfa.store.workspace_names import MAX_NAME_CHARS, clean_name
 from melfa.store.workspaces import MAX_TEXT_CHARS, Workspaces
 
-__all__ = ["MAX_FILES", "AssignmentClosed", "Assignments", "Starter"]
+__all__ = ["MAX_FILES", "AssignmentClosed", "Assignments", "SeedChooser", "Starter", "next_seed"]
 
 MAX_FILES = 32
 """Files in one assignment folder: the toml, a statement, starter texts, a cell, solutions."""
 
 Starter = Callable[[int], tuple[str, str]]
 """The starter program and points of the variant with a seed (the engine computes them)."""
+
+SeedChooser = Callable[[list[int]], int]
+"""The seed of a new student's copy, given the seeds already handed out (the web layer
+picks one whose positions differ from theirs where the variants allow)."""
+
+
+def next_seed(taken: list[int]) -> int:
+    """1, 2, 3 … in the order students open the assignment."""
+    return max(taken, default=0) + 1
 
 
 class AssignmentClosed(InvalidValue):
@@ -86,6 +94,10 @@ def _enrolment(row: sqlite3.Row) -> Enrolment:
     )
 
 
+_GRADED = "*, json_extract(report, '$.max_score') AS max_score"
+"""A grading's columns and its report's highest score (the engine's ``max_score``)."""
+
+
 def _summary(row: sqlite3.Row) -> SubmissionSummary:
     preflight = row["preflight"]
     return SubmissionSummary(
@@ -96,6 +108,8 @@ def _summary(row: sqlite3.Row) -> SubmissionSummary:
         passed=bool(row["passed"]),
         score=float(row["score"]),
         preflight=None if preflight is None else bool(preflight),
+        fingerprint=row["fingerprint"],
+        max_score=None if row["max_score"] is None else float(row["max_score"]),
     )
 
 
@@ -195,9 +209,16 @@ class Assignments:
         )
         return {r["assignment_id"]: _enrolment(r) for r in rows}
 
-    def open(self, assignment_id: int, user: User, starter: Starter) -> Enrolment:
-        """The user's copy, made on first use: a seed, and a workspace named after the
-        assignment holding ``starter(seed)`` (program, points)."""
+    def open(
+        self,
+        assignment_id: int,
+        user: User,
+        starter: Starter,
+        choose_seed: SeedChooser = next_seed,
+    ) -> Enrolment:
+        """The user's copy, made on first use: a seed (``choose_seed`` of those taken, when
+        the assignment has variants; else 0), and a workspace named after the assignment
+        holding ``starter(seed)`` (program, points)."""
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> Enrolment:
@@ -211,11 +232,10 @@ class Assignments:
             seed = 0
             if assignment.variants:
                 taken = conn.execute(
-                    "SELECT coalesce(max(seed), 0) FROM assignment_students"
-                    " WHERE assignment_id = ?",
+                    "SELECT seed FROM assignment_students WHERE assignment_id = ?",
                     (assignment_id,),
-                ).fetchone()[0]
-                seed = int(taken) + 1
+                ).fetchall()
+                seed = choose_seed([int(r[0]) for r in taken])
             program, points = starter(seed)
             workspace = None
             for n in range(1, 100):
@@ -259,6 +279,7 @@ class Assignments:
         score: float,
         preflight: bool | None,
         report: Mapping[str, Any],
+        fingerprint: str | None = None,
     ) -> SubmissionSummary:
         """Keep one grading of the student's revision. A submission is refused
         (`AssignmentClosed`) after the due date or once the attempts are used."""
@@ -280,8 +301,8 @@ class Assignments:
                     )
             cursor = conn.execute(
                 "INSERT INTO submissions (assignment_id, user_id, kind, workspace_id,"
-                " revision, at, passed, score, preflight, report)"
-                " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                " revision, at, passed, score, preflight, report, fingerprint)"
+                " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
                 (
                     enrolment.assignment_id,
                     enrolment.user_id,
@@ -293,10 +314,11 @@ class Assignments:
                     float(score),
                     None if preflight is None else int(preflight),
                     json.dumps(dict(report)),
+                    fingerprint,
                 ),
             )
             row = conn.execute(
-                "SELECT * FROM submissions WHERE id = ?", (cursor.lastrowid,)
+                f"SELECT {_GRADED} FROM submissions WHERE id = ?", (cursor.lastrowid,)
             ).fetchone()
             return _summary(row)
 
@@ -306,7 +328,7 @@ class Assignments:
         """The student's checks and submissions, newest first."""
         rows = self.db.read(
             lambda c: c.execute(
-                "SELECT * FROM submissions WHERE assignment_id = ? AND user_id = ?"
+                f"SELECT {_GRADED} FROM submissions WHERE assignment_id = ? AND user_id = ?"
                 " ORDER BY id DESC",
                 (enrolment.assignment_id, enrolment.user_id),
             ).fetchall()
@@ -316,7 +338,7 @@ class Assignments:
     def submission(self, assignment_id: int, submission_id: int) -> Submission:
         row = self.db.read(
             lambda c: c.execute(
-                "SELECT s.*, u.username FROM submissions AS s JOIN users AS u"
+                f"SELECT {_GRADED}, u.username FROM submissions AS s JOIN users AS u"
                 " ON u.id = s.user_id WHERE s.assignment_id = ? AND s.id = ?",
                 (assignment_id, submission_id),
             ).fetchone()
@@ -378,12 +400,15 @@ def _class_row(conn: sqlite3.Connection, assignment: Assignment, student: sqlite
         _ENROLMENT + " WHERE s.assignment_id = ? AND s.user_id = ?", key
     ).fetchone()
     enrolment = None if enrolled is None else _enrolment(enrolled)
-    latest = conn.execute(f"SELECT * {where} ORDER BY id DESC LIMIT 1", key).fetchone()
+    latest = conn.execute(f"SELECT {_GRADED} {where} ORDER BY id DESC LIMIT 1", key).fetchone()
     best = conn.execute(
-        f"SELECT * {where} AND kind = 'submit' ORDER BY score DESC, id LIMIT 1", key
+        f"SELECT {_GRADED} {where} AND kind = 'submit' ORDER BY score DESC, id LIMIT 1", key
     ).fetchone()
     counts = dict(conn.execute(f"SELECT kind, count(*) {where} GROUP BY kind", key).fetchall())
     first_pass = conn.execute(f"SELECT min(at) {where} AND passed = 1", key).fetchone()[0]
+    prints = conn.execute(
+        f"SELECT DISTINCT fingerprint {where} AND fingerprint IS NOT NULL ORDER BY 1", key
+    ).fetchall()
     last_saved = None
     if enrolment is not None:
         last_saved = conn.execute(
@@ -405,4 +430,5 @@ def _class_row(conn: sqlite3.Connection, assignment: Assignment, student: sqlite
         else max(0, assignment.attempts - submitted),
         last_saved=from_text_or_none(last_saved),
         first_pass=from_text_or_none(first_pass),
+        fingerprints=tuple(r[0] for r in prints),
     )

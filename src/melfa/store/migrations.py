@@ -310,6 +310,13 @@ _QUEUES = Migration(
 queued, the turn, paused and attended, as one JSON document (`melfa.service.queue`),
 rewritten at every transition so a restart keeps it."""
 
+_SUBMISSION_FINGERPRINTS = Migration(
+    "0012_submission_fingerprints",
+    ("ALTER TABLE submissions ADD COLUMN fingerprint TEXT",),
+)
+"""The instructor's gate's fingerprint of a graded text (`melfa.lang.plan.fingerprint_of`):
+a recorded run with the same one ran that text on the arm (the class view's column)."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -322,5 +329,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _ASSIGNMENTS,
     _RUNS,
     _QUEUES,
+    _SUBMISSION_FINGERPRINTS,
 )
 """Every migration, in the order they apply. Append only."""

@@ -37,6 +37,7 @@ class ClassColumn(enum.StrEnum):
     ATTEMPTS = "attempts"
     LAST_SAVED = "last-saved"
     PREFLIGHT = "preflight"
+    RAN = "ran"
 
 
 COLUMN_WORDS: dict[ClassColumn, str] = {
@@ -48,6 +49,7 @@ COLUMN_WORDS: dict[ClassColumn, str] = {
     ClassColumn.ATTEMPTS: "Submissions",
     ClassColumn.LAST_SAVED: "Last saved",
     ClassColumn.PREFLIGHT: "Pre-flight",
+    ClassColumn.RAN: "Ran on the arm",
 }
 
 
@@ -95,6 +97,9 @@ RESULT_WORDS: dict[str, str] = {
     "closed": "Submissions are closed",
     "attempts-left": "{left} of {total} submissions left",
     "attempts-unlimited": "Submit as often as you like",
+    "attempts-unlimited-all": "no limit on submissions",
+    "attempts-each": "{total} submissions each",
+    "points": "{score} of {max}",
     "due": "Due {due}",
     "variant": "Your variant: {words}",
     "score": "{passed} of {total} checks passed",

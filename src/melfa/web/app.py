@@ -34,6 +34,7 @@ from melfa.web.queues import make_keeper
 from melfa.web.recorded_runs import RunKeeper
 from melfa.web.rosbridge_app import rosbridge_routes
 from melfa.web.routes import (
+    assignments,
     audit,
     check,
     debug,
@@ -186,6 +187,7 @@ def create_app(
     for router in (
         session.router,
         workspaces.router,
+        assignments.router,
         check.router,
         robot.router,
         targets.router,
@@ -202,6 +204,7 @@ def create_app(
         app.include_router(router)
     app.include_router(session.pages)
     app.include_router(audit.pages)
+    app.include_router(assignments.pages)
     app.include_router(pages.router)
     app.include_router(model.router)
     app.include_router(vocab.router)

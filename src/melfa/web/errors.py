@@ -45,6 +45,7 @@ from melfa.service import (
 from melfa.store import (
     AccessDenied,
     AlreadyExists,
+    AssignmentClosed,
     InvalidValue,
     NotFound,
     SaveConflict,
@@ -180,6 +181,8 @@ def from_store(exc: StoreError) -> ApiError:
             where=where,
             detail={"diagnostics": _diagnostics(exc.diagnostics)},
         )
+    if isinstance(exc, AssignmentClosed):
+        return ApiError(422, "submissions-closed", message, where={"field": exc.field})
     if isinstance(exc, InvalidValue):
         return ApiError(422, "invalid-value", message, where={"field": exc.field})
     if isinstance(exc, NotFound):

@@ -12,6 +12,13 @@ from fastapi import APIRouter
 from fastapi.responses import Response
 
 from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
+from melfa.vocab.classroom import (
+    COLUMN_WORDS,
+    FILTER_WORDS,
+    GRADE_WORDS,
+    RESULT_WORDS,
+    STUCK_AFTER_MIN,
+)
 from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
@@ -44,6 +51,13 @@ def vocabulary() -> dict[str, Any]:
         "RUN_OUTCOMES": {o.value: {"words": o.words} for o in RunOutcome},
         "QUEUE_STEPS": {q.value: {"words": q.template} for q in QueueStep},
         "QUEUE_STATES": {e.value: {"words": e.words} for e in EntryState},
+        "GRADE_WORDS": {kind.value: words for kind, words in GRADE_WORDS.items()},
+        "CLASS_COLUMNS": {column.value: words for column, words in COLUMN_WORDS.items()},
+        "CLASS_FILTERS": {
+            f.value: {"label": words.label, "hint": words.hint} for f, words in FILTER_WORDS.items()
+        },
+        "RESULT_WORDS": RESULT_WORDS,
+        "STUCK_AFTER_MIN": STUCK_AFTER_MIN,
     }
 
 

@@ -5,6 +5,7 @@
 import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
 import { ActionLog } from "./actionlog.js";
+import { AssignmentsPanel } from "./assign.js";
 import { commandLabel, describeActivity } from "./activity.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, robotBadge, welcome } from "./first.js";
@@ -63,6 +64,7 @@ async function main() {
   $("user-name").textContent = session.user.display_name || app.user;
   $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
   $("audit-link").hidden = app.role === "student";
+  $("classroom-link").hidden = app.role === "student";
 
   app.view = new RobotView($("view3d"));
   const workspace = new Workspace(app.user);
@@ -106,6 +108,8 @@ async function main() {
   }
   app.debug = new DebugPanel(app); // after the workspace: breakpoints are kept per workspace
   app.preflight = new PreflightPanel(app);
+  app.assignments = new AssignmentsPanel(app);
+  app.assignments.refresh();
   // Every toolbar button is in place now: fit the row (secondary actions into "More").
   app.overflow = new ToolbarOverflow(document.querySelector(".toolbar"), {
     wrap: $("toolbar-more"), button: $("more-button"), menu: $("more-menu"),
