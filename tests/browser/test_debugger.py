@@ -164,3 +164,45 @@ def test_a_run_time_error_stops_on_its_line_with_the_controllers_number(
     page.click("#target-switch [data-target=lab]")
     expect(page.locator("#debug-bar")).to_be_hidden()
     expect(page.locator(".lease")).to_be_visible()
+
+
+def test_a_run_starts_as_the_start_options_say(open_session: Any) -> None:
+    """The servo on, the arm at a position in XYZ, a line for INPUT #1 and the override,
+    chosen in "How the run starts": a program that begins with a motion and reads a file
+    runs to its end; a position out of reach is refused in words."""
+    s: Session = open_session("alice")
+    page = s.page
+    to_mine(s)
+    s.set_program('OPEN "COM1:" AS #1\nINPUT #1, M1\nM2 = M1 * 2\nMOV P1\nEND\n')
+    s.set_points(POINTS)
+    page.click("#start-opts summary")
+    expect(page.locator("#start-opts summary")).to_have_text("How the run starts")
+    expect(page.locator("#start-pose")).to_be_hidden()
+    page.select_option("#start-servo", "on")
+    page.select_option("#start-place", "pose")
+    expect(page.locator("#start-pose")).to_be_visible()
+    expect(page.locator("#start-joints")).to_be_hidden()
+    for axis, value in zip(range(3), ("300", "100", "500"), strict=True):
+        page.fill(f"#start-p-{axis}", value)
+    page.fill("#start-override", "40")
+    page.click("#start-feed-add")
+    page.locator(".start-feed-line").fill("21")
+    page.locator(".start-feed-line").press("Tab")  # the change is kept
+    expect(page.locator("#start-opts")).to_have_attribute("data-custom", "true")
+    page.select_option("#dbg-speed", "instant")
+    page.click("#dbg-start")
+    expect(page.locator("#dbg-status")).to_have_attribute("data-state", "finished")
+    expect(variable(page, "M2").locator("td")).to_have_text("42")
+    s.screenshot("debugger-start-options")
+
+    # Kept in this browser; a position the arm cannot take is refused in words.
+    page.reload()
+    s.wait_ready()
+    expect(page.locator("#start-place")).to_have_value("pose")
+    expect(page.locator("#start-p-0")).to_have_value("300")
+    page.click("#start-opts summary")
+    page.fill("#start-p-0", "2000")
+    page.locator("#start-p-0").press("Tab")
+    page.click("#dbg-start")
+    expect(page.locator(".toast").last).to_contain_text("out of the RV-6S's reach")
+    s.screenshot("debugger-start-unreachable")

@@ -126,3 +126,43 @@ def test_stop_pauses_the_program_under_the_debugger(web: Web) -> None:
     wait_until(lambda: status(ann)["state"] == "running")
     ok(ann.post("/api/robot/stop", params={"target": "mine"}))
     assert status(ann)["state"] == "paused" and status(ann)["stop"]["reason"] == "pause"
+
+
+def test_a_run_starts_as_the_start_options_say(web: Web) -> None:
+    """Servo on, the arm at a position in XYZ (solved to joints), a line for INPUT #1 and
+    the override: the program moves at once and reads its line."""
+    ann = web.ann
+    program = 'OPEN "COM1:" AS #1\nINPUT #1, M1\nM2 = M1 * 2\nMOV P1\nEND\n'
+    start = {
+        "servo": "on",
+        "place": "pose",
+        "pose": {"x": 300, "y": 100, "z": 500, "a": 180, "b": 0, "c": 180},
+        "override": 40,
+        "feed": [{"file": 1, "line": "21"}],
+    }
+    body = {"program": program, "points": POINTS, "speed": "instant", "start": start}
+    ok(ann.post("/api/debug", json=body))
+    here = ok(ann.post("/api/debug/evaluate", json={"expression": "P_CURR"}))["value"]
+    assert here == "(+300.00,+100.00,+500.00,+180.00,+0.00,+180.00)(7,0)"
+    ok(ann.post("/api/debug/command/run"))
+    wait_until(lambda: status(ann)["state"] == "finished")
+    assert ok(ann.post("/api/debug/evaluate", json={"expression": "M2"}))["value"] == "42"
+    assert ok(ann.post("/api/debug/evaluate", json={"expression": "M_OPOVRD"}))["value"] == "40"
+
+
+def test_a_start_the_arm_cannot_take_is_refused_in_words(web: Web) -> None:
+    ann = web.ann
+    far = {"place": "pose", "pose": {"x": 2000, "y": 0, "z": 500, "a": 180, "b": 0, "c": 180}}
+    body = {"program": "END\n", "points": "", "start": far}
+    error = assert_error(ann.post("/api/debug", json=body), 422, "invalid-value")
+    assert error["message"].startswith("the start position is out of the RV-6S's reach")
+    beyond = {"place": "joints", "joints": [0, 140, 90, 0, 90, 0]}
+    error = assert_error(
+        ann.post("/api/debug", json={**body, "start": beyond}), 422, "invalid-value"
+    )
+    assert "J2 = 140°, beyond its limit" in error["message"]
+    missing = {"place": "joints"}
+    error = assert_error(
+        ann.post("/api/debug", json={**body, "start": missing}), 422, "invalid-request"
+    )
+    assert "give the six joints" in error["message"]

@@ -29,6 +29,7 @@ from melfa.service.simulator import PrivateSimulator
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.debug.engine import DebugError, Debugger, RunState, Speed, Stop
 from melfa.sim.interp.io import IOState
+from melfa.sim.interp.start import RunStart
 from melfa.sim.machine import SimArm
 
 T = TypeVar("T")
@@ -36,6 +37,8 @@ T = TypeVar("T")
 POLL_S = 0.03
 """How often a running program is moved on (the engine keeps its own timing between)."""
 _SESSION_IDS = itertools.count(1)
+AS_THE_SIMULATOR_IS = RunStart(servo_on=None)
+"""A debug run's default start: the simulator's arm as it is (joints, servo, hands)."""
 UPDATE_S = 0.1
 """Most often a running program's location and arm are published (stops go at once)."""
 
@@ -59,19 +62,13 @@ class DebugUpdate(Event):
     """The session was closed: the view goes back to the simulator's own state."""
 
 
-def _arm_like(simulator: PrivateSimulator) -> SimulatedArm:
-    """A fresh arm standing where the simulator's stands, servo and hand as they are."""
+def _arm_like(simulator: PrivateSimulator, start: RunStart) -> SimulatedArm:
+    """A fresh arm as ``start`` asks; what it leaves open is as the simulator's arm is
+    (where it stands, servo, hands, override)."""
 
     def read(controller: Any, now: float) -> SimulatedArm:
         arm = controller.arm
-        if not isinstance(arm, SimArm):
-            return SimulatedArm()
-        inner = arm.arm
-        fresh = SimulatedArm(inner.joints, servo_on=inner.servo_on)
-        for number, state in enumerate(inner.hands, start=1):
-            if state is not None:
-                fresh.set_hand(number, inner.hand_open(number) is True, 0.0)
-        return fresh
+        return start.arm(arm.arm if isinstance(arm, SimArm) else None)
 
     return simulator.call(read)
 
@@ -108,11 +105,13 @@ class DebugSession:
         points: str,
         *,
         speed: Speed | None = None,
+        start: RunStart = AS_THE_SIMULATOR_IS,
         clock: Callable[[], float] = time.monotonic,
     ) -> DebugSession:
         """Load ``program`` and ``points`` (`DebugError` in the user's words when they
-        cannot run at all) on an arm where the simulator's stands."""
-        arm = _arm_like(simulator)
+        cannot run at all) on an arm as ``start`` says, by default where the simulator's
+        stands."""
+        arm = _arm_like(simulator, start)
         debugger = await asyncio.to_thread(
             Debugger,
             program,
@@ -122,6 +121,7 @@ class DebugSession:
             arm=arm,
             io=_io_of(simulator),
         )
+        start.apply(debugger.interp)
         session = cls(simulator, debugger, owner, clock=clock)
         session._task = asyncio.create_task(session._pump(), name=f"debug-{owner.user}")
         session.publish(with_variables=True)

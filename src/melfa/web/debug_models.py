@@ -5,8 +5,10 @@ from __future__ import annotations
 import enum
 from typing import Annotated, Any
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, model_validator
 
+from melfa.protocol.limits import OVERRIDE_PERCENT
+from melfa.vocab.start import StartPlace, StartServo
 from melfa.web.models import Input, ShortText, SourceIn
 
 
@@ -19,6 +21,51 @@ class DebugCommand(enum.Enum):
     STEP_OVER = "step-over"
     STEP_OUT = "step-out"
     PAUSE = "pause"
+
+
+class PoseIn(Input):
+    """A position in XYZ: mm and degrees, with its structure flags."""
+
+    x: float
+    y: float
+    z: float
+    a: float = 0.0
+    b: float = 0.0
+    c: float = 0.0
+    fl1: Annotated[int, Field(ge=0, le=7)] = 7
+    fl2: Annotated[int, Field(ge=0)] | None = Field(
+        default=None, description="J6's turn (None: the turn nearest the simulator's)."
+    )
+
+
+class FeedLineIn(Input):
+    """A line the program's ``INPUT #file`` reads."""
+
+    file: Annotated[int, Field(ge=1)]
+    line: Annotated[str, Field(max_length=127)]
+
+
+class StartIn(Input):
+    """How the run starts (docs/debugger.md "How a run starts"); words in `melfa.vocab.start`."""
+
+    servo: StartServo = StartServo.AS_IT_IS
+    place: StartPlace = StartPlace.AS_IT_STANDS
+    joints: Annotated[list[float], Field(min_length=6, max_length=6)] | None = Field(
+        default=None, description="J1…J6 in degrees, with ``place: joints``."
+    )
+    pose: PoseIn | None = Field(default=None, description="With ``place: pose``: solved to joints.")
+    override: Annotated[int, Field(ge=OVERRIDE_PERCENT.start, le=OVERRIDE_PERCENT[-1])] | None = (
+        Field(default=None, description="The OP override (%); None: as the simulator's.")
+    )
+    feed: list[FeedLineIn] = Field(default_factory=list, max_length=64)
+
+    @model_validator(mode="after")
+    def _place_given(self) -> StartIn:
+        if self.place is StartPlace.JOINTS and self.joints is None:
+            raise ValueError("the arm starts at joint angles: give the six joints")
+        if self.place is StartPlace.POSE and self.pose is None:
+            raise ValueError("the arm starts at a position: give X, Y, Z, A, B, C")
+        return self
 
 
 class DebugStartIn(SourceIn):
@@ -34,6 +81,7 @@ class DebugStartIn(SourceIn):
     inputs: dict[Annotated[int, Field(ge=0, le=32767)], Annotated[int, Field(ge=0, le=1)]] = Field(
         default_factory=dict, description="`M_IN(n)` values to set before running."
     )
+    start: StartIn = Field(default_factory=lambda: StartIn(), description="How the run starts.")
 
 
 class BreakpointsIn(Input):
@@ -82,7 +130,10 @@ __all__ = [
     "DebugStartIn",
     "EvaluateIn",
     "EvaluateOut",
+    "FeedLineIn",
     "InputIn",
+    "PoseIn",
     "RunToIn",
     "SpeedIn",
+    "StartIn",
 ]

@@ -68,11 +68,14 @@ def checked_joints(joints: Sequence[float]) -> tuple[float, ...]:
 
 @dataclass(frozen=True, slots=True)
 class RunStart:
-    """The servo, the start joints (degrees; None: home) and the ``INPUT #`` feed."""
+    """The servo (None: as the arm it starts like), the start joints (degrees; None: where
+    that arm stands, else home), the OP override (%; None: as that arm's) and the
+    ``INPUT #`` feed."""
 
-    servo_on: bool = False
+    servo_on: bool | None = False
     joints: tuple[float, ...] | None = None
     feed: tuple[tuple[int, str], ...] = ()
+    override: int | None = None
 
     @classmethod
     def parse(
@@ -112,9 +115,22 @@ class RunStart:
                 raise ValueError(f"--feed {exc}") from None
         return cls(servo_on, start, tuple(lines))
 
-    def arm(self) -> SimulatedArm:
-        """A simulated RV-6S as this start asks."""
-        return SimulatedArm(self.joints or HOME, servo_on=self.servo_on)
+    def arm(self, like: SimulatedArm | None = None) -> SimulatedArm:
+        """A simulated RV-6S as this start asks; what it does not say is as in ``like`` (a
+        student's simulator: its joints, servo, hands and override), else the defaults."""
+        joints = self.joints or (tuple(like.joints) if like is not None else HOME)
+        servo = self.servo_on
+        if servo is None:
+            servo = like.servo_on if like is not None else False
+        arm = SimulatedArm(joints, servo_on=servo)
+        if like is not None:
+            for number, state in enumerate(like.hands, start=1):
+                if state is not None:
+                    arm.set_hand(number, like.hand_open(number) is True, 0.0)
+            arm.set_op_override(like.op_override)
+        if self.override is not None:
+            arm.set_op_override(self.override)
+        return arm
 
     def apply(self, interp: Interpreter) -> None:
         """Queue the scripted lines for the program's ``INPUT #n``."""

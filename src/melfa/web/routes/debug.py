@@ -15,6 +15,8 @@ from fastapi import APIRouter
 
 from melfa.service.debugging import DebugSession
 from melfa.sim.debug.engine import DebugError, Debugger, Speed
+from melfa.sim.interp.start import RunStart, checked_joints, joints_of_pose
+from melfa.vocab.start import StartPlace, StartServo
 from melfa.web.context import WebContext
 from melfa.web.debug_models import (
     BreakpointsIn,
@@ -26,6 +28,7 @@ from melfa.web.debug_models import (
     InputIn,
     RunToIn,
     SpeedIn,
+    StartIn,
 )
 from melfa.web.deps import ActorDep, ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
@@ -75,6 +78,24 @@ async def _do(session: DebugSession, fn: Callable[[Debugger], T]) -> T:
         raise refused(exc) from None
 
 
+def run_start(start: StartIn) -> RunStart:
+    """The debugger's `RunStart` from the IDE's start options; a start the RV-6S cannot
+    take is 422 ``invalid-value`` with why ("the start position is out of …")."""
+    servo = {StartServo.ON: True, StartServo.OFF: False}.get(start.servo)
+    try:
+        joints = None
+        if start.place is StartPlace.JOINTS and start.joints is not None:
+            joints = checked_joints(start.joints)
+        elif start.place is StartPlace.POSE and start.pose is not None:
+            p = start.pose
+            joints = joints_of_pose((p.x, p.y, p.z, p.a, p.b, p.c), p.fl1, p.fl2)
+    except ValueError as exc:
+        field = "start.joints" if start.place is StartPlace.JOINTS else "start.pose"
+        raise ApiError(422, "invalid-value", str(exc), where={"field": field}) from None
+    feed = tuple((f.file, f.line) for f in start.feed)
+    return RunStart(servo_on=servo, joints=joints, feed=feed, override=start.override)
+
+
 def _breakpoints(d: Debugger, lines: list[int], labels: list[str]) -> None:
     """Replace every breakpoint (the editor's gutter is the truth)."""
     d.clear_breakpoints()
@@ -100,6 +121,7 @@ async def start(
     assert program is not None and points is not None
     checked_program(await planned(context, program, points), body.check)
     speed = _speed(body.speed)
+    start_as = run_start(body.start)
     target = await _mine(context, session.user.username)
     simulator = target.simulator
     assert simulator is not None
@@ -110,7 +132,9 @@ async def start(
 
     async def open_session() -> DebugSession:
         try:
-            return await DebugSession.open(simulator, owner, program, points, speed=speed)
+            return await DebugSession.open(
+                simulator, owner, program, points, speed=speed, start=start_as
+            )
         except DebugError as exc:
             raise refused(exc) from None
 

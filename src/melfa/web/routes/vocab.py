@@ -25,6 +25,7 @@ from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import EntryState, QueueStep
 from melfa.vocab.runs import RunOutcome
+from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
 
 router = APIRouter(include_in_schema=False)
 
@@ -58,6 +59,9 @@ def vocabulary() -> dict[str, Any]:
         },
         "RESULT_WORDS": RESULT_WORDS,
         "STUCK_AFTER_MIN": STUCK_AFTER_MIN,
+        "START_WORDS": START_WORDS,
+        "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},
+        "START_PLACE": {place.value: words for place, words in PLACE_WORDS.items()},
     }
 
 

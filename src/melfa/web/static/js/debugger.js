@@ -2,7 +2,8 @@
 // a toolbar (debug, pause, continue, step, step over, step out, run to cursor, end, speed),
 // breakpoints in the editor's gutter (a breakpoint on a *LABEL line is kept as the label),
 // the current statement highlighted, a variables panel with the last step's changes
-// marked, inputs to release a WAIT, and run-time errors shown on their line.
+// marked, inputs to release a WAIT, run-time errors shown on their line, and how the run
+// starts (servo, where the arm stands, override, lines for INPUT #: startopts.js).
 //
 // The server holds the session (GET /api/debug), so a reloaded page shows where the
 // program is. Live updates come as `debug` messages on the simulator's socket.
@@ -10,6 +11,7 @@
 import { api } from "./api.js";
 import { $, el, showError, toast } from "./ui.js";
 import { robot } from "./stores.js";
+import { StartOptions } from "./startopts.js";
 
 const Range = ace.require("ace/range").Range;
 const SPEEDS = [["real", "Real time"], ["x2", "×2"], ["x4", "×4"], ["x10", "×10"], ["instant", "Instant"]];
@@ -73,10 +75,12 @@ export class DebugPanel {
     const set = el("button", { type: "button", class: "btn btn-sm", id: "dbg-in-set" }, "Set");
     set.addEventListener("click", () => this.setInput(Number(this.inBit.value), Number(this.inValue.value)));
     this.vars = el("tbody", { id: "dbg-vars" });
+    this.startOptions = new StartOptions(this.app.user);
     this.panel = el("section", { class: "debug-panel", id: "debug-panel", "aria-label": "Debugger", hidden: "" },
       el("div", { class: "dbg-head" }, el("h2", {}, "Debugger"), this.statusLine),
       this.errorBox,
       this.waitBox,
+      this.startOptions.box,
       el("div", { class: "dbg-inputs" }, el("label", { for: "dbg-in-bit" }, "M_IN("), this.inBit, ") =", this.inValue, set),
       el("div", { class: "dbg-vars-wrap" },
         el("table", { class: "dbg-vars", "aria-label": "Variables" },
@@ -160,7 +164,7 @@ export class DebugPanel {
     const app = this.app;
     try {
       this.clearError();
-      const body = { program: this.editor.text, points: app.workspace.points, check: true, speed: this.speed.value, ...this.breakpointSpec() };
+      const body = { program: this.editor.text, points: app.workspace.points, check: true, speed: this.speed.value, start: this.startOptions.spec(), ...this.breakpointSpec() };
       this.show(await api("POST", "/api/debug", body));
       app.view.clearPath();
       this.show(await api("POST", ...then));
