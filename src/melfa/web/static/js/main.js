@@ -18,6 +18,7 @@ import { $, el, setActivity, showError, toast } from "./ui.js";
 import { activityLine, endTask, lease, loaded, robot, session as sessionStore, startTask } from "./stores.js";
 import { DebugPanel } from "./debugger.js";
 import { PreflightPanel } from "./preflight.js";
+import { RunsPanel } from "./replay.js";
 import { TargetSwitch } from "./targets.js";
 import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
@@ -37,6 +38,7 @@ const app = {
   get state() { return robot.get().state; }, // the latest `state` message
   get virtual() { return robot.get().virtual; }, // the robot is a simulated one (the hello says so)
   get debugging() { return robot.get().debugging; }, // the debugger's arm owns the 3D view
+  get replaying() { return robot.get().replay; }, // a recorded run owns the 3D view and the run line
   get leaseHolder() { return lease.get().holder; },
   get loaded() { return loaded.get().program === null ? null : loaded.get(); },
   lineOf: (step) => loaded.lineOf(step, app.editor.text),
@@ -110,6 +112,7 @@ async function main() {
   app.preflight = new PreflightPanel(app);
   app.assignments = new AssignmentsPanel(app);
   app.assignments.refresh();
+  app.runs = new RunsPanel(app);
   // Every toolbar button is in place now: fit the row (secondary actions into "More").
   app.overflow = new ToolbarOverflow(document.querySelector(".toolbar"), {
     wrap: $("toolbar-more"), button: $("more-button"), menu: $("more-menu"),
@@ -220,9 +223,10 @@ function onState({ state: m }, previous) {
     return;
   }
   if (m.link) setLink(m.link);
-  if (m.joints && !app.debugging) app.view.setJoints(m.joints); // the debugger's arm wins
-  if (m.link === "connected" && !app.debugging && "joints" in m) app.view.setPositionKnown(m.joints != null);
-  if (m.hands?.length) app.view.setHand(m.hands[0]);
+  const owned = app.debugging || app.replaying; // the debugger's arm or a replay wins
+  if (m.joints && !owned) app.view.setJoints(m.joints);
+  if (m.link === "connected" && !owned && "joints" in m) app.view.setPositionKnown(m.joints != null);
+  if (m.hands?.length && !app.replaying) app.view.setHand(m.hands[0]);
   const held = lease.get();
   if ((m.lease_holder ?? null) !== (held.holder?.user ?? null) || (m.lease_since ?? null) !== (held.since ?? null) || (m.lease_state ?? null) !== (held.state ?? null)) {
     setLease(m.lease_holder ? { user: m.lease_holder, role: m.lease_holder === held.holder?.user ? held.holder.role : "" } : null, m.lease_since ?? null, m.lease_state ?? null);
@@ -235,7 +239,7 @@ function onState({ state: m }, previous) {
   // the loaded text (the server's step_lines), as long as the editor still holds it.
   const shows = (m.program_running || m.paused || m.running) && m.line;
   const line = shows ? app.lineOf(m.line) : null;
-  app.editor.markRunLine(line ? line - 1 : null);
+  if (!app.replaying) app.editor.markRunLine(line ? line - 1 : null);
   renderReadouts(m);
   renderActivity();
 }

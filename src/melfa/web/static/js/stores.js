@@ -32,9 +32,10 @@ export const session = new Store({ user: "", role: "" });
 
 /**
  * The robot of the current target: the latest `state` message, whether it is a simulated
- * one (the hello says), and whether the debugger's arm owns the 3D view.
+ * one (the hello says), and whether the debugger's arm or a recorded run's replay owns the
+ * 3D view (and the editor's running line).
  */
-export const robot = new Store({ state: null, virtual: null, debugging: false });
+export const robot = new Store({ state: null, virtual: null, debugging: false, replay: false });
 
 /** Who holds control, since when, and their connection (`lease` messages and snapshots). */
 export const lease = new Store({ holder: null, since: null, state: null });
