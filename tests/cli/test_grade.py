@@ -166,11 +166,14 @@ def test_every_kind_fails_with_its_line_on_a_program_that_does_not(
     assert report["passed"] is False
     assert got["final-pose"][:2] == (True, None)  # it still ends at P3
     assert got["visits"][:2] == (False, 4)  # nearest to P2: 30 mm above it, line 4
-    assert got["part-at"][:2] == (False, None) and "never moved" in got["part-at"][2]
+    assert (
+        got["part-at"][:2] == (False, None)
+        and "puck never moved from (400, 100, 290)" in got["part-at"][2]
+    )
     closes = got["hand 1 closes at 1 place"]
-    assert closes[:2] == (False, 5) and "closed but took no part" in closes[2]
+    assert closes[:2] == (False, 5) and "closed at (400, 100, 430) and took nothing" in closes[2]
     opens = got["sets the puck on the other stand"]
-    assert opens[:2] == (False, 12) and "let go of a part 0 times" in opens[2]
+    assert opens[:2] == (False, 12) and "but the hand does not open there" in opens[2]
     assert got["cycle-time"][:2] == (False, 12) and "more than 30 s" in got["cycle-time"][2]
     assert got["io"][:2] == (False, 6) and "M_OUT(10) is 0, expected 1" in got["io"][2]
     assert got["uses"] == (False, None, "the program does not use GOSUB")
@@ -195,7 +198,7 @@ def test_a_submission_that_does_not_parse_is_graded_as_failed(folder: Path, tmp_
     assert code == 0 and not err
     assert "Traceback" not in out
     assert "garbage.MB4: failed, score 1 of 11" in out  # avoids GOTO is judged on the tree
-    assert "FAIL  the tool ends at (400.0, -100.0, 400.0) (line 2): not run: line 2: " in out
+    assert "FAIL  the tool ends at (400, -100, 400) (line 2): not run: line 2: " in out
     (report,) = as_json(folder, garbage)
     assert report["passed"] is False
     assert all(c["line"] == 2 for c in report["checks"] if not c["passed"] and c["kind"] != "uses")

@@ -52,7 +52,7 @@ def test_final_pose_passes_where_the_tool_ends_and_fails_on_the_last_move() -> N
     assert ok[0], ok
     passed, message, line = run('[[checks]]\nkind = "final-pose"\npose = [400, 100, 400]')
     assert not passed and line == 10
-    assert "50.0 mm from (400.0, 100.0, 400.0)" in message
+    assert "50.0 mm from (400, 100, 400)" in message
 
 
 def test_final_pose_checks_the_orientation_when_given() -> None:

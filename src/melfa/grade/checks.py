@@ -37,8 +37,14 @@ class Outcome:
     line: int | None = None
 
 
+def number_text(value: float) -> str:
+    """``380`` for 380.0, ``380.5`` for 380.5, never ``-0``: positions as people write them."""
+    text = f"{value:.1f}".removesuffix(".0")
+    return "0" if text == "-0" else text
+
+
 def xyz_text(values: Sequence[float]) -> str:
-    return "(" + ", ".join(f"{v:.1f}" for v in values[:3]) + ")"
+    return "(" + ", ".join(number_text(v) for v in values[:3]) + ")"
 
 
 def _last_move_line(run: Run) -> int | None:
@@ -112,11 +118,16 @@ def part_at(check: PartAt, run: Run) -> Outcome:
     dist = math.dist(part.position, check.position)
     where = f"{check.part} ends at {xyz_text(part.position)}"
     if dist > check.tolerance_mm:
-        still = "" if moved else " (it was never moved)"
+        if not moved:
+            return Outcome(
+                False,
+                f"{check.part} never moved from {xyz_text(part.position)}; "
+                f"its place is {xyz_text(check.position)}",
+            )
         return Outcome(
             False,
-            f"{where}{still}, {dist:.1f} mm from {xyz_text(check.position)} "
-            f"(tolerance {check.tolerance_mm:g} mm)",
+            f"{where}, {dist:.1f} mm from its place {xyz_text(check.position)} "
+            f"(at most {check.tolerance_mm:g} mm)",
             line,
         )
     return Outcome(True, f"{where} ({dist:.1f} mm off)")
@@ -141,16 +152,16 @@ def hand(check: Hand, run: Run) -> Outcome:
         if dist > check.tolerance_mm:
             return Outcome(
                 False,
-                f"hand {check.hand} {past} at {xyz_text(got.pose)}, {dist:.1f} mm from "
-                f"{xyz_text(want)} (place {i + 1} of {len(check.at)}, "
-                f"tolerance {check.tolerance_mm:g} mm)",
+                f"the hand {past} at {xyz_text(got.pose)}, {dist:.1f} mm from "
+                f"{xyz_text(want)} (place {i + 1} of {len(check.at)}; "
+                f"at most {check.tolerance_mm:g} mm)",
                 got.line,
             )
     if len(events) > len(check.at):
         extra = events[len(check.at)]
         return Outcome(
             False,
-            f"hand {check.hand} {past} {len(events)} times, {len(check.at)} expected: once "
+            f"the hand {past} {len(events)} times, {len(check.at)} expected: once "
             f"more at {xyz_text(extra.pose)}",
             extra.line,
         )
@@ -234,19 +245,18 @@ def _missing(check: Hand, run: Run, i: int, past: str, events: list[Action]) -> 
         a = empty[0]
         return Outcome(
             False,
-            f"hand {check.hand} closed but took no part at {xyz_text(a.pose)}, "
+            f"the hand closed at {xyz_text(a.pose)} and took nothing: "
             f"{math.dist(a.pose[:3], want):.1f} mm from {xyz_text(want)} ({place})",
             a.line,
         )
     arrived = [m for m in run.moves if math.dist(m.target.xyz, want) <= check.tolerance_mm]
+    act = "open" if change is HandChange.OPEN else "close"
+    if arrived:
+        return Outcome(
+            False,
+            f"the tool reaches {xyz_text(want)} ({place}) at line {arrived[0].line}, "
+            f"but the hand does not {act} there",
+            arrived[0].line,
+        )
     count = f"{len(events)} time{'s' if len(events) != 1 else ''}"
-    return Outcome(
-        False,
-        f"hand {check.hand} {past} {count}, never at {xyz_text(want)} ({place})"
-        + (
-            f"; the tool got there at line {arrived[0].line} and the hand did not act"
-            if arrived
-            else ""
-        ),
-        arrived[0].line if arrived else None,
-    )
+    return Outcome(False, f"the hand {past} {count}, never at {xyz_text(want)} ({place})")
