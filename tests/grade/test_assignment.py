@@ -166,3 +166,9 @@ def test_the_check_models_are_the_format() -> None:
         "kind", "title", "weight", "pose", "tolerance_mm", "tolerance_deg", "follows",
     }  # fmt: skip
     json.dumps(FinalPose.model_json_schema())
+
+
+def test_an_unknown_top_level_key_or_group_key() -> None:
+    found = problems(HEAD + "deadline = 2026-12-01\n" + OK_CHECK + "[variants.g]\nshift = 3\n")
+    assert "assignment.toml: deadline: is not a key of this table" in found
+    assert "assignment.toml: [variants.g], shift: is not a key of this table" in found

@@ -214,3 +214,19 @@ def test_any_program_is_graded_never_raises(lines: list[str]) -> None:
     for c in report.checks:
         assert c.message
         assert c.line is None or 1 <= c.line <= max(1, len(lines)), (c, program)
+
+
+def test_hand_counts_every_open_and_close_without_with_part() -> None:
+    """No cell, no parts: with ``with_part = false`` each HOPEN/HCLOSE counts where it ran;
+    by default a close that takes nothing is named, on its line."""
+    at = "at = [[400, 100, 400]]"
+    assert run(f'[[checks]]\nkind = "hand"\naction = "close"\n{at}\nwith_part = false')[0]
+    opens = "at = [[400, 0, 450]]"
+    assert run(f'[[checks]]\nkind = "hand"\naction = "open"\n{opens}\nwith_part = false')[0]
+    passed, message, line = run(f'[[checks]]\nkind = "hand"\naction = "close"\n{at}')
+    assert not passed and line == 5 and "closed at (400, 100, 400) and took nothing" in message
+    far = "at = [[400, 100, 380]]"
+    passed, message, line = run(
+        f'[[checks]]\nkind = "hand"\naction = "close"\n{far}\nwith_part = false'
+    )
+    assert not passed and line == 5 and "20.0 mm from (400, 100, 380)" in message
