@@ -209,3 +209,28 @@ def test_filters() -> None:
     assert which(ClassFilter.NOT_OPENED) == [unopened]
     assert which(ClassFilter.NOT_SUBMITTED) == [fresh]
     assert which(ClassFilter.ALL) == rows
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "assignments"
+
+
+def test_the_pyramid_example_through_the_server(web: Web) -> None:
+    """The thesis's exercise as shipped: published with variants, the reference solution
+    passes for two students with different positions; GOTO instead of GOSUB fails there."""
+    files = {p.name: p.read_text(encoding="utf-8") for p in (EXAMPLES / "pyramid").iterdir()}
+    made = web.ivy.post("/api/assignments", json={"files": files, "variants": True}).json()
+    solutions = EXAMPLES / "pyramid-solutions"
+    reference = (solutions / "reference.MB4").read_text(encoding="utf-8")
+    points = set()
+    for who in (web.ann, web.cat):
+        ws = _open(who, made["id"])["mine"]["workspace_id"]
+        points.add(who.get(f"/api/workspaces/{ws}").json()["points"])
+        _save(who, ws, reference)
+        report = who.post(f"/api/assignments/{made['id']}/check").json()["report"]
+        assert report["passed"], [c for c in report["checks"] if not c["passed"]]
+    assert len(points) == 2
+    _save(web.ann, _open(web.ann, made["id"])["mine"]["workspace_id"],
+          (solutions / "wrong" / "goto.MB4").read_text(encoding="utf-8"))  # fmt: skip
+    report = web.ann.post(f"/api/assignments/{made['id']}/check").json()["report"]
+    failed = {c["kind"] for c in report["checks"] if not c["passed"]}
+    assert "avoids" in failed and "uses" in failed

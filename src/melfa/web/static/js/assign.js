@@ -56,7 +56,7 @@ export class AssignmentsPanel {
     hide.addEventListener("click", () => { this.pane.hidden = true; });
     this.pane = el("aside", { class: "assignment", id: "assignment", "aria-label": "Assignment", hidden: true },
       el("div", { class: "assign-head" }, this.title, hide),
-      el("div", { class: "assign-body" }, this.meta, this.variant, this.statement,
+      el("div", { class: "assign-body", tabindex: "0", "aria-label": "The assignment's statement and checks" }, this.meta, this.variant, this.statement,
         el("h3", {}, "Checks"), this.checks),
       el("div", { class: "assign-foot" }, this.summary,
         el("div", { class: "assign-actions" }, this.checkButton, this.submitButton, this.attempts)));

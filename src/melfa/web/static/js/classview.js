@@ -259,7 +259,7 @@ async function preview(read) {
     $("pub-preview").replaceChildren(el("p", { class: "error" }, "This folder cannot be published yet:"));
     return;
   }
-  const statement = el("div", { class: "assign-statement pub-statement" });
+  const statement = el("div", { class: "assign-statement pub-statement", tabindex: "0", "aria-label": "The statement" });
   statement.innerHTML = folder.statement_html; // rendered by the server; raw HTML escaped there
   $("pub-preview").replaceChildren(
     el("strong", { id: "pub-title" }, folder.title),
