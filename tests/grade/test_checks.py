@@ -230,3 +230,18 @@ def test_hand_counts_every_open_and_close_without_with_part() -> None:
         f'[[checks]]\nkind = "hand"\naction = "close"\n{far}\nwith_part = false'
     )
     assert not passed and line == 5 and "20.0 mm from (400, 100, 380)" in message
+
+
+def test_a_bug_in_the_simulator_is_a_failed_check_that_says_so(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The one stand-in here: a simulator that raises, as a bug of ours would."""
+    import melfa.grade.engine as engine
+
+    def broken(*_args: object, **_kw: object) -> None:
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr(engine, "preflight", broken)
+    passed, message, line = run('[[checks]]\nkind = "no-collision"')
+    assert not passed and line is None
+    assert message.startswith("internal error in melfa's simulator (please report it)")

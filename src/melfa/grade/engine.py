@@ -115,6 +115,8 @@ def _simulate(
         )
     except DebugError as exc:
         return NotRun(f"not run: {exc}", None)
+    except Exception as exc:  # a bug of ours: a failed check that says so, never a traceback
+        return NotRun(f"internal error in melfa's simulator (please report it): {exc!r}", None)
 
 
 def _judge(
