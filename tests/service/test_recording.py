@@ -91,3 +91,41 @@ def test_nothing_is_recorded_without_a_run_and_a_delete_forgets_what_was_loaded(
 
     run(main())
     assert done == []
+
+
+def test_a_run_that_never_ends_is_cut_at_the_recorders_limit() -> None:
+    done: list[Recording] = []
+    looping = "*LOOP\nMOV P1\nMOV P2\nGOTO *LOOP\n"
+
+    async def main() -> None:
+        service, _ = make_service(VirtualController())
+        service.record_runs(done.append, max_s=2.0)
+        async with service:
+            await service.load_project(ANN, project(looping, POINTS))
+            await service.run(ANN, servo=ServoPolicy.TURN_ON)
+            assert await until(lambda: bool(done), timeout=10)
+            assert service.state.program_running  # the program goes on: only the record stops
+            await service.stop(ANN)
+
+    run(main())
+    (rec,) = done
+    assert rec.outcome is RunOutcome.TOO_LONG and rec.cycle_time is None
+    assert 2.0 < rec.duration < 3.0
+    assert {f.line for f in rec.frames if f.line} <= {2, 3, 4}
+
+
+def test_a_lost_link_ends_the_recording() -> None:
+    done: list[Recording] = []
+
+    async def main() -> None:
+        service, links = make_service(VirtualController())
+        service.record_runs(done.append)
+        async with service:
+            await service.load_project(ANN, project(PROGRAM, POINTS))
+            await service.run(ANN, servo=ServoPolicy.TURN_ON)
+            await clock().sleep(0.2)
+            links.opened[-1].close()  # the cable is pulled mid-run
+            assert await until(lambda: bool(done), timeout=10)
+
+    run(main())
+    assert done[0].outcome is RunOutcome.LINK_LOST

@@ -46,6 +46,12 @@ export class RunsPanel {
     this.group.visible = false;
     app.view.root.add(this.group);
     this.build();
+    // A run that ends while the list is open appears in it (the server stores it a moment
+    // after the controller shows the end).
+    robot.subscribe(({ state }, previous) => {
+      const ended = previous.state?.program_running && state && !state.program_running;
+      if (ended && !this.listPanel.hidden) setTimeout(() => this.load(), 1500);
+    });
   }
 
   build() {
