@@ -50,6 +50,8 @@ def test_a_recorded_run_replays_with_its_line_and_deviation(
     page.click("#runs-button")
     item = page.locator(f"#runs-list li[data-run='{run['id']}']")
     expect(item).to_contain_text("finished")
+    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
+    s.screenshot("runs-list")
     item.get_by_role("button", name="Replay").click()
     replay = page.locator("#replay")
     expect(replay).to_be_visible()
@@ -85,6 +87,7 @@ def test_a_recorded_run_replays_with_its_line_and_deviation(
     wait_until(lambda: s.eval("() => window.melfa.state.seq") > seq + 3, what="live states")
     assert s.joints() == shown
     assert page.get_attribute("#editor", "data-run-line") == str(line)
+    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
     s.screenshot("replay")
 
     page.click("#replay-close")
