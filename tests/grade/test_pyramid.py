@@ -8,7 +8,15 @@ from pathlib import Path
 
 import pytest
 
-from melfa.grade import Report, Submission, grade, load_assignment, read_folder, variant_points
+from melfa.grade import (
+    Assignment,
+    Report,
+    Submission,
+    grade,
+    load_assignment,
+    read_folder,
+    variant_points,
+)
 from melfa.grade.model import CheckKind
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "assignments"
@@ -17,16 +25,18 @@ POINTS = (SOLUTIONS / "reference.POS").read_text(encoding="utf-8")
 
 
 @pytest.fixture(scope="module")
-def pyramid() -> object:
+def pyramid() -> Assignment:
     return load_assignment(read_folder(EXAMPLES / "pyramid"))
 
 
-def graded(assignment: object, program: str, points: str = POINTS, seed: object = None) -> Report:
+def graded(
+    assignment: Assignment, program: str, points: str = POINTS, seed: int | None = None
+) -> Report:
     text = (SOLUTIONS / program).read_text(encoding="utf-8")
-    return grade(assignment, Submission(text, points), seed)  # type: ignore[arg-type]
+    return grade(assignment, Submission(text, points), seed)
 
 
-def test_the_reference_solution_passes(pyramid: object) -> None:
+def test_the_reference_solution_passes(pyramid: Assignment) -> None:
     report = graded(pyramid, "reference.MB4")
     failed = [(c.title, c.message) for c in report.checks if not c.passed]
     assert report.passed, failed
@@ -59,7 +69,7 @@ WRONG = [
 
 @pytest.mark.parametrize(("program", "title", "line", "words"), WRONG)
 def test_a_wrong_solution_fails_on_the_right_check_with_the_right_line(
-    pyramid: object, program: str, title: str, line: int | None, words: str
+    pyramid: Assignment, program: str, title: str, line: int | None, words: str
 ) -> None:
     report = graded(pyramid, program)
     assert not report.passed
@@ -69,30 +79,46 @@ def test_a_wrong_solution_fails_on_the_right_check_with_the_right_line(
     assert words in check.message, check.message
 
 
-def test_a_block_dropped_high_still_lands_on_its_place(pyramid: object) -> None:
+def test_a_block_dropped_high_still_lands_on_its_place(pyramid: Assignment) -> None:
     """Only the hand check sees it: the block falls 10 mm onto the right place."""
     report = graded(pyramid, "wrong/high.MB4")
     failed = {c.title for c in report.checks if not c.passed}
     assert failed == {"sets each block down on its place"}
 
 
-def test_the_goto_solution_builds_the_pyramid_all_the_same(pyramid: object) -> None:
+def test_the_goto_solution_builds_the_pyramid_all_the_same(pyramid: Assignment) -> None:
     report = graded(pyramid, "wrong/goto.MB4")
     assert {c.kind for c in report.checks if not c.passed} == {CheckKind.USES, CheckKind.AVOIDS}
 
 
-def test_each_student_builds_with_their_own_positions(pyramid: object) -> None:
+def test_each_student_builds_with_their_own_positions(pyramid: Assignment) -> None:
     a = pyramid
     seeds = [
         s
         for s in range(40)
         if a.variant(s).offsets != {"pick": (0.0, 0.0, 0.0), "place": (0.0, 0.0, 0.0)}
-    ]  # type: ignore[attr-defined]
+    ]
     seed = seeds[0]
-    mine = variant_points(a, a.variant(seed))  # type: ignore[arg-type, attr-defined]
+    mine = variant_points(a, a.variant(seed))
     assert mine is not None and mine != POINTS
     # the reference with the plain points fails this student's checks; with theirs it passes
     assert not graded(a, "reference.MB4", POINTS, seed).passed
     report = graded(a, "reference.MB4", mine, seed)
     assert report.passed, [c.message for c in report.checks if not c.passed]
     assert report.variant == str(seed)
+
+
+def test_every_variant_can_be_solved(pyramid: Assignment) -> None:
+    """Each of the 4 × 4 pick and place offsets a student may get: the reference solution
+    with that student's starter points passes (no variant puts a block out of reach or
+    into the bench)."""
+    a = pyramid
+    seeds: dict[object, int] = {}
+    for seed in range(1, 400):
+        key = tuple(sorted(a.variant(seed).offsets.items()))
+        seeds.setdefault(key, seed)
+    assert len(seeds) == 16
+    for seed in seeds.values():
+        points = variant_points(a, a.variant(seed))
+        report = graded(a, "reference.MB4", points or "", seed)
+        assert report.passed, (seed, [c.message for c in report.checks if not c.passed])
