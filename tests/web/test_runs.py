@@ -4,8 +4,11 @@ everyone's (one rule: `melfa.web.routes.runs.may_see`)."""
 
 from __future__ import annotations
 
+import asyncio
 from typing import Any
 
+from melfa.web.pools import Busy
+from melfa.web.recorded_runs import RETRY_MAX_S, patiently
 from tests.waiting import wait_until
 from tests.web.conftest import Web, assert_error
 from tests.web.test_robot import ok
@@ -84,3 +87,22 @@ def test_students_see_their_own_runs_and_instructors_everyones(web: Web) -> None
     assert_error(web.ann.get("/api/runs/99999"), 404, "not-found")
     assert_error(web.ann.put(f"/api/runs/{anns}/kept", json={"kept": True}), 403, "forbidden")
     assert ok(web.ivy.put(f"/api/runs/{anns}/kept", json={"kept": True}))["kept"] is True
+
+
+def test_a_full_pool_delays_a_runs_record_and_never_loses_it() -> None:
+    """A class checking as it types fills the CPU pool for moments: storing a run waits
+    for room (pauses growing to a ceiling) instead of dropping the record."""
+    pauses: list[float] = []
+    tries = iter([Busy("cpu")] * 7 + ["stored"])
+
+    async def call() -> str:
+        outcome = next(tries)
+        if isinstance(outcome, Exception):
+            raise outcome
+        return outcome
+
+    async def sleep(seconds: float) -> None:
+        pauses.append(seconds)
+
+    assert asyncio.run(patiently(call, sleep)) == "stored"
+    assert pauses == [0.1, 0.2, 0.4, 0.8, 1.6, 3.2, RETRY_MAX_S]

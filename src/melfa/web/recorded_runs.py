@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
-from typing import Any
+from collections.abc import Awaitable, Callable
+from typing import Any, TypeVar
 
 from melfa.service.recording import Recording
 from melfa.service.recording_compare import (
@@ -23,8 +24,27 @@ from melfa.service.recording_frames import encode
 from melfa.sim.debug.preflight import Report
 from melfa.store.runs import NewRun
 from melfa.web.context import WebContext
+from melfa.web.pools import Busy
 
 _log = logging.getLogger("melfa.web.runs")
+T = TypeVar("T")
+RETRY_MAX_S = 5.0
+"""Longest pause between two tries of a full pool: a class checking as it types fills the
+CPU pool for moments, and a run's record must not be lost to that."""
+
+
+async def patiently(
+    call: Callable[[], Awaitable[T]],
+    sleep: Callable[[float], Awaitable[None]] = asyncio.sleep,
+) -> T:
+    """``call()`` again, after a growing pause, for as long as its pool is full."""
+    pause = 0.1
+    while True:
+        try:
+            return await call()
+        except Busy:
+            await sleep(pause)
+            pause = min(RETRY_MAX_S, pause * 2)
 
 
 def report_of(comparison: Comparison) -> dict[str, Any]:
@@ -72,34 +92,37 @@ class RunKeeper:
         store = context.store
         try:
             simulation = None
-            if rec.fingerprint is not None:
-                simulation = await context.db(store.runs.simulation, rec.user, rec.fingerprint)
+            fingerprint = rec.fingerprint
+            if fingerprint is not None:
+                simulation = await patiently(
+                    lambda: context.db(store.runs.simulation, rec.user, fingerprint)
+                )
             simulated: SimulatedRun | None = (
                 unpack(simulation.path) if simulation is not None else None
             )
-            comparison = await context.cpu(compare, rec.frames, simulated, rec.cycle_time)
-            frames = await context.cpu(encode, rec.frames)
-            loaded = rec.loaded
-            await context.db(
-                store.runs.save,
-                NewRun(
-                    target=self.target,
-                    username=rec.user,
-                    started=rec.started_at,
-                    duration=rec.duration,
-                    outcome=(rec.outcome.value if rec.outcome else "unknown"),
-                    fingerprint=rec.fingerprint,
-                    loaded_by=loaded.loaded_by if loaded else None,
-                    program=loaded.program if loaded else None,
-                    frame_count=len(rec.frames),
-                    frames=frames,
-                    simulated=simulation.path if simulation is not None else None,
-                    simulated_by=simulation.username if simulation is not None else None,
-                    cycle_real=rec.cycle_time,
-                    cycle_simulated=comparison.cycle_simulated,
-                    report=report_of(comparison),
-                ),
+            comparison = await patiently(
+                lambda: context.cpu(compare, rec.frames, simulated, rec.cycle_time)
             )
+            frames = await patiently(lambda: context.cpu(encode, rec.frames))
+            loaded = rec.loaded
+            run = NewRun(
+                target=self.target,
+                username=rec.user,
+                started=rec.started_at,
+                duration=rec.duration,
+                outcome=(rec.outcome.value if rec.outcome else "unknown"),
+                fingerprint=rec.fingerprint,
+                loaded_by=loaded.loaded_by if loaded else None,
+                program=loaded.program if loaded else None,
+                frame_count=len(rec.frames),
+                frames=frames,
+                simulated=simulation.path if simulation is not None else None,
+                simulated_by=simulation.username if simulation is not None else None,
+                cycle_real=rec.cycle_time,
+                cycle_simulated=comparison.cycle_simulated,
+                report=report_of(comparison),
+            )
+            await patiently(lambda: context.db(store.runs.save, run))
             self.saved += 1
         except Exception:
             _log.exception("the run of %s could not be stored", rec.user)
@@ -116,4 +139,4 @@ async def simulation_passed(
     )
 
 
-__all__ = ["RunKeeper", "report_of", "simulation_passed"]
+__all__ = ["RunKeeper", "patiently", "report_of", "simulation_passed"]
