@@ -28,6 +28,7 @@ def edit_cell(s: Session, text: str) -> None:
     page = s.page
     s.eval("() => document.getElementById('toasts').replaceChildren()")  # the welcome toast
     page.click("#cell-edit")
+    page.click("#cell-tab-json")  # the cell's JSON, under the form
     page.fill("#cell-json", text)
     page.click("#cell-save")
     expect(page.locator("#cell-dialog")).to_have_count(0)

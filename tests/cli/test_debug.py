@@ -216,6 +216,30 @@ def test_preflight_flags_a_move_below_the_table(tmp_path: Path) -> None:
     assert done.returncode == 2 and 'floor_z must be a number (mm), got "low"' in done.stderr
 
 
+def test_preflight_in_the_thesis_bench_says_where_the_blocks_ended() -> None:
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    done = subprocess.run(
+        [
+            *melfa(),
+            "debug",
+            str(examples / "pyramid.MB4"),
+            "--points",
+            str(examples / "pyramid.POS"),
+            "--preflight",
+            "--cell",
+            "thesis-bench",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr
+    assert "where the parts ended:" in done.stdout
+    assert "  block 1: (434.0, 150.0, 150.0) on block 2" in done.stdout.splitlines()
+    assert done.stdout.rstrip().endswith("0 errors, 0 warnings")
+
+
 def test_the_preflight_console_command(tmp_path: Path) -> None:
     code, out, _ = melfa_debug(tmp_path, "preflight\nprint 1\n", program=LOW.replace("P2", "P1"))
     assert code == 0

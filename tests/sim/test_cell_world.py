@@ -234,3 +234,21 @@ def test_a_conveyor_brings_the_part_to_a_sensor_the_program_waits_for() -> None:
     assert close.part == "a" and close.line == 8
     assert close.time > 7.9
     assert r.parts[0].held
+
+
+def test_the_parts_go_back_when_a_debugger_runs_the_program_again() -> None:
+    from melfa.sim.debug.cell_run import CellRun
+    from melfa.sim.debug.engine import INSTANT, Debugger
+
+    bench = Solid("bench", Shape.BOX, (400, 600, 120), (400, 25, 0))
+    cell = Cell(fixtures=(bench,), parts=(puck("a", 400, -100, 120),), gripper=GRIP)
+    d = Debugger(PICK, PICK_POINTS, clock=lambda: 0.0, speed=INSTANT)
+    run = CellRun.follow(cell, d)
+    for _ in range(2):
+        d.run()
+        while d.poll() is None:
+            pass
+        assert [a.part for a in run.actions] == ["a", "a"]  # this run's, not the last one's too
+        assert run.parts()[0].position == pytest.approx((400, 150, 120))
+    run.detach()
+    assert d.io.before_read is None and not d.arm.recorder.listeners

@@ -21,6 +21,7 @@ from melfa.cli.checking import FileKind, UsageError, read_text_file
 from melfa.cli.start_options import FeedOption, JointsOption, PoseOption, ServoOnOption
 from melfa.cli.typer_app import app
 from melfa.sim.debug.cell import Cell, CellError
+from melfa.sim.debug.cell_templates import TEMPLATES, template
 from melfa.sim.debug.console import Console
 from melfa.sim.debug.engine import DEFAULT_MAX_TIME_S, DebugError, Debugger, Speed
 from melfa.sim.debug.preflight import preflight, report_text
@@ -77,7 +78,12 @@ def debug(
     ] = False,
     cell_path: Annotated[
         Path | None,
-        typer.Option("--cell", metavar="CELL.json", help="The cell (table, obstacles) to check."),
+        typer.Option(
+            "--cell",
+            metavar="CELL.json",
+            help="The cell (table, fixtures, parts, gripper…; docs/simulator.md), or a "
+            "template's name: thesis-bench.",
+        ),
     ] = None,
     max_time: Annotated[
         float,
@@ -112,7 +118,10 @@ def debug(
     cell = None
     if cell_path is not None:
         try:
-            cell = Cell.from_json(_read(cell_path, "the cell"))
+            if not cell_path.exists() and str(cell_path) in TEMPLATES:
+                cell = template(str(cell_path))
+            else:
+                cell = Cell.from_json(_read(cell_path, "the cell"))
         except CellError as exc:
             errors.print(f"[red]error:[/] {cell_path}: {exc}")
             raise typer.Exit(2) from None

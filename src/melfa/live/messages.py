@@ -158,6 +158,18 @@ class _Event(_Sent):
     at: datetime
 
 
+class PartOut(_Sent):
+    """Where one part of the simulated cell is (docs/simulator.md): the centre of its
+    bottom face (mm), its heading about the vertical (degrees), whether the gripper holds
+    it and what it stands on (``table``, a fixture, a conveyor or another part)."""
+
+    name: str
+    position: list[float]
+    rz: float
+    held: bool
+    on: str | None = None
+
+
 class DebugMessage(_Event):
     """The debugger's state, on the socket of your simulator (docs/debugger.md)."""
 
@@ -168,6 +180,8 @@ class DebugMessage(_Event):
     joints: list[float] | None = None
     pose: list[float] | None = None
     variables: list[dict[str, Any]] | None = None
+    parts: list[PartOut] | None = None
+    """The cell's parts as the run moves them (absent when the cell has none)."""
     ended: bool = False
 
 

@@ -5,8 +5,9 @@ The engine is pure and clockless; this module gives it a clock, polls it (`POLL_
 worker thread so an instant-speed run never blocks the event loop, serialises commands with
 the polls (one lock), and publishes `DebugUpdate` events on the private simulator's bus: the
 IDE's socket for "My simulator" gets them with the robot's state. While the program runs an
-update goes out at most every `UPDATE_S` (location, time, the arm's joints and pose for the
-3D view); at every stop one goes out at once, with the variables.
+update goes out at most every `UPDATE_S` (location, time, the arm's joints and pose and
+where the cell's parts are, for the 3D view); at every stop one goes out at once, with the
+variables.
 
 The debugged program runs on an arm of its own that starts where the simulator's arm
 stands: the debugger's simulated time stands still while paused and runs ×N or instantly on
@@ -27,6 +28,8 @@ from typing import Any, ClassVar, TypeVar
 from melfa.service.events import Actor, Event
 from melfa.service.simulator import PrivateSimulator
 from melfa.sim.arm import SimulatedArm
+from melfa.sim.debug.cell import Cell
+from melfa.sim.debug.cell_run import CellRun
 from melfa.sim.debug.engine import DebugError, Debugger, RunState, Speed, Stop
 from melfa.sim.interp.io import IOState
 from melfa.sim.interp.start import RunStart
@@ -58,6 +61,8 @@ class DebugUpdate(Event):
     pose: tuple[float, ...] | None = None
     variables: list[dict[str, Any]] | None = None
     """Sent with every stop (the values the last step changed are marked)."""
+    parts: list[dict[str, Any]] | None = None
+    """Where each part of the cell is (`cell_world.PartState.to_json()`), when it has any."""
     ended: bool = False
     """The session was closed: the view goes back to the simulator's own state."""
 
@@ -83,9 +88,11 @@ class DebugSession:
         owner: Actor,
         *,
         clock: Callable[[], float] = time.monotonic,
+        cell: Cell | None = None,
     ) -> None:
         self.simulator = simulator
         self.debugger = debugger
+        self.cell = CellRun.follow(cell, debugger) if cell is not None and cell.parts else None
         self.owner = owner
         self.program = debugger.text
         self._clock = clock
@@ -107,10 +114,12 @@ class DebugSession:
         speed: Speed | None = None,
         start: RunStart = AS_THE_SIMULATOR_IS,
         clock: Callable[[], float] = time.monotonic,
+        cell: Cell | None = None,
     ) -> DebugSession:
         """Load ``program`` and ``points`` (`DebugError` in the user's words when they
         cannot run at all) on an arm as ``start`` says, by default where the simulator's
-        stands."""
+        stands; the `cell`'s parts follow the run (carried, dropped, on conveyors) and go
+        out with every update."""
         arm = _arm_like(simulator, start)
         debugger = await asyncio.to_thread(
             Debugger,
@@ -122,7 +131,7 @@ class DebugSession:
             io=_io_of(simulator),
         )
         start.apply(debugger.interp)
-        session = cls(simulator, debugger, owner, clock=clock)
+        session = cls(simulator, debugger, owner, clock=clock, cell=cell)
         session._task = asyncio.create_task(session._pump(), name=f"debug-{owner.user}")
         session.publish(with_variables=True)
         return session
@@ -139,6 +148,9 @@ class DebugSession:
             self._task.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await self._task
+        if self.cell is not None:
+            with self._lock:
+                self.cell.detach()
         with contextlib.suppress(Exception):
             self.publish(ended=True)
 
@@ -182,6 +194,7 @@ class DebugSession:
                 joints=tuple(arm.joints),
                 pose=_pose(arm),
                 variables=[v.to_json() for v in d.variables()] if with_variables else None,
+                parts=[p.to_json() for p in self.cell.parts()] if self.cell else None,
                 ended=ended,
             )
 

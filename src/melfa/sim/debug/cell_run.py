@@ -1,13 +1,14 @@
 """A `CellWorld` wired to a debugger's run: the hand's events, the outputs and the sensor
 inputs of one simulated RV-6S (pre-flight and the IDE's simulator both use it).
 
-`CellIO` is the controller's I/O with the sensors read fresh whenever the program reads
-an input; `CellRun` listens to the arm's hand events and the outputs. Times given to the
+`CellRun` listens to the arm's hand events and the outputs, and sets the sensors' inputs
+whenever the program reads one (`IOState.before_read`). Times given to the
 world are the interpreter's; `HandAction.time` is seconds since the run began.
 """
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 
 from melfa.kin.pose import FloatArray
@@ -15,36 +16,20 @@ from melfa.kin.solver import fk_matrix
 from melfa.sim.arm import SimulatedArm
 from melfa.sim.debug.cell import Cell
 from melfa.sim.debug.cell_world import CellWorld, HandAction, PartState
+from melfa.sim.debug.engine import Debugger
 from melfa.sim.interp.io import IOState
 from melfa.sim.trajectory import HandEvent, HandState, MoveEvent
 
 
-class CellIO(IOState):
-    """I/O whose inputs the cell's sensors drive: `before_read` runs before every read."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.before_read: Callable[[], None] | None = None
-
-    def input(self, bit: int) -> int:
-        if self.before_read is not None:
-            self.before_read()
-        return super().input(bit)
-
-    def read_inputs(self, start: int, width: int) -> int:
-        if self.before_read is not None:
-            self.before_read()
-        return super().read_inputs(start, width)
-
-
 class CellRun:
-    """The parts of `cell` following one arm's run (attach once; `reset` at each run)."""
+    """The parts of `cell` following one arm's run (attach once; `reset` at each run, or
+    `follow` a debugger, which resets it whenever a run starts)."""
 
     def __init__(
         self,
         cell: Cell,
         arm: SimulatedArm,
-        io: CellIO,
+        io: IOState,
         *,
         now: Callable[[], float],
         line_of: Callable[[int | None], int | None],
@@ -56,9 +41,36 @@ class CellRun:
         self._line_of = line_of
         self.origin = now()
         self.world = CellWorld(cell)
+        self._debugger: Debugger | None = None
         arm.recorder.listeners.append(self._on_event)
         io.listeners.append(self._on_io)
         io.before_read = self.sense
+
+    @classmethod
+    def follow(cls, cell: Cell, debugger: Debugger) -> CellRun:
+        """The cell's parts following `debugger`'s runs (its I/O must be a `CellIO`)."""
+        run = cls(
+            cell,
+            debugger.arm,
+            debugger.io,
+            now=lambda: debugger.interp.now,
+            line_of=debugger.line_of_step,
+        )
+        debugger.on_start.append(run.reset)
+        run._debugger = debugger
+        return run
+
+    def detach(self) -> None:
+        """Stop following the arm and its I/O (the I/O may outlive the run)."""
+        with contextlib.suppress(ValueError):
+            self.arm.recorder.listeners.remove(self._on_event)
+        with contextlib.suppress(ValueError):
+            self.io.listeners.remove(self._on_io)
+        if self.io.before_read == self.sense:
+            self.io.before_read = None
+        if self._debugger is not None:
+            with contextlib.suppress(ValueError):
+                self._debugger.on_start.remove(self.reset)
 
     def reset(self) -> None:
         """A new run: the parts back where the cell puts them."""

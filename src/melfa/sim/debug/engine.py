@@ -316,6 +316,8 @@ class Debugger:
         self._start_time = 0.0
         self._before: dict[str, VarView] = {}
         self._now_rows: dict[str, VarView] = {}
+        self.on_start: list[Callable[[], None]] = []
+        """Called when a run starts from the first line (the cell's parts go back)."""
         self._take_snapshot()
 
     # ------------------------------------------------------------------ breakpoints
@@ -362,6 +364,7 @@ class Debugger:
         self.arm.recorder.clear()
         self.interp.start(self.interp.now, cycle=True)
         self._start_time = self.interp.now
+        self._started()
         self._take_snapshot()
         self._go(Mode.CONTINUE)
 
@@ -417,6 +420,7 @@ class Debugger:
             self.interp.start(self.interp.now, cycle=True)
             self._start_time = self.interp.now
             self.arm.recorder.clear()
+            self._started()
         elif st.status in (RunnerStatus.FINISHED, RunnerStatus.FAILED):
             raise DebugError("the program is not running (run starts it again)")
         self._mode = mode
@@ -439,6 +443,10 @@ class Debugger:
         self._busy = 0
         self._wall = self.clock()
         self._hook()
+
+    def _started(self) -> None:
+        for call in self.on_start:
+            call()
 
     def _hook(self) -> None:
         """Ask before every step only when something could stop there (it costs a call)."""

@@ -42,7 +42,7 @@ from melfa.kin.solver import fk_batch
 from melfa.lang.points import PointDef
 from melfa.sim.debug.cell import Cell, Solid
 from melfa.sim.debug.cell_collision import ArmBodies, Collision, move_collisions
-from melfa.sim.debug.cell_run import CellIO, CellRun
+from melfa.sim.debug.cell_run import CellRun
 from melfa.sim.debug.cell_world import TABLE, HandAction, PartState
 from melfa.sim.debug.engine import (
     DEFAULT_MAX_TIME_S,
@@ -228,13 +228,11 @@ def preflight(
     """
     point_defs = load_points(points, program)
     cell = cell if cell is not None else Cell()
-    io = CellIO()
-    d = Debugger(program, point_defs, clock=lambda: 0.0, speed=INSTANT, io=io, max_time=max_time)
-    run = CellRun(cell, d.arm, io, now=lambda: d.interp.now, line_of=d.line_of_step)
+    d = Debugger(program, point_defs, clock=lambda: 0.0, speed=INSTANT, max_time=max_time)
+    run = CellRun.follow(cell, d)
     for bit, value in inputs:
         d.set_input(bit, value)
     d.run()
-    run.reset()
     waits = 0
     while d.state is RunState.RUNNING:
         if d.poll() is None and d.waiting:
@@ -556,6 +554,12 @@ def report_text(report: Report, name: str = "the program") -> str:
         out.append(
             f"  J{jm.joint}: {jm.margin:6.1f}° from {jm.limit:+g}° (at {_deg(jm.value)}°{where})"
         )
+    if report.parts:
+        out.append("where the parts ended:")
+        for p in report.parts:
+            x, y, z = p.position
+            where = "held by the gripper" if p.held else f"on {p.on}"
+            out.append(f"  {p.name}: ({x:.1f}, {y:.1f}, {z:.1f}) {where}")
     ordered = sorted(report.findings, key=lambda f: (f.severity is not Severity.ERROR, f.line or 0))
     for f in ordered:
         out.append(f"{f.severity.value}: {f.message}")

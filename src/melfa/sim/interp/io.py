@@ -19,9 +19,13 @@ class IOState:
         self._outputs: dict[int, int] = {}
         self.listeners: list[Callable[[str, int, int], None]] = []
         """Called with ("in"|"out", bit, value) whenever a bit changes."""
+        self.before_read: Callable[[], None] | None = None
+        """Called before a program reads an input (a simulated cell's sensors set theirs)."""
 
     # --- inputs -------------------------------------------------------------------------
     def input(self, bit: int) -> int:
+        if self.before_read is not None:
+            self.before_read()
         return self._inputs.get(bit, 0)
 
     def set_input(self, bit: int, value: int | bool) -> None:
@@ -29,6 +33,8 @@ class IOState:
         self._set(self._inputs, "in", bit, 1 if value else 0)
 
     def read_inputs(self, start: int, width: int) -> int:
+        if self.before_read is not None:
+            self.before_read()
         return _read(self._inputs, start, width)
 
     def set_inputs(self, start: int, width: int, value: int) -> None:

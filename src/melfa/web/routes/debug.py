@@ -133,7 +133,13 @@ async def start(
     async def open_session() -> DebugSession:
         try:
             return await DebugSession.open(
-                simulator, owner, program, points, speed=speed, start=start_as
+                simulator,
+                owner,
+                program,
+                points,
+                speed=speed,
+                start=start_as,
+                cell=context.preflight.cell,
             )
         except DebugError as exc:
             raise refused(exc) from None

@@ -11,6 +11,7 @@ from fastapi import APIRouter
 from pydantic import BaseModel, Field
 
 from melfa.sim.debug.cell import Cell, CellError
+from melfa.sim.debug.cell_templates import template
 from melfa.sim.debug.engine import DebugError
 from melfa.sim.debug.preflight import preflight
 from melfa.web.context import WebContext
@@ -40,9 +41,29 @@ class PreflightOut(BaseModel):
 
 
 class CellIn(Input):
+    """The cell's JSON (docs/simulator.md); `melfa.sim.debug.cell.Cell.from_json` checks it
+    and says what is wrong in the instructor's words."""
+
     floor_z: float | None = Field(0.0, description="The table plane (mm); null: no check.")
     boxes: list[dict[str, Any]] = Field(
         default_factory=list, description="`{name, min: [x,y,z], max: [x,y,z]}` in mm."
+    )
+    fixtures: list[dict[str, Any]] = Field(
+        default_factory=list,
+        description="`{name, shape: box|cylinder, size|diameter+height, position, rz}`.",
+    )
+    parts: list[dict[str, Any]] = Field(
+        default_factory=list, description="Solids the program moves, as fixtures."
+    )
+    gripper: dict[str, Any] = Field(
+        default_factory=dict, description="`{hand, grip, tolerance, length, radius}`."
+    )
+    sensors: list[dict[str, Any]] = Field(
+        default_factory=list, description="`{name, input, min, max}`: M_IN(input) = part in."
+    )
+    conveyors: list[dict[str, Any]] = Field(
+        default_factory=list,
+        description="`{name, output, size, position, velocity: [vx, vy]}`: runs on M_OUT.",
     )
 
 
@@ -91,9 +112,20 @@ async def get_settings(session: SessionDep, context: ContextDep) -> PreflightSet
     return settings_out(context)
 
 
+@router.get("/preflight/templates/{name}", response_model=dict[str, Any], summary="A template cell")
+async def get_template(name: str, session: StaffDep) -> dict[str, Any]:
+    """Instructors and admins: a cell to start from (``thesis-bench``: the thesis's bench
+    and blocks, for examples/pyramid.MB4)."""
+    try:
+        return template(name).to_json()
+    except CellError as exc:
+        raise ApiError(404, "not-found", str(exc)) from None
+
+
 @router.put("/preflight/cell", response_model=PreflightSettingsOut, summary="Edit the cell")
 async def put_cell(body: CellIn, session: StaffDep, context: ContextDep) -> PreflightSettingsOut:
-    """Instructors and admins: the table plane and the box obstacles (mm, base frame)."""
+    """Instructors and admins: the table, fixtures, parts, gripper, sensors and conveyors
+    (mm, base frame; docs/simulator.md)."""
     try:
         cell = Cell.from_json(body.model_dump())
     except CellError as exc:

@@ -254,6 +254,7 @@ export class DebugPanel {
   onMessage(m) {
     if (m.ended) {
       this.session = null;
+      this.app.cell?.resetParts();
       robot.set({ debugging: false });
       this.render();
       return;
@@ -261,6 +262,7 @@ export class DebugPanel {
     const running = m.status.state === "running";
     if (m.joints) this.app.view.setJoints(m.joints);
     if (running && m.pose) this.app.view.addPathPoint(m.pose);
+    if (m.parts) this.app.cell?.setParts(m.parts); // the cell's parts, carried and dropped
     robot.set({ debugging: true });
     this.show({ session: m.session, seq: m.seq, status: m.status, variables: m.variables ?? this.session?.variables ?? [], program: this.session?.program ?? this.editor.text });
   }

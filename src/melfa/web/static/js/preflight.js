@@ -2,11 +2,13 @@
 // checked before the real arm moves. The report lists each finding with its line (click:
 // the editor goes there); the 3D view shows the simulated path as a ghost over the arm,
 // coloured where a finding happens (red: error, amber: warning), and the lab's cell (the
-// table plane, box obstacles), which instructors edit here. When the lab's gate refuses a
+// table, fixtures, parts: cellview.js), which instructors edit here (celleditor.js). When the lab's gate refuses a
 // program, `offer` explains why and offers the simulation.
 
 import * as THREE from "three";
 import { api } from "./api.js";
+import { CellEditor } from "./celleditor.js";
+import { CellScene } from "./cellview.js";
 import { $, el, onFix, showError, toast } from "./ui.js";
 
 const COLOURS = { ok: 0x2563eb, error: 0xdc2626, warning: 0xf59e0b };
@@ -18,8 +20,9 @@ export class PreflightPanel {
     this.cell = null;
     this.gate = false;
     this.group = new THREE.Group(); // the ghost path, in robot coordinates (mm)
-    this.cellGroup = new THREE.Group();
-    app.view.root.add(this.group, this.cellGroup);
+    app.view.root.add(this.group);
+    app.cell = new CellScene(app.view); // the lab's cell: the debugger moves its parts
+    this.editor = new CellEditor(app.cell, (cell) => { this.cell = cell; });
     this.build();
     this.load();
     onFix("preflight", () => this.offer()); // the gate's refusal: its button runs this
@@ -32,7 +35,7 @@ export class PreflightPanel {
     $("act-check").after(run);
     this.ghost = el("input", { type: "checkbox", id: "ghost-toggle", checked: true });
     this.ghost.addEventListener("change", () => { this.group.visible = this.ghost.checked; this.app.view.requestRender(); });
-    const editCell = el("button", { type: "button", class: "btn btn-sm", id: "cell-edit", hidden: true, title: "The table plane and obstacles pre-flight checks against" }, "Cell…");
+    const editCell = el("button", { type: "button", class: "btn btn-sm", id: "cell-edit", hidden: true, title: "The table, fixtures and parts that pre-flight and the simulators use" }, "Cell…");
     editCell.addEventListener("click", () => this.editCell());
     // In the 3D view's corner tools, before its own buttons.
     $("path-clear").before(el("label", { class: "check ghost-label", title: "The path of the last pre-flight, over the arm" }, this.ghost, " Simulated path"), editCell);
@@ -158,58 +161,14 @@ export class PreflightPanel {
     this.app.view.requestRender();
   }
 
-  /** The lab's cell in 3D: the table (when checked) and each box. */
+  /** The lab's cell in 3D (cellview.js): the table, fixtures, parts, devices. */
   setCell(cell) {
     this.cell = cell;
-    this.cellGroup.clear();
-    if (cell.floor_z != null) {
-      const table = new THREE.Mesh(new THREE.PlaneGeometry(1600, 1600), new THREE.MeshBasicMaterial({ color: 0x8b5e34, transparent: true, opacity: cell.floor_z > 1 ? 0.22 : 0.08, side: THREE.DoubleSide, depthWrite: false }));
-      table.position.z = cell.floor_z;
-      this.cellGroup.add(table);
-    }
-    for (const b of cell.boxes) {
-      const size = [0, 1, 2].map((i) => Math.max(1, b.max[i] - b.min[i]));
-      const geometry = new THREE.BoxGeometry(...size);
-      const mesh = new THREE.Mesh(geometry, new THREE.MeshBasicMaterial({ color: 0xdc2626, transparent: true, opacity: 0.25, depthWrite: false }));
-      mesh.position.set(...[0, 1, 2].map((i) => (b.min[i] + b.max[i]) / 2));
-      mesh.add(new THREE.LineSegments(new THREE.EdgesGeometry(geometry), new THREE.LineBasicMaterial({ color: 0xb91c1c })));
-      this.cellGroup.add(mesh);
-    }
-    this.app.view.container.dataset.cellBoxes = String(cell.boxes.length);
-    this.app.view.container.dataset.cellFloor = cell.floor_z == null ? "" : String(cell.floor_z);
-    this.app.view.requestRender();
+    this.app.cell.setCell(cell);
   }
 
   editCell() {
-    const dialog = el("dialog", { id: "cell-dialog", "aria-labelledby": "cell-title" });
-    const text = el("textarea", { id: "cell-json", rows: "12", cols: "60", spellcheck: "false" }, JSON.stringify(this.cell, null, 2));
-    const problem = el("p", { class: "form-problems", id: "cell-problem", "aria-live": "polite" });
-    const save = el("button", { type: "button", class: "btn btn-primary", id: "cell-save" }, "Save cell");
-    const cancel = el("button", { type: "button", class: "btn" }, "Cancel");
-    dialog.append(
-      el("h2", { id: "cell-title" }, "The lab's cell"),
-      el("p", { class: "help" }, "Millimetres in the robot's base frame (Z up, 0 at its mounting surface). floor_z is the table plane the tool must stay above (null: no check); each box {name, min: [x,y,z], max: [x,y,z]} is an obstacle."),
-      text, problem, el("div", { class: "dialog-actions" }, cancel, save));
-    cancel.addEventListener("click", () => dialog.remove());
-    save.addEventListener("click", async () => {
-      let body;
-      try {
-        body = JSON.parse(text.value);
-      } catch (err) {
-        problem.textContent = `Not JSON: ${err.message}`;
-        return;
-      }
-      try {
-        const out = await api("PUT", "/api/preflight/cell", body);
-        this.setCell(out.cell);
-        dialog.remove();
-        toast("Cell saved", { kind: "ok", text: "Pre-flight checks against it from now on." });
-      } catch (err) {
-        problem.textContent = err.message;
-      }
-    });
-    document.body.append(dialog);
-    dialog.showModal();
+    this.editor.open(this.cell);
   }
 
   /** The lab's gate refused a program: run pre-flight now, and offer the simulator. */

@@ -240,6 +240,16 @@ export class RobotView {
     this.requestRender();
   }
 
+  /** The jaws reach `mm` below the flange (the cell's gripper holds parts there). */
+  setJawReach(mm) {
+    const length = Math.max(20, mm - 28); // the jaws hang from the gripper's body at 28 mm
+    for (const jaw of this.jaws) {
+      jaw.scale.z = length / 60;
+      jaw.position.z = 28 + length / 2;
+    }
+    this.requestRender();
+  }
+
   /** Add a TCP sample (X, Y, Z mm) to the drawn path. */
   addPathPoint(xyz) {
     const last = this.path.at(-1);
