@@ -107,10 +107,74 @@ RESULT_WORDS: dict[str, str] = {
 """Short words the student's panel and the class view fill in (``{…}`` placeholders)."""
 
 
+PANE_WORDS: dict[str, str] = {
+    "button": "Assignments",
+    "button-hint": "The assignments your instructor handed out",
+    "list-title": "Assignments",
+    "list-empty": "Nothing has been handed out yet.",
+    "open": "Open",
+    "continue": "Continue",
+    "to-classroom": "Publish and class view ↗",
+    "close": "Close",
+    "hide": "Hide the assignment (the Assignments button brings it back)",
+    "pane": "Assignment",
+    "body": "The assignment's statement and checks",
+    "checks": "Checks",
+    "for-group": "for group {group}",
+    "line": "line {line}",
+    "line-hint": "Show this line in the editor",
+    "checking": "Checking your solution on the simulator…",
+    "submitting": "Submitting…",
+    "not-saved-title": "Not checked yet",
+    "not-saved": "Your edits are not saved yet. Once the status says Saved, try again.",
+    "submitted-title": "Submitted",
+    "submitted": "Revision {revision} is recorded. {left}.",
+    "not-done": "{what}: not done",
+    "read-failed": "Could not read the assignments",
+    "open-failed": "Could not open the assignment",
+    "check-failed": "Could not check your solution",
+    "submit-failed": "Could not submit",
+}
+"""A student's assignment list and pane (``static/js/assign.js``)."""
+
+CLASS_VIEW_WORDS: dict[str, str] = {
+    "whole-class": "the whole class",
+    "group": "group {group}",
+    "for-whole-class": "For the whole class",
+    "for-group": "For group {group}",
+    "variants-on": "a variant per student",
+    "published-by": "published by {author}",
+    "open": "Open",
+    "open-label": "Open {student}'s work (read-only)",
+    "revision": "Revision {number}",
+    "first-revision": "Revision {number}, the first.",
+    "diff": "Revision {number} against revision {previous}: {lines} changed"
+    " (− removed, + added).",
+    "lines-one": "1 line",
+    "lines-many": "{n} lines",
+    "graded": "{kind} · revision {revision}",
+    "score-hint": "Score: the weights of the checks that passed",
+    "published-title": "Published",
+    "published-class": "“{title}” is handed out to the whole class.",
+    "published-group": "“{title}” is handed out to group {group}.",
+    "choose-folder": "Choose the folder to see its title, checks and variants.",
+    "cannot-publish": "This folder cannot be published yet:",
+    "checks": "{count} checks: {titles}",
+    "variant-groups": "Variant groups: {names}",
+    "just-now": "just now",
+    "minutes-ago": "{n} min ago",
+    "hours-ago": "{n} h ago",
+    "days-ago": "{n} d ago",
+}
+"""The instructor's class view (``static/js/classview.js``)."""
+
+
 __all__ = [
+    "CLASS_VIEW_WORDS",
     "COLUMN_WORDS",
     "FILTER_WORDS",
     "GRADE_WORDS",
+    "PANE_WORDS",
     "RESULT_WORDS",
     "STUCK_AFTER_MIN",
     "ClassColumn",

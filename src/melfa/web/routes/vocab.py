@@ -13,9 +13,11 @@ from fastapi.responses import Response
 
 from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
 from melfa.vocab.classroom import (
+    CLASS_VIEW_WORDS,
     COLUMN_WORDS,
     FILTER_WORDS,
     GRADE_WORDS,
+    PANE_WORDS,
     RESULT_WORDS,
     STUCK_AFTER_MIN,
 )
@@ -58,6 +60,8 @@ def vocabulary() -> dict[str, Any]:
             f.value: {"label": words.label, "hint": words.hint} for f, words in FILTER_WORDS.items()
         },
         "RESULT_WORDS": RESULT_WORDS,
+        "PANE_WORDS": PANE_WORDS,
+        "CLASS_VIEW_WORDS": CLASS_VIEW_WORDS,
         "STUCK_AFTER_MIN": STUCK_AFTER_MIN,
         "START_WORDS": START_WORDS,
         "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},

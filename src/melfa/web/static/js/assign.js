@@ -8,7 +8,7 @@
 
 import { api } from "./api.js";
 import { $, el, showError, toast } from "./ui.js";
-import { GRADE_WORDS, RESULT_WORDS } from "/vocab.js"; // generated from melfa.vocab.classroom
+import { GRADE_WORDS, PANE_WORDS as W, RESULT_WORDS } from "/vocab.js"; // generated from melfa.vocab.classroom
 
 export const fill = (template, values) => template.replace(/\{(\w+)\}/g, (_, k) => String(values[k] ?? ""));
 
@@ -36,8 +36,8 @@ export class AssignmentsPanel {
   }
 
   build() {
-    this.button = el("button", { type: "button", class: "btn btn-sm", id: "assign-open", title: "The assignments your instructor handed out" },
-      "Assignments", el("span", { class: "badge", id: "assign-count", hidden: true }));
+    this.button = el("button", { type: "button", class: "btn btn-sm", id: "assign-open", title: W["button-hint"] },
+      W.button, el("span", { class: "badge", id: "assign-count", hidden: true }));
     this.button.addEventListener("click", () => this.showList());
     $("open-mb4").before(this.button);
 
@@ -52,12 +52,12 @@ export class AssignmentsPanel {
     this.submitButton.addEventListener("click", () => this.grade("submit"));
     this.attempts = el("span", { class: "assign-attempts muted", id: "assign-attempts" });
     this.title = el("strong", { id: "assign-title" });
-    const hide = el("button", { type: "button", class: "btn btn-sm btn-icon", "aria-label": "Hide the assignment", title: "Hide (the Assignments button brings it back)" }, "✕");
+    const hide = el("button", { type: "button", class: "btn btn-sm btn-icon", "aria-label": W.hide, title: W.hide }, "✕");
     hide.addEventListener("click", () => { this.pane.hidden = true; });
-    this.pane = el("aside", { class: "assignment", id: "assignment", "aria-label": "Assignment", hidden: true },
+    this.pane = el("aside", { class: "assignment", id: "assignment", "aria-label": W.pane, hidden: true },
       el("div", { class: "assign-head" }, this.title, hide),
-      el("div", { class: "assign-body", tabindex: "0", "aria-label": "The assignment's statement and checks" }, this.meta, this.variant, this.statement,
-        el("h3", {}, "Checks"), this.checks),
+      el("div", { class: "assign-body", tabindex: "0", "aria-label": W.body }, this.meta, this.variant, this.statement,
+        el("h3", {}, W.checks), this.checks),
       el("div", { class: "assign-foot" }, this.summary,
         el("div", { class: "assign-actions" }, this.checkButton, this.submitButton, this.attempts)));
     $("editor").after(this.pane);
@@ -67,7 +67,7 @@ export class AssignmentsPanel {
     try {
       this.list = (await api("GET", "/api/assignments")).assignments;
     } catch (err) {
-      showError("Could not read the assignments", err);
+      showError(W["read-failed"], err);
       return;
     }
     this.badge();
@@ -101,7 +101,7 @@ export class AssignmentsPanel {
       try {
         this.current = await api("GET", `/api/assignments/${found.id}`);
       } catch (err) {
-        showError("Could not open the assignment", err);
+        showError(W["open-failed"], err);
         return;
       }
       this.render();
@@ -114,7 +114,7 @@ export class AssignmentsPanel {
   render(result = null) {
     const a = this.current;
     this.title.textContent = a.title;
-    this.meta.textContent = [dueWords(a.due), a.group ? `for group ${a.group}` : ""].filter(Boolean).join(" · ");
+    this.meta.textContent = [dueWords(a.due), a.group ? fill(W["for-group"], { group: a.group }) : ""].filter(Boolean).join(" · ");
     this.variant.hidden = !a.mine?.variant;
     this.variant.textContent = a.mine?.variant || "";
     this.statement.innerHTML = a.statement_html; // rendered by the server; raw HTML escaped there
@@ -125,7 +125,7 @@ export class AssignmentsPanel {
         el("span", { class: "mark", "aria-hidden": "true" }, r ? (r.passed ? "✓" : "✗") : "·"),
         el("span", { class: "what" }, el("span", { class: "check-title" }, c.title),
           r && !r.passed ? el("span", { class: "why" }, r.message) : null),
-        r && !r.passed && r.line ? el("button", { type: "button", class: "linkish line", "data-line": String(r.line), title: "Show this line in the editor" }, `line ${r.line}`) : null);
+        r && !r.passed && r.line ? el("button", { type: "button", class: "linkish line", "data-line": String(r.line), title: W["line-hint"] }, fill(W.line, { line: r.line })) : null);
       item.querySelector(".line")?.addEventListener("click", () => this.goTo(r.line));
       item.setAttribute("aria-label", `${c.title}: ${r ? RESULT_WORDS[r.passed ? "passed" : "failed"] : RESULT_WORDS.none}`);
       return item;
@@ -157,21 +157,21 @@ export class AssignmentsPanel {
     this.busy = true;
     this.checkButton.disabled = this.submitButton.disabled = true;
     this.pane.dataset.grading = kind;
-    this.app.busy(kind === "check" ? "Checking your solution on the simulator…" : "Submitting…");
+    this.app.busy(kind === "check" ? W.checking : W.submitting);
     try {
       if (!(await this.app.workspace.flush())) {
-        toast("Not checked yet", { kind: "warning", text: "Your edits are not saved yet. Once the status says Saved, try again." });
+        toast(W["not-saved-title"], { kind: "warning", text: W["not-saved"] });
         this.app.idle();
         return;
       }
       const out = await api("POST", `/api/assignments/${this.current.id}/${kind}`);
       this.render(out);
       this.app.idle(`${GRADE_WORDS[kind]}: ${RESULT_WORDS[out.report.passed ? "passed" : "failed"]}`, !out.report.passed);
-      if (kind === "submit") toast("Submitted", { kind: out.report.passed ? "ok" : "info", text: `Revision ${out.grading.revision} is recorded. ${attemptsWords(out.attempts_left, this.current.attempts)}.` });
+      if (kind === "submit") toast(W["submitted-title"], { kind: out.report.passed ? "ok" : "info", text: fill(W.submitted, { revision: out.grading.revision, left: attemptsWords(out.attempts_left, this.current.attempts) }) });
       await this.refreshQuietly();
     } catch (err) {
-      this.app.idle(`${GRADE_WORDS[kind]}: not done`, true);
-      showError(kind === "check" ? "Could not check your solution" : "Could not submit", err);
+      this.app.idle(fill(W["not-done"], { what: GRADE_WORDS[kind] }), true);
+      showError(kind === "check" ? W["check-failed"] : W["submit-failed"], err);
     } finally {
       this.busy = false;
       this.checkButton.disabled = false;
@@ -201,7 +201,7 @@ export class AssignmentsPanel {
       this.app.targets.choose("mine");
       await this.follow();
     } catch (err) {
-      showError("Could not open the assignment", err);
+      showError(W["open-failed"], err);
     }
   }
 
@@ -218,7 +218,7 @@ export class AssignmentsPanel {
       const state = !mine ? RESULT_WORDS["not-opened"]
         : mine.best ? `${GRADE_WORDS.submit}: ${RESULT_WORDS[mine.best.passed ? "passed" : "failed"]}`
           : mine.latest ? `${GRADE_WORDS.check}: ${RESULT_WORDS[mine.latest.passed ? "passed" : "failed"]}` : RESULT_WORDS.none;
-      const open = el("button", { type: "button", class: "btn btn-sm btn-primary", "data-id": String(a.id) }, mine ? "Continue" : "Open");
+      const open = el("button", { type: "button", class: "btn btn-sm btn-primary", "data-id": String(a.id) }, mine ? W.continue : W.open);
       open.addEventListener("click", () => { dialog.close(); this.open(a.id); });
       return el("li", { class: "assign-row", "data-id": String(a.id) },
         el("div", {}, el("strong", {}, a.title),
@@ -226,11 +226,11 @@ export class AssignmentsPanel {
         open);
     });
     dialog.replaceChildren(
-      el("h2", { id: "assign-dialog-title" }, "Assignments"),
-      rows.length ? el("ul", { class: "assign-list" }, rows) : el("p", { class: "muted" }, "Nothing has been handed out yet."),
+      el("h2", { id: "assign-dialog-title" }, W["list-title"]),
+      rows.length ? el("ul", { class: "assign-list" }, rows) : el("p", { class: "muted" }, W["list-empty"]),
       el("div", { class: "dialog-actions" },
-        staff ? el("a", { class: "btn", href: "/classroom", target: "_blank", rel: "noopener", id: "assign-classroom" }, "Publish and class view ↗") : null,
-        el("button", { type: "button", class: "btn", onclick: () => dialog.close() }, "Close")));
+        staff ? el("a", { class: "btn", href: "/classroom", target: "_blank", rel: "noopener", id: "assign-classroom" }, W["to-classroom"]) : null,
+        el("button", { type: "button", class: "btn", onclick: () => dialog.close() }, W.close)));
     dialog.showModal();
   }
 }

@@ -3,12 +3,13 @@
 // assignment one row per student — variant, latest check, best submission, submissions and
 // attempts left, time since the last save, pre-flight — with filters, CSV export, and a
 // student's workspace opened read-only with its history, each revision's diff against the
-// one before, and their reports. Every word comes from /vocab.js.
+// one before, and their reports. The words it fills in come from /vocab.js
+// (melfa.vocab.classroom); the page's fixed labels are in static/classroom.html.
 
 import { api, setCsrf } from "./api.js";
 import { lineDiff } from "./opener.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
-import { CLASS_COLUMNS, CLASS_FILTERS, GRADE_WORDS, RESULT_WORDS } from "/vocab.js"; // melfa.vocab.classroom
+import { CLASS_COLUMNS, CLASS_FILTERS, CLASS_VIEW_WORDS as W, GRADE_WORDS, PANE_WORDS, RESULT_WORDS } from "/vocab.js"; // melfa.vocab.classroom
 import { dueWords, fill } from "./assign.js";
 
 const REFRESH_MS = 10_000;
@@ -18,15 +19,15 @@ const state = { assignments: [], selected: null, view: null, folder: null, stude
 export function ago(iso, nowIso) {
   if (!iso) return "—";
   const s = Math.max(0, (new Date(nowIso) - new Date(iso)) / 1000);
-  if (s < 60) return "just now";
-  if (s < 3600) return `${Math.floor(s / 60)} min ago`;
-  if (s < 86400) return `${Math.floor(s / 3600)} h ago`;
-  return `${Math.floor(s / 86400)} d ago`;
+  if (s < 60) return W["just-now"];
+  if (s < 3600) return fill(W["minutes-ago"], { n: Math.floor(s / 60) });
+  if (s < 86400) return fill(W["hours-ago"], { n: Math.floor(s / 3600) });
+  return fill(W["days-ago"], { n: Math.floor(s / 86400) });
 }
 
 function result(g, opened) {
   if (!g) return el("span", { class: "muted" }, RESULT_WORDS[opened ? "none" : "not-opened"]);
-  return el("span", { class: `verdict ${g.passed ? "pass" : "fail"}`, title: "Score: the weights of the checks that passed" },
+  return el("span", { class: `verdict ${g.passed ? "pass" : "fail"}`, title: W["score-hint"] },
     `${RESULT_WORDS[g.passed ? "passed" : "failed"]} · ${fill(RESULT_WORDS.points, { score: g.score, max: g.max_score })}`);
 }
 
@@ -65,7 +66,7 @@ async function loadList() {
   $("cv-list").replaceChildren(...state.assignments.map((a) => {
     const item = el("li", {}, el("button", { type: "button", class: "cv-item", "data-id": String(a.id), "aria-current": String(a.id === state.selected) },
       el("strong", {}, a.title),
-      el("span", { class: "muted" }, [a.group ? `group ${a.group}` : "whole class", dueWords(a.due)].filter(Boolean).join(" · "))));
+      el("span", { class: "muted" }, [a.group ? fill(W.group, { group: a.group }) : W["whole-class"], dueWords(a.due)].filter(Boolean).join(" · "))));
     item.querySelector("button").addEventListener("click", () => select(a.id));
     return item;
   }));
@@ -98,7 +99,7 @@ async function loadView(quiet = false) {
   state.view = view;
   const a = view.assignment;
   $("cv-title").textContent = a.title;
-  $("cv-meta").textContent = [a.group ? `For group ${a.group}` : "For the whole class", dueWords(a.due), a.attempts == null ? RESULT_WORDS["attempts-unlimited-all"] : fill(RESULT_WORDS["attempts-each"], { total: a.attempts }), a.variants ? "a variant per student" : "", `published by ${a.author}`].filter(Boolean).join(" · ");
+  $("cv-meta").textContent = [a.group ? fill(W["for-group"], { group: a.group }) : W["for-whole-class"], dueWords(a.due), a.attempts == null ? RESULT_WORDS["attempts-unlimited-all"] : fill(RESULT_WORDS["attempts-each"], { total: a.attempts }), a.variants ? W["variants-on"] : "", fill(W["published-by"], { author: a.author })].filter(Boolean).join(" · ");
   $("cv-csv").href = `/api/assignments/${id}/class.csv?filter=${encodeURIComponent(which)}`;
   $("cv-zip").href = `/api/assignments/${id}/export`;
   $("cv-none").hidden = view.rows.length > 0;
@@ -108,7 +109,7 @@ async function loadView(quiet = false) {
 
 function row(r, now) {
   const opened = r.opened != null;
-  const open = el("button", { type: "button", class: "btn btn-sm", disabled: !opened, "aria-label": `Open ${r.student}'s work (read-only)` }, "Open");
+  const open = el("button", { type: "button", class: "btn btn-sm", disabled: !opened, "aria-label": fill(W["open-label"], { student: r.student }) }, W.open);
   open.addEventListener("click", () => openStudent(r));
   const cells = {
     student: el("span", {}, el("strong", {}, r.display_name || r.student), r.display_name && r.display_name !== r.student ? el("span", { class: "muted" }, ` ${r.student}`) : null,
@@ -140,12 +141,12 @@ async function openStudent(r) {
     ]);
     const list = revs.revisions;
     $("cv-revisions").replaceChildren(...list.map((v, i) => {
-      const b = el("button", { type: "button", class: "linkish", "data-number": String(v.number) }, `Revision ${v.number}`);
+      const b = el("button", { type: "button", class: "linkish", "data-number": String(v.number) }, fill(W.revision, { number: v.number }));
       b.addEventListener("click", () => showRevision(r, v.number, list[i + 1]?.number ?? null));
       return el("li", {}, b, el("span", { class: "muted" }, ` ${v.reason} · ${ago(v.created, state.view.now)}`));
     }));
     $("cv-gradings").replaceChildren(...grades.gradings.map((g) => {
-      const b = el("button", { type: "button", class: "linkish", "data-grading": String(g.id) }, `${GRADE_WORDS[g.kind]} · revision ${g.revision}`);
+      const b = el("button", { type: "button", class: "linkish", "data-grading": String(g.id) }, fill(W.graded, { kind: GRADE_WORDS[g.kind], revision: g.revision }));
       b.addEventListener("click", () => showReport(g.id));
       return el("li", {}, b, " ", result(g, true), el("span", { class: "muted" }, ` ${ago(g.at, state.view.now)}`));
     }));
@@ -165,7 +166,8 @@ async function showRevision(r, number, previous) {
   if (asked !== shown) return;
   const lines = before ? lineDiff(before.program, now.program) : now.program.split("\n").map((text) => ({ op: " ", text }));
   const changed = lines.filter((l) => l.op !== " ").length;
-  $("cv-diff-note").textContent = before ? `Revision ${number} against revision ${previous}: ${changed} line${changed === 1 ? "" : "s"} changed (− removed, + added).` : `Revision ${number}, the first.`;
+  const count = changed === 1 ? W["lines-one"] : fill(W["lines-many"], { n: changed });
+  $("cv-diff-note").textContent = before ? fill(W.diff, { number, previous, lines: count }) : fill(W["first-revision"], { number });
   let line = 0;
   $("cv-program").replaceChildren(...lines.map((l) => {
     if (l.op !== "-") line += 1;
@@ -180,7 +182,7 @@ async function showReport(id) {
     $("cv-report").replaceChildren(...out.report.checks.map((c) => el("li", { class: c.passed ? "pass" : "fail" },
       el("span", { class: "mark", "aria-hidden": "true" }, c.passed ? "✓" : "✗"),
       el("span", { class: "what" }, el("span", {}, c.title), c.passed ? null : el("span", { class: "why" }, c.message)),
-      c.line && !c.passed ? el("span", { class: "line" }, `line ${c.line}`) : null)));
+      c.line && !c.passed ? el("span", { class: "line" }, fill(PANE_WORDS.line, { line: c.line })) : null)));
     await showRevision(state.student, out.grading.revision, out.grading.revision > 1 ? out.grading.revision - 1 : null);
   } catch (err) {
     showError("Could not read the report", err);
@@ -217,7 +219,7 @@ function wirePublish() {
         attempts: attempts ? Number(attempts) : null,
       });
       $("publish-dialog").close();
-      toast("Published", { kind: "ok", text: `“${made.title}” is handed out ${made.group ? `to group ${made.group}` : "to the whole class"}.` });
+      toast(W["published-title"], { kind: "ok", text: fill(W[made.group ? "published-group" : "published-class"], { title: made.title, group: made.group }) });
       await loadList();
       await select(made.id);
     } catch (err) {
@@ -232,10 +234,10 @@ async function openPublish() {
   $("publish-form").reset();
   $("pub-ok").disabled = true;
   $("pub-problems").replaceChildren();
-  $("pub-preview").replaceChildren(el("p", { class: "muted" }, "Choose the folder to see its title, checks and variants."));
+  $("pub-preview").replaceChildren(el("p", { class: "muted" }, W["choose-folder"]));
   try {
     const { groups } = await api("GET", "/api/assignments/groups");
-    $("pub-group").replaceChildren(el("option", { value: "" }, "the whole class"), ...groups.map((g) => el("option", { value: g }, `group ${g}`)));
+    $("pub-group").replaceChildren(el("option", { value: "" }, W["whole-class"]), ...groups.map((g) => el("option", { value: g }, fill(W.group, { group: g }))));
   } catch (err) {
     showError("Could not read the groups", err);
   }
@@ -256,7 +258,7 @@ async function preview(read) {
   $("pub-ok").disabled = !ok;
   $("pub-problems").replaceChildren(...folder.problems.map((p) => el("li", {}, `${p.file}${p.where ? ": " + p.where : ""}: ${p.message}`)));
   if (!ok) {
-    $("pub-preview").replaceChildren(el("p", { class: "error" }, "This folder cannot be published yet:"));
+    $("pub-preview").replaceChildren(el("p", { class: "error" }, W["cannot-publish"]));
     return;
   }
   const statement = el("div", { class: "assign-statement pub-statement", tabindex: "0", "aria-label": "The statement" });
@@ -264,8 +266,8 @@ async function preview(read) {
   $("pub-preview").replaceChildren(
     el("strong", { id: "pub-title" }, folder.title),
     statement,
-    el("p", { class: "muted" }, `${folder.checks.length} checks: ${folder.checks.map((c) => c.title).join("; ")}`),
-    folder.variants.length ? el("p", { class: "muted" }, `Variant groups: ${folder.variants.join(", ")}`) : null);
+    el("p", { class: "muted" }, fill(W.checks, { count: folder.checks.length, titles: folder.checks.map((c) => c.title).join("; ") })),
+    folder.variants.length ? el("p", { class: "muted" }, fill(W["variant-groups"], { names: folder.variants.join(", ") })) : null);
   $("pub-variants").checked = folder.variants.length > 0;
   $("pub-variants").disabled = folder.variants.length === 0;
   if (folder.attempts) $("pub-attempts").value = String(folder.attempts);
