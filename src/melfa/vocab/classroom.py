@@ -148,8 +148,7 @@ CLASS_VIEW_WORDS: dict[str, str] = {
     "open-label": "Open {student}'s work (read-only)",
     "revision": "Revision {number}",
     "first-revision": "Revision {number}, the first.",
-    "diff": "Revision {number} against revision {previous}: {lines} changed"
-    " (− removed, + added).",
+    "diff": "Revision {number} against revision {previous}: {lines} changed (− removed, + added).",
     "lines-one": "1 line",
     "lines-many": "{n} lines",
     "graded": "{kind} · revision {revision}",
