@@ -11,8 +11,9 @@ minutes pass in seconds), over
 
 For each it prints the frames recorded, the poll rate, the encoded size
 (`melfa.service.recording_frames.encode`) and that size scaled to 2 minutes, against
-1 MB. Then a worst case no line reaches: 2 minutes of frames at 100 samples per second,
-every joint and pose value changing at every sample.
+1 MB, and the report against the pyramid's pre-flight: the largest TCP deviation (aligned by
+line) and the cycle times, with the CPU time the comparison took. Then a worst case no line
+reaches: 2 minutes of frames at 100 samples per second, every value changing each sample.
 
 Run: ``.venv/bin/python bench/bench_runs.py``.
 """
@@ -22,6 +23,7 @@ from __future__ import annotations
 import asyncio
 import math
 import sys
+import time
 from pathlib import Path
 
 from melfa.lang.plan import plan_upload
@@ -29,8 +31,10 @@ from melfa.link import Link, LinkSettings, PacedLink
 from melfa.service import Actor, RobotService, Role, ServiceConfig, ServoPolicy
 from melfa.service.clock import FakeClock
 from melfa.service.recording import Recording
+from melfa.service.recording_compare import compare, simulated_run
 from melfa.service.recording_frames import Frame, decode, encode
 from melfa.sim import VirtualController, open_sim_link
+from melfa.sim.debug.preflight import preflight
 
 ROOT = Path(__file__).resolve().parents[1]
 ANN = Actor("ann", Role.STUDENT, "bench")
@@ -78,6 +82,10 @@ def worst_case() -> int:
 
 
 def main() -> None:
+    program = (ROOT / "examples/pyramid.MB4").read_text(encoding="utf-8")
+    points = (ROOT / "examples/pyramid.POS").read_text(encoding="utf-8")
+    report = preflight(program, points)
+    sim = simulated_run(((p.time, p.x, p.y, p.z, p.line) for p in report.path), report.cycle_time)
     for name, paced in (("paced 9600 8E2 + 0.1 s latency", True), ("bare in-memory link", False)):
         rec = record(paced)
         data = encode(rec.frames)
@@ -87,6 +95,16 @@ def main() -> None:
             f"{name}: {rec.outcome} after {rec.duration:.1f} s, {len(rec.frames)} frames "
             f"({rate:.2f}/s), {len(data):,} bytes ({len(data) / len(rec.frames):.1f} per "
             f"frame); 2 minutes: {per_two / 1000:.1f} kB = {per_two / BUDGET:.3f} × the 1 MB budget"
+        )
+        started = time.process_time()
+        result = compare(rec.frames, sim, rec.cycle_time)
+        cpu = time.process_time() - started
+        d = result.largest
+        where = f"{d.mm:.1f} mm at line {d.line}" if d is not None else "none"
+        print(
+            f"  against pre-flight ({len(sim.path)} path samples): largest deviation {where} "
+            f"over {result.compared} frames; cycle {rec.cycle_time:.2f} s real vs "
+            f"{sim.cycle_time:.2f} s simulated; compared in {cpu * 1000:.0f} ms CPU"
         )
     worst = worst_case()
     print(

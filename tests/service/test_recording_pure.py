@@ -194,3 +194,13 @@ def test_samples_without_pose_line_or_run_are_left_out_and_no_sim_means_no_devia
         and nothing.cycle_simulated is None
         and nothing.cycle_difference is None
     )
+
+
+def test_a_stale_line_is_compared_up_to_three_moves_ahead_not_further() -> None:
+    """The line comes with every fourth poll: a sample may be a few moves ahead of it."""
+    corners = [(0, 0, 0), (100, 0, 0), (100, 100, 0), (0, 100, 0), (0, 100, 100), (0, 0, 100)]
+    sim = _sim(*[(*xyz, line) for line, xyz in enumerate(corners, start=2)])
+    three_ahead = compare([_real(0.0, (0, 100, 50), 2)], sim, None)  # on line 5→6's segment
+    assert three_ahead.largest is not None and three_ahead.largest.mm == pytest.approx(0)
+    too_far = compare([_real(0.0, (0, 50, 100), 2)], sim, None)  # line 6→7: four ahead
+    assert too_far.largest is not None and too_far.largest.mm > 40

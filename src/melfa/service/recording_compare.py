@@ -7,9 +7,10 @@ instant of two runs is therefore not the same place on the path, and comparing b
 would report the speed difference as a deviation. Instead every real sample is compared
 with the simulated path *of the line the controller said was running* (the student's line,
 through the loaded step map): its distance to the nearest point of that line's simulated
-segments. The running line is read with STATE only every few polls, so a sample taken
-just after a line change may still carry the line before: the segments of the simulated
-moves directly before and after each visit of that line count too. A line with no
+segments. The running line is read with STATE only every fourth poll, so a sample taken
+after a line change may still carry an older line: the segments of the simulated moves
+just before (`VISITS_BEFORE`) and after (`VISITS_AFTER`) each visit of that line count
+too. A line with no
 simulated motion (a ``DLY``, a ``WAIT``, a line the simulation never reached) is compared
 with the whole simulated path. Samples without a pose or a line, and those taken while the
 program was not running, are left out.
@@ -30,6 +31,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from melfa.service.recording_frames import Frame
+
+VISITS_BEFORE = 1
+"""Simulated moves before the running line's that a sample is also compared with (its
+joints are read just before the STATE that named the line)."""
+VISITS_AFTER = 3
+"""And after it: the line is read with every fourth poll, about 1.2 s apart on the real
+9600-baud line, and the arm may be a few short moves further by the next read (the
+thesis's pyramid on a paced line: 19.8 mm with one move either side, 1.1 mm on the bare
+link, where the line is read ten times as often)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,16 +108,17 @@ def _segments(path: Sequence[SimSample]) -> tuple[np.ndarray, np.ndarray, dict[i
         if not visit_lines or visit_lines[-1] != s.line:
             visit_lines.append(s.line)
         visit_of.append(len(visit_lines) - 1)
-    count = len(a)
-    seg_visits = [{visit_of[i], visit_of[min(i + 1, len(path) - 1)]} for i in range(count)]
+    segments_of: dict[int, set[int]] = {}
+    for i in range(len(a)):
+        for v in (visit_of[i], visit_of[min(i + 1, len(path) - 1)]):
+            segments_of.setdefault(v, set()).add(i)
     by_line: dict[int, set[int]] = {}
     for v, line in enumerate(visit_lines):
         if line is None:
             continue
-        wanted = {v - 1, v, v + 1}  # the line's visit and its neighbours (STATE lags)
-        by_line.setdefault(line, set()).update(
-            i for i, visits in enumerate(seg_visits) if visits & wanted
-        )
+        wanted = by_line.setdefault(line, set())
+        for near in range(v - VISITS_BEFORE, v + VISITS_AFTER + 1):
+            wanted |= segments_of.get(near, set())
     return a, b, {line: np.array(sorted(ix), dtype=int) for line, ix in by_line.items()}
 
 
