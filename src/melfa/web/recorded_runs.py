@@ -133,9 +133,12 @@ async def simulation_passed(
 ) -> None:
     """``user``'s pre-flight of ``fingerprint`` passed: keep its path for later real runs."""
     path = [(p.time, p.x, p.y, p.z, p.line) for p in report.path]
-    data = await context.cpu(pack, simulated_run(path, report.cycle_time))
-    await context.db(
-        context.store.runs.record_simulation, user, fingerprint, report.cycle_time, data
+    run = simulated_run(path, report.cycle_time)
+    # A full pool delays it: the pre-flight passed, so its answer must not become a 503.
+    data = await patiently(lambda: context.cpu(pack, run))
+    runs = context.store.runs
+    await patiently(
+        lambda: context.db(runs.record_simulation, user, fingerprint, report.cycle_time, data)
     )
 
 
