@@ -73,8 +73,13 @@ class Live:
 
 
 @contextmanager
-def live_server(store: Store, settings: WebSettings, **options: Any) -> Iterator[Live]:
-    """``options``: more of `create_app`'s (``queue_clock``)."""
+def live_server(
+    store: Store, settings: WebSettings, *, send_buffer: int | None = None, **options: Any
+) -> Iterator[Live]:
+    """``options``: more of `create_app`'s (``queue_clock``). ``send_buffer``: the bytes
+    the kernel holds for each connection's unsent replies (SO_SNDBUF, inherited from the
+    listening socket; fixed, so not grown by the kernel): a browser on a slow link fills
+    it, and the server's next write to it waits."""
     port = free_port()
     app = create_app(settings, store=store, **options)
     config = uvicorn_config(
@@ -86,6 +91,10 @@ def live_server(store: Store, settings: WebSettings, **options: Any) -> Iterator
         lifespan="on",
     )
     server, thread = start_uvicorn(config)
+    if send_buffer is not None:
+        for listening in server.servers:
+            for sock in listening.sockets:
+                sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, send_buffer)
     try:
         yield Live(f"http://127.0.0.1:{port}", port, app, store)
     finally:

@@ -120,12 +120,27 @@ class RawClient:
         self.sock.close()
 
 
-def test_a_client_that_does_not_read_still_has_its_stop_read(live: Live) -> None:
-    """Big pings whose pongs the client never reads fill the server's send buffers and the
-    queue of messages waiting; the STOP sent behind them is still read and done (the
-    audit has it) before the client reads anything."""
-    token, _ = live.login("ann")
-    ws = RawClient(live, token)
+@pytest.fixture
+def slow_link(tmp_path: Path) -> Iterator[Live]:
+    """A live server whose connections hold only 4 kB of unsent replies in the kernel (a
+    browser on a slow link): writes to a client that does not read soon wait."""
+    store = make_store(tmp_path / "data")
+    limits = Limits(header_timeout_s=0.5, socket_recheck_s=0.2)
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service(), limits=limits)
+    with live_server(store, settings, send_buffer=4096) as server:
+        yield server
+    store.close()
+
+
+def test_a_stop_behind_replies_a_slow_reader_cannot_take_is_read(slow_link: Live) -> None:
+    """The slow-reader hole itself: 110 pings whose 4 kB pongs the client never reads.
+    After a few dozen the server's writes to it wait; before the outbox (80ccbe4) the
+    handler of the next message waited in its write, the queue of 32 filled, the reader
+    waited to write the "too many messages" answer, and the STOP behind them was never
+    read. Now every write goes through the socket's own outbox: the STOP is read and done
+    (the audit has it) while the client still reads nothing."""
+    token, _ = slow_link.login("ann")
+    ws = RawClient(slow_link, token)
     try:
         padding = "x" * 4000
         for n in range(110):
@@ -133,9 +148,16 @@ def test_a_client_that_does_not_read_still_has_its_stop_read(live: Live) -> None
         ws.send(json.dumps({"type": "stop", "id": "the-stop"}).encode())
 
         def stopped() -> bool:
-            return bool(live.store.audit.query(action="robot.stop", actor="ann").entries)
+            return bool(slow_link.store.audit.query(action="robot.stop", actor="ann").entries)
 
         wait_until(stopped, 30, what="the STOP of a socket that does not read")
+        # Reading at last, the client gets its answers, the STOP's among them.
+        ws.sock.settimeout(30)
+        received = b""
+        while b'"the-stop"' not in received:
+            chunk = ws.sock.recv(65536)
+            assert chunk, "the server closed the socket"
+            received += chunk
     finally:
         ws.close()
 
