@@ -44,12 +44,21 @@ MAX_STATEMENTS_PER_ADVANCE = 2000
 motion or DLY) before giving the controller back its loop."""
 
 STEP_TIME_S = 0.0071
-"""[GUESS] Program time one executed step takes: one line per control period of the
-controller, 7.1 ms (the period MXT real-time control runs at, protocol.md §5 S13), as
-PRIORITY 1 runs one line per turn [S1 PRIORITY]. No source gives a CR2B's time per line;
-this keeps a busy loop (``10 *L`` / ``20 IF M_IN(3)=0 THEN GOTO *L``) at about 70 passes a
-second of program time in every mode, instead of the hundreds of thousands a free clock
-gave. Moves, DLY and WAIT take their own time on top."""
+"""Program time one executed step takes: one step per control period of the controller.
+
+The period is sourced: 7.1 ms is the control period at which the controller's real-time
+external control (MXT) exchanges one joint command and one feedback packet
+(``../shared/docs/protocol.md`` §5, S13: tork-a's driver, "every control period (default
+7.1 ms)"), and the same function exists for the RV-6S on a CR2B with the 2A-HR533 Ethernet
+option [DOC S3 §3 "(8) Ethernet interface"]; RT ToolBox's oscillograph samples every
+~3.5 ms, half of it (prior-art.md, mitsubishi-monitor). What no source gives is how many
+steps the interpreter runs per period: one, as PRIORITY 1 runs one line per turn of the
+multitask scan [S1 PRIORITY], is the stated [GUESS]. It keeps a busy loop (``10 *L`` /
+``20 IF M_IN(3)=0 THEN GOTO *L``) at about 70 passes a second of program time in every mode,
+instead of the hundreds of thousands a free clock gave. Moves, DLY and WAIT take their own
+time on top. A trace of a real CR2B running a counting loop (`melfa doctor` reads the line
+with STATE) would settle it."""
+
 
 MAX_EVENTS_PER_ADVANCE = 10000
 """Move/DLY ends one `advance` call may step through; past it the program falls behind (only
