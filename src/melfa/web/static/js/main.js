@@ -19,6 +19,7 @@ import { activityLine, endTask, lease, loaded, robot, session as sessionStore, s
 import { DebugPanel } from "./debugger.js";
 import { PreflightPanel } from "./preflight.js";
 import { RunsPanel } from "./replay.js";
+import { QueuePanel } from "./queue.js";
 import { TargetSwitch } from "./targets.js";
 import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
@@ -113,6 +114,7 @@ async function main() {
   app.assignments = new AssignmentsPanel(app);
   app.assignments.refresh();
   app.runs = new RunsPanel(app);
+  app.queue = new QueuePanel(app); // the lab robot's queue, whichever robot this tab follows
   // Every toolbar button is in place now: fit the row (secondary actions into "More").
   app.overflow = new ToolbarOverflow(document.querySelector(".toolbar"), {
     wrap: $("toolbar-more"), button: $("more-button"), menu: $("more-menu"),

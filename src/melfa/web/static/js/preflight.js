@@ -89,7 +89,7 @@ export class PreflightPanel {
     const warnings = report.findings.length - errors;
     const cycle = report.cycle_time != null ? `cycle time ${report.cycle_time.toFixed(2)} s` : "did not reach END";
     this.summary.textContent = `${errors ? `${errors} error${errors > 1 ? "s" : ""}` : "no errors"}, ${warnings} warning${warnings === 1 ? "" : "s"} · ${cycle}` + (passed && this.gate ? " · the lab robot may run it" : "");
-    const tight = report.joints.filter((j) => j.margin < 15).map((j) => `J${j.joint} comes within ${j.margin.toFixed(1)}° of its limit`);
+    const tight = report.joints.filter((j) => j.margin != null && j.margin < 15).map((j) => `J${j.joint} comes within ${j.margin.toFixed(1)}° of its limit`);
     this.list.replaceChildren(
       ...report.findings.map((f) => {
         const item = el("li", { class: `pf-${f.severity}`, "data-line": f.line ?? "" },
