@@ -56,6 +56,24 @@ def assert_beside_its_anchor(page: Page, anchor: str) -> None:
     assert around, f"no ring around {anchor}"
 
 
+def assert_covers_no_control(page: Page) -> None:
+    """No button, tab, field or link under the callout (the editor's text and the 3D view
+    aside): a student can still reach everything while it shows."""
+    covered = page.evaluate(
+        """() => {
+        const g = document.getElementById('guide').getBoundingClientRect();
+        const sel = 'button, [role=tab], select, input, a[href], [role=radio]';
+        return [...document.querySelectorAll(sel)].filter((n) => n.offsetParent !== null
+            && !n.closest('#guide, #editor, .view-stage, dialog, #toasts')).filter((n) => {
+          const r = n.getBoundingClientRect();
+          return r.width && r.height && r.left < g.right && r.right > g.left
+            && r.top < g.bottom && r.bottom > g.top;
+        }).map((n) => n.id || n.textContent.trim());
+      }"""
+    )
+    assert not covered, f"the guide covers {covered}"
+
+
 def test_a_fresh_student_follows_the_guide_to_a_moving_arm(
     open_session: Any, server: Server, stop_robot: None
 ) -> None:
@@ -70,16 +88,29 @@ def test_a_fresh_student_follows_the_guide_to_a_moving_arm(
     expect(page.locator("#guide-live")).to_contain_text("Step 1 of 5")
     assert s.eval("() => document.activeElement.id") == "guide"  # the keyboard is in it
     assert_beside_its_anchor(page, "#editor")
+    # A first-timer starts on their own simulated arm, never on the shared lab robot.
+    expect(page.locator("#target-switch [data-target=mine]")).to_have_attribute(
+        "aria-checked", "true"
+    )
     page.keyboard.press("Tab")  # Skip guide
     page.keyboard.press("Tab")  # Next
     page.keyboard.press("Enter")
     # 2. Load project: the guide moves on when the load succeeded.
     wait_until(lambda: step(page) == "load", what="the load step")
     assert_beside_its_anchor(page, "#act-load")
+    assert_covers_no_control(page)
+    page.set_viewport_size({"width": 1024, "height": 700})
+    page.wait_for_function("() => document.getElementById('guide').dataset.side")
+    page.evaluate("() => window.dispatchEvent(new Event('resize'))")
+    assert_beside_its_anchor(page, "#act-load")
+    assert_covers_no_control(page)
+    page.set_viewport_size({"width": 1366, "height": 768})
+    page.evaluate("() => window.dispatchEvent(new Event('resize'))")
     page.click("#act-load")
     wait_until(lambda: step(page) == "run", timeout=30, what="the run step after the load")
     expect(page.locator("#guide")).to_contain_text("virtual robot")
     assert_beside_its_anchor(page, "#act-run")
+    assert_covers_no_control(page)
     # 3. Run: the servo is off; the guide points at the message's own fix.
     start = s.joints()
     page.click("#act-run")
@@ -141,7 +172,13 @@ def test_skip_stays_skipped_the_menu_reopens_and_a_refused_load_says_why(
     expect(page.locator("#guide")).to_be_visible()
     assert step(page) == "program"
     assert "Welcome to melfa" in s.eval("() => window.melfa.workspace.program")
-    # Someone else has control: the load is refused and the guide says why and what to do.
+    # On the lab robot (the guide started her on My simulator), someone else has control:
+    # the load is refused and the guide says why and what to do.
+    expect(page.locator("#target-switch [data-target=mine]")).to_have_attribute(
+        "aria-checked", "true"
+    )
+    page.click("#target-switch [data-target=lab]")
+    page.wait_for_function("() => window.melfa.state && window.melfa.state.joints")
     free_the_robot(page, server)
     other: Session = open_session("carol")
     other.page.click("#lease-take")
@@ -196,7 +233,16 @@ def test_on_the_real_robot_the_guide_says_the_arm_moves_and_points_at_stop(
     try:
         s.login_api()
         page = s.page
+        expect(page.locator("#guide")).to_be_visible()
+        # The guide starts on My simulator; on the lab's real arm, opened again, it warns.
+        expect(page.locator("#target-switch [data-target=mine]")).to_have_attribute(
+            "aria-checked", "true"
+        )
+        page.click("#guide-skip")
+        page.click("#target-switch [data-target=lab]")
         expect(page.locator("#robot-badge")).to_have_text("Real robot")
+        page.click("#user-button")
+        page.click("#guide-open")
         expect(page.locator("#guide")).to_be_visible()
         page.click("#guide-next")
         page.click("#act-load")

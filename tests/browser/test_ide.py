@@ -292,6 +292,7 @@ def test_second_user_sees_the_first_holding_the_robot(open_session: Any) -> None
     expect(bob.page.locator("#lease-take")).to_be_hidden()
     # Bob may not move it, but he can always STOP.
     bob.page.click("#act-run")
+    bob.page.click("#run-anyway")  # Run asks first: the slot does not hold his text
     expect(bob.page.locator(".toast.error")).to_contain_text("alice holds the robot")
     bob.page.click("#estop")
     expect(bob.page.locator(".toast", has_text="Stop sent")).to_be_visible()

@@ -128,3 +128,28 @@ def test_a_long_holder_name_gives_way_and_stop_stays(
         found = page.evaluate(CHECK, CONTROLS)
         assert not found, (width, found)
     holder.page.click("#lease-release")
+
+
+def test_the_3d_view_keeps_a_usable_size_while_debugging(open_session: Any) -> None:
+    """Debugging on My simulator: the 3D view stays a view (it was a 178 px strip), at the
+    lab's 1366×768 and a small 1024×700."""
+    s: Session = open_session("alice")
+    page = s.page
+    page.click("#target-switch [data-target=mine]")
+    expect(page.locator("#debug-bar")).to_be_visible()
+    s.set_points("DEF POS P1=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n")
+    s.set_program("10 MOV P1\n20 DLY 30\n30 END\n")
+    page.click("#dbg-start")
+    expect(page.locator("#debug-panel")).to_be_visible()
+    for width, height in ((1366, 768), (1024, 700)):
+        page.set_viewport_size({"width": width, "height": height})
+        page.evaluate("() => new Promise((r) => requestAnimationFrame(() => r()))")
+        stage = page.locator(".view-stage").bounding_box()
+        panel = page.locator("#debug-panel").bounding_box()
+        assert stage and panel
+        assert stage["height"] >= 240 and stage["width"] >= 280, (width, height, stage)
+        assert panel["height"] >= 120, (width, height, panel)  # the debugger stays usable
+        assert panel["y"] + panel["height"] <= height, (width, height, panel)
+        s.screenshot(f"debugging-{width}")
+    page.set_viewport_size({"width": 1366, "height": 768})
+    page.click("#target-switch [data-target=lab]")

@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from melfa.lang import Diagnostic, Severity, check
 from melfa.lang.numbering import number_lines, strip_numbers
+from melfa.lang.project import check_project
 
 
 def rules(text: str, points: tuple[str, ...] = ()) -> list[tuple[int, str]]:
@@ -616,3 +617,23 @@ def test_an_undefined_point_is_reported_once() -> None:
 def test_a_missing_value_is_not_a_reserved_word(text: str, message: str, suggestion: str) -> None:
     [d] = check(text)
     assert (d.rule, d.message, d.suggestion) == ("expected-expression", message, suggestion)
+
+
+PHOM = "MOV Phom\nMOV Pzz\nMOV Phomf\nEND\n"
+
+
+def test_a_misspelt_point_gets_did_you_mean_before_add_it() -> None:
+    """``Phom`` with ``Phome`` defined: the close name first (one click writes it), never
+    only "add Phom" (which would make a bogus point where the arm stands)."""
+    found = [
+        d
+        for d in check_project([PHOM], ["Phome=(300,0,400,180,0,180)(7,0)\n"]).programs[0]
+        if d.rule == "undefined-point"
+    ]
+    typo, other, far = found
+    assert typo.message == "Position Phom is not defined. Did you mean Phome?"
+    assert typo.replace == "Phome"
+    assert typo.suggestion is not None and typo.suggestion.startswith("Write Phome instead")
+    assert typo.to_json()["replace"] == "Phome"
+    assert other.replace is None and "replace" not in other.to_json()  # short: no guess
+    assert far.replace == "Phome"

@@ -107,3 +107,26 @@ def test_a_programs_own_error_is_told_as_its_own() -> None:
     assert advice.code == "L9100"
     assert "ERROR 9100" in advice.message and "controller refused" not in advice.message
     assert advice_for(9000).code == "H9000"
+
+
+def test_a_run_stopped_because_its_holders_pages_closed_is_told_once() -> None:
+    controller = RecordingController()
+
+    async def main() -> None:
+        service, _ = make_service(controller)
+        async with service:
+            sub = service.subscribe()
+            service.connect(ANN)
+            await service.load_project(ANN, project(ANNS, POINTS))
+            await service.run(ANN, servo=ServoPolicy.TURN_ON)
+            assert await until(lambda: bool(service.state.running))
+            assert service.stopped_when_left("ann") is None  # nothing to tell yet
+            await service.disconnect(ANN)  # her last page closed (a reload)
+            assert await until(lambda: not service.state.running)
+            assert service.lease_holder is None
+            when = service.stopped_when_left("ann")
+            assert when is not None  # she comes back: told why
+            assert service.stopped_when_left("ann") is None  # once
+            sub.close()
+
+    run(main())

@@ -54,6 +54,9 @@ from melfa.lang.reparse import EDITOR
 from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import suggest
 
+MIN_GUESSED_POINT = 4
+"""An undefined point this long or longer gets "Did you mean …?" (``Phom`` → ``Phome``)."""
+
 E, W = Severity.ERROR, Severity.WARNING
 _LOGIC = frozenset({A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR})
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
@@ -360,13 +363,20 @@ class _Analyzer(NameChecks, RoutineChecks, VChecks):
             self.undefined.add(name)
             kind = "Position" if vtype is Kind.POS else "Joint position"
             shown = node.written
+            kind_of = self.symbols.kind_of_name
+            # P1/P2, Pa/Pb are different points, not typos: only longer names get a guess.
+            candidates = (n for n in self.defined if kind_of(n) is vtype)
+            guess = suggest(name, candidates) if len(name) >= MIN_GUESSED_POINT else None
+            if guess and shown[1:].islower():  # written as Phom: offered as Phome
+                guess = guess[0] + guess[1:].lower()
+            add = f"add {shown} to the points file, or assign it before use ({shown} = …)."
             self.add(
                 node.span,
                 W,
-                f"{kind} {shown} is not defined",
+                f"{kind} {shown} is not defined" + (f". Did you mean {guess}?" if guess else ""),
                 "undefined-point",
-                suggestion=f"Add {shown} to the points file, or assign it before use "
-                f"({shown} = …).",
+                suggestion=f"Write {guess} instead, or {add}" if guess else "A" + add[1:],
+                replace=guess,
             )
 
     def binary(self, node: A.Binary) -> None:

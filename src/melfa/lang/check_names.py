@@ -74,12 +74,13 @@ class NameChecks:
         rule: str,
         code: str | None = None,
         suggestion: str | None = None,
+        replace: str | None = None,
     ) -> None:
-        """Report a finding on `span`."""
+        """Report a finding on `span` (``replace``: the text that fixes it there)."""
         self.out.append(
             Diagnostic(
                 span.line, span.column, span.end_line, span.end_column, severity, message,
-                rule, code, suggestion,
+                rule, code, suggestion, replace,
             )
         )  # fmt: skip
 

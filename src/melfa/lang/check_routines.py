@@ -32,6 +32,7 @@ class RoutineChecks:
         rule: str,
         code: str | None = None,
         suggestion: str | None = None,
+        replace: str | None = None,
     ) -> None:
         raise NotImplementedError  # NameChecks'
 

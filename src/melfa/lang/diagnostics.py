@@ -25,7 +25,9 @@ class Diagnostic(Record):
 
     `code` is the controller's own error number when one exists (``"L4220"``), so a
     student can look it up in the Mitsubishi manual; `rule` is our stable name for the
-    check (documented in docs/diagnostics.md). `suggestion` is a fix hint, when we have one.
+    check (documented in docs/diagnostics.md). `suggestion` is a fix hint, when we have one;
+    `replace` the text that fixes it when written over the diagnostic's span (``PHOME`` for a
+    misspelt ``PHOM``), for an editor's one-click fix.
     """
 
     line: int
@@ -37,6 +39,7 @@ class Diagnostic(Record):
     rule: str
     code: str | None = None
     suggestion: str | None = None
+    replace: str | None = None
 
     def __post_init__(self) -> None:
         if self.line < 1 or self.column < 1:
@@ -60,4 +63,5 @@ class Diagnostic(Record):
             "rule": self.rule,
             "message": self.message,
             "suggestion": self.suggestion,
+            **({"replace": self.replace} if self.replace is not None else {}),
         }

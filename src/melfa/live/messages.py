@@ -145,6 +145,11 @@ class Hello(_Sent):
     lease_holder: ActorOut | None
     snapshot_hz: float
     jog_override_ceiling: int
+    stopped_when_you_left: datetime | None = Field(
+        None,
+        description="When your run or move on this robot was stopped because every "
+        "connection of yours had closed (a reload, a closed tab); sent once.",
+    )
 
 
 class StateMessage(StateOut):

@@ -27,6 +27,7 @@ import asyncio
 import concurrent.futures
 import contextlib
 import dataclasses
+import datetime as dt
 from collections.abc import Callable
 from typing import Any
 
@@ -136,6 +137,9 @@ class RobotService(RobotCommands):
         self._stop_pool = concurrent.futures.ThreadPoolExecutor(1, "melfa-stop")
         self._housekeeping: asyncio.Task[None] | None = None
         self._closed_event: asyncio.Event | None = None
+        self._stopped_when_left: dict[str, dt.datetime] = {}
+        """Users whose run or move was stopped because their last connection closed, and
+        when: told once when they come back (`stopped_when_left`)."""
         self.recorder: RunRecorder | None = None
         """Records every run (`record_runs`; the lab robot's, not a private simulator's)."""
         self._recorder_hook: DoneHook | None = None
@@ -402,6 +406,7 @@ class RobotService(RobotCommands):
             # STOP: queued commands fail and the stop is on its way before the lease ends,
             # so nobody else's command can slip in ahead of it.
             command_id = self._stop_begin(actor, LAST_CONNECTION)
+            self._stopped_when_left[actor.user] = dt.datetime.now(dt.UTC)
             moving = False
         _, change = self._lease.disconnected(actor, moving=moving)
         self._lease_changed(change)
@@ -412,6 +417,11 @@ class RobotService(RobotCommands):
             with contextlib.suppress(Exception):
                 await asyncio.shield(stopping)
         return True
+
+    def stopped_when_left(self, user: str) -> dt.datetime | None:
+        """When ``user``'s run or move was stopped because their last connection closed
+        (None: it was not); told once, so a client that comes back says why."""
+        return self._stopped_when_left.pop(user, None)
 
     def _maybe_moving(self) -> bool:
         """The last snapshot shows motion or a run, a moving command is on the wire or

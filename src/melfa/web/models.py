@@ -185,6 +185,8 @@ class DiagnosticOut(BaseModel):
     suggestion: str | None
     rule: str | None = None
     """The checker's stable rule name (docs/diagnostics.md); the IDE offers a fix for some."""
+    replace: str | None = None
+    """The text that fixes it written over its span (a misspelt point's close name)."""
 
 
 class CheckIn(Input):

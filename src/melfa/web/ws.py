@@ -497,6 +497,7 @@ async def live(websocket: WebSocket) -> None:
             lease_holder=actor_out(holder) if target.shared else None,
             snapshot_hz=context.settings.snapshot_hz,
             jog_override_ceiling=service.config.jog_override_ceiling,
+            stopped_when_you_left=service.stopped_when_left(actor.user),
         )
     )
     for keeper in context.queues.values():  # everyone sees the shared robots' queues

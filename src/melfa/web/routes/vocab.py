@@ -28,6 +28,7 @@ from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import EntryState, QueueStep
 from melfa.vocab.runs import RunOutcome
 from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
+from melfa.vocab.slot import SLOT_WORDS
 
 router = APIRouter(include_in_schema=False)
 
@@ -66,6 +67,7 @@ def vocabulary() -> dict[str, Any]:
         "START_WORDS": START_WORDS,
         "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},
         "START_PLACE": {place.value: words for place, words in PLACE_WORDS.items()},
+        "SLOT_WORDS": SLOT_WORDS,
     }
 
 

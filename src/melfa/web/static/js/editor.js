@@ -163,26 +163,41 @@ export class ProgramEditor extends EventTarget {
       ...this.diagnostics.map((d) =>
         // A real button per problem (its visible words are its name); the fix beside it.
         el("li", {},
-          el("button", { type: "button", class: "problem-go", title: `Go to line ${d.line}`, onclick: () => this.goTo(d) },
+          el("button", { type: "button", class: "problem-go", title: `Line ${d.line}: ${d.message}${d.suggestion ? " — " + d.suggestion : ""}`, onclick: () => this.goTo(d) },
             el("span", { class: `sev ${d.severity}` }, d.severity),
             el("span", { class: "loc" }, `${d.line}:${d.column}`),
-            el("span", {}, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
+            el("span", { class: "what" }, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
               d.code ? el("span", { class: "code" }, `  ${d.code}`) : null)),
           this.fixButton(d),
         )),
     );
   }
 
-  /** "P1 is not defined": one click defines it from where the robot stands. */
+  /**
+   * The fixes beside a problem: the checker's replacement first ("Did you mean Phome?":
+   * one click writes it), then for "P1 is not defined" defining it from where the robot
+   * stands.
+   */
   fixButton(d) {
-    if (d.rule !== "undefined-point" || !this.onAddPoint) return null;
     const r = this.rangeOf(d);
+    const fixes = [];
+    if (d.replace) {
+      fixes.push(el("button", {
+        type: "button", class: "btn btn-sm btn-primary fix-replace",
+        onclick: () => {
+          this.session.replace(r, d.replace);
+          this.editor.focus();
+        },
+      }, `Change to ${d.replace}`));
+    }
     const name = this.session.getTextRange(r).trim();
-    if (!/^[A-Za-z][A-Za-z0-9]*$/.test(name)) return null;
-    return el("button", {
-      type: "button", class: "btn btn-sm fix-add-point",
-      onclick: () => this.onAddPoint(name),
-    }, `Add ${name} from the current position`);
+    if (d.rule === "undefined-point" && this.onAddPoint && /^[A-Za-z][A-Za-z0-9]*$/.test(name)) {
+      fixes.push(el("button", {
+        type: "button", class: "btn btn-sm fix-add-point",
+        onclick: () => this.onAddPoint(name),
+      }, `Add ${name} from the current position`));
+    }
+    return fixes.length ? el("span", { class: "fixes" }, ...fixes) : null;
   }
 
   goTo(d) {
@@ -190,15 +205,38 @@ export class ProgramEditor extends EventTarget {
     this.editor.gotoLine(d.line, d.column - 1, true);
   }
 
-  /** Mark the line the robot is running (row 0-based), or none (null). */
+  /** Mark the line the robot is running (row 0-based), or none (null); the editor follows it. */
   markRunLine(row) {
-    if (row === this.runRow) return;
-    if (this.runMarker != null) this.session.removeMarker(this.runMarker);
-    this.runMarker = null;
-    this.runRow = row;
-    if (row == null || row < 0 || row >= this.session.getLength()) return;
-    this.runMarker = this.session.addMarker(new Range(row, 0, row, 1), "melfa-runline", "fullLine", false);
-    this.editor.container.dataset.runLine = String(row + 1);
+    this.markLine("run", "melfa-runline", "runLine", row);
+  }
+
+  /** Mark the line a run-time error stopped the program at (row 0-based), or none (null). */
+  markErrorLine(row) {
+    this.markLine("error", "melfa-errorline", "errorLine", row);
+  }
+
+  /** One full-line marker per `kind`, named on the container's `data-*` for tests and styles. */
+  markLine(kind, css, data, row) {
+    this.lineMarks ??= {};
+    const mark = this.lineMarks[kind] ?? { row: null, id: null };
+    if (row === mark.row) return;
+    if (mark.id != null) this.session.removeMarker(mark.id);
+    this.lineMarks[kind] = { row, id: null };
+    if (row == null || row < 0 || row >= this.session.getLength()) {
+      delete this.editor.container.dataset[data];
+      return;
+    }
+    this.lineMarks[kind].id = this.session.addMarker(new Range(row, 0, row, 1), css, "fullLine", false);
+    this.editor.container.dataset[data] = String(row + 1);
+    this.follow(row);
+  }
+
+  /** Scroll `row` into view when it is off screen (the program's line, not the cursor). */
+  follow(row) {
+    const first = this.editor.getFirstVisibleRow();
+    const last = this.editor.getLastVisibleRow();
+    if (row > first && row < last) return;
+    this.editor.scrollToLine(row, true, false, () => {});
   }
 
   /** Hovering an underlined range shows its message and suggestion. */

@@ -44,6 +44,9 @@ export class Guide {
       const same = (t) => t.replace(/\r\n/g, "\n").trim();
       if (!program || same(this.app.workspace.program) !== same(program)) return false;
     }
+    // A first-timer tries on their own simulated arm: in a full lab the one shared robot is
+    // held by someone else, and a first run should move nothing real.
+    this.app.targets?.choose("mine");
     this.start();
     return true;
   }
@@ -269,14 +272,31 @@ export class Guide {
       left: [a.left - GAP - w, clampY(a.top + a.height / 2 - h / 2)],
       "left-low": [a.left - GAP - w, clampY(a.bottom - h)],
     };
+    // Over the editor's text, below the bars, when beside the anchor would cover a control.
+    const editor = $("editor");
+    if (editor?.offsetParent && !editor.contains(anchor)) spots["over-editor"] = [clampX(a.left + a.width / 2 - w / 2), editor.getBoundingClientRect().top + GAP];
     const fits = ([x, y]) => x >= MARGIN && y >= MARGIN && x + w <= vw - MARGIN && y + h <= vh - MARGIN;
-    const order = [...(spec.side || []), "bottom", "right", "left", "top"];
-    const side = order.find((s) => fits(spots[s])) || "bottom";
+    const controls = visibleControls();
+    const clear = ([x, y]) => !controls.some((r) => r.left < x + w && r.right > x && r.top < y + h && r.bottom > y);
+    const order = [...(spec.side || []), "bottom", "right", "left", "top", "over-editor"];
+    const side = order.find((s) => s in spots && fits(spots[s]) && clear(spots[s]))
+      || order.find((s) => s in spots && fits(spots[s])) || "bottom";
     const [x, y] = side in spots && fits(spots[side]) ? spots[side] : [clampX(a.left), clampY(a.bottom + GAP)];
     Object.assign(box.style, { left: `${Math.round(x)}px`, top: `${Math.round(y)}px` });
     box.dataset.side = side;
     // The arrow points at the anchor's middle along the callout's edge.
-    const along = side === "bottom" || side === "top" ? a.left + a.width / 2 - x : side === "left-low" ? h - 28 : a.top + a.height / 2 - y;
-    box.style.setProperty("--arrow", `${Math.round(Math.max(16, Math.min((side === "bottom" || side === "top" ? w : h) - 16, along)))}px`);
+    const along = side === "bottom" || side === "top" || side === "over-editor" ? a.left + a.width / 2 - x : side === "left-low" ? h - 28 : a.top + a.height / 2 - y;
+    box.style.setProperty("--arrow", `${Math.round(Math.max(16, Math.min((side === "bottom" || side === "top" || side === "over-editor" ? w : h) - 16, along)))}px`);
   }
+}
+
+/** The page's controls a callout must not cover (the editor's text and the 3D view aside). */
+function visibleControls() {
+  const out = [];
+  for (const n of document.querySelectorAll("button, [role=tab], select, input, a[href], [role=radio]")) {
+    if (n.offsetParent === null || n.closest("#guide, #editor, .view-stage, dialog, #toasts")) continue;
+    const r = n.getBoundingClientRect();
+    if (r.width && r.height) out.push(r);
+  }
+  return out;
 }

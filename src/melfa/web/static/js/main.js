@@ -24,6 +24,7 @@ import { TargetSwitch } from "./targets.js";
 import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
+import { SlotChip, askBeforeRun, programErrorText, slotOwner, stoppedWhenLeftText } from "./slot.js";
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
 import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
@@ -42,7 +43,10 @@ const app = {
   get replaying() { return robot.get().replay; }, // a recorded run owns the 3D view and the run line
   get leaseHolder() { return lease.get().holder; },
   get loaded() { return loaded.get().program === null ? null : loaded.get(); },
-  lineOf: (step) => loaded.lineOf(step, app.editor.text),
+  // Whose program the controller's slot holds, for this browser (slot.js): only "mine"
+  // marks the editor's lines; another person's run never does.
+  get slotOwner() { return slotOwner(app.state?.slot ?? null, app.user, loaded.get(), app.editor?.text); },
+  lineOf: (step) => (app.slotOwner === "mine" ? loaded.lineOf(step, app.editor.text) : null),
   busy: (text, progress = null) => startTask("operation", text, progress),
   idle: (text = "Idle", error = false) => endTask(text, error),
 };
@@ -95,6 +99,8 @@ async function main() {
   wireTabs();
   wireRobotTab();
   renderReadouts(null);
+  app.slotChip = new SlotChip($("slot-info"));
+  app.slotChip.render(null, "none");
   robot.subscribe(onState);
   lease.subscribe(renderLease);
   activityLine.subscribe(renderActivity);
@@ -149,6 +155,9 @@ function wireLive(live) {
     setLink(m.link);
     setLease(m.lease_holder);
     if (m.jog_override_ceiling) app.jog.setCeiling(m.jog_override_ceiling);
+    if (m.stopped_when_you_left) {
+      toast("Your run was stopped", { kind: "warning", text: stoppedWhenLeftText(m.stopped_when_you_left), timeout: 0 });
+    }
   });
   live.on("link", (m) => setLink(m.status, m.detail));
   live.on("state", (m) => robot.set({ state: m }));
@@ -242,6 +251,10 @@ function onState({ state: m }, previous) {
   const shows = (m.program_running || m.paused || m.running) && m.line;
   const line = shows ? app.lineOf(m.line) : null;
   if (!app.replaying) app.editor.markRunLine(line ? line - 1 : null);
+  // A run-time error of the program this editor loaded: its line, marked as the error.
+  const errorLine = m.alarm?.step ? app.lineOf(m.alarm.step) : null;
+  if (!app.replaying) app.editor.markErrorLine(errorLine ? errorLine - 1 : null);
+  app.slotChip.render(m.slot ?? null, app.slotOwner);
   renderReadouts(m);
   renderActivity();
 }
@@ -253,18 +266,7 @@ function renderActivity() {
   pill.textContent = said.pill;
   pill.className = said.error ? "pill bad" : said.busy ? "pill busy" : "pill";
   pill.dataset.activity = m?.activity || "";
-  const alarm = $("alarm");
-  alarm.hidden = !m?.alarm;
-  if (m?.alarm) {
-    const a = m.alarm;
-    alarm.replaceChildren(
-      el("strong", {}, "Alarm "), el("span", { class: "code" }, a.code || String(a.number)), " ",
-      a.message || a.text, " ",
-      a.fix === "reset-alarm" ? el("button", { type: "button", class: "btn btn-sm btn-primary", id: "alarm-fix",
-        onclick: () => api("POST", "/api/robot/reset-alarm").catch((err) => showError("Could not reset the alarm", err)) },
-      a.fix_label || "Reset alarm") : null,
-    );
-  }
+  renderAlarm(m?.alarm ?? null, m?.slot ?? null);
   $("servo-state").textContent = m?.servo == null ? "—" : m.servo ? "on" : "off";
   $("servo-state").className = m?.servo ? "pill on" : "pill";
   const hand = m?.hands?.[0];
@@ -274,9 +276,37 @@ function renderActivity() {
   // ("Loaded…", "Load failed") until the robot does something else, else the robot.
   const { task, result } = activityLine.get();
   if (task) return setActivity(task.text, { busy: true, progress: task.progress });
-  if (result && said.pill === "idle") return setActivity(result.text, { error: result.error, progress: result.progress });
+  // The result stays while the robot does what it did when it was set, or nothing.
+  const now = `${m?.activity ?? ""}|${m?.activity_detail ?? ""}`;
+  if (result && (said.pill === "idle" || result.at === now)) return setActivity(result.text, { error: result.error, progress: result.progress });
   if (result) activityLine.set({ result: null }); // the robot moved on: so does the line
   else setActivity(said.text, { busy: !!said.busy, error: !!said.error, hint: said.hint });
+}
+
+// The alarm banner: rebuilt only when what it says changes. State messages come about 20
+// a second; a button replaced between press and release never gets the click.
+let alarmShown = "";
+function renderAlarm(a, slot) {
+  const box = $("alarm");
+  box.hidden = !a;
+  const owner = app.slotOwner;
+  const line = a?.step ? app.lineOf(a.step) : null;
+  const headline = a ? programErrorText(a, slot, owner, line) : "";
+  const key = a ? JSON.stringify([a.number, a.code, a.message, a.text, a.fix, a.fix_label, headline]) : "";
+  if (key === alarmShown) return;
+  alarmShown = key;
+  box.dataset.line = line ? String(line) : "";
+  if (!a) return box.replaceChildren();
+  const reset = a.fix === "reset-alarm" ? el("button", { type: "button", class: "btn btn-sm btn-primary", id: "alarm-fix",
+    onclick: () => api("POST", "/api/robot/reset-alarm").catch((err) => showError("Could not reset the alarm", err)) },
+  a.fix_label || "Reset alarm") : null;
+  const go = line ? el("button", { type: "button", class: "btn btn-sm", id: "alarm-line",
+    onclick: () => { selectTab("editor"); app.editor.editor.gotoLine(line, 0, true); app.editor.editor.focus(); } },
+  `Show line ${line}`) : null;
+  box.replaceChildren(
+    headline ? el("strong", {}, headline) : el("strong", {}, "Alarm ", el("span", { class: "code" }, a.code || String(a.number))),
+    " ", a.message || a.text, " ", go, reset,
+  );
 }
 
 function renderReadouts(m) {
@@ -323,6 +353,7 @@ function wireHeader() {
   new PasswordDialog();
   $("logout").addEventListener("click", async () => {
     await app.workspace.save("autosave").catch(() => {});
+    loaded.forget(); // a shared lab PC keeps no program text
     try {
       await api("DELETE", "/api/session");
     } finally {
@@ -409,30 +440,44 @@ async function loadProject(workspace, editor) {
   startTask("load", "Loading project…", 0);
   try {
     const program = workspace.program;
-    const out = await api("POST", "/api/robot/project", { program, points: workspace.points, check: true });
-    loaded.remember(program, out.step_lines);
+    const out = await api("POST", "/api/robot/project", { program, points: workspace.points, workspace_id: workspace.id ?? undefined, check: true });
+    loaded.remember(program, out.step_lines, out.fingerprint);
     endTask(`Project loaded in ${out.seconds.toFixed(1)} s`, false, 1);
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
+    return true;
   } catch (err) {
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: false, err } }));
     endTask("Load failed", true);
     if (err.code === "program-has-errors" && err.detail?.diagnostics) {
-      editor.show(err.detail.diagnostics);
+      // The whole list again (the refusal names its errors only): warnings stay in view.
+      if (!(await editor.check())) editor.show(err.detail.diagnostics);
       selectTab("editor");
     }
     showError(err.code === "program-has-errors" ? "Not loaded: the program has errors" : err.code === "points-have-errors" ? "Not loaded: the points have errors" : "Could not load the project", err);
+    return false;
   } finally {
     button.disabled = false;
   }
 }
 
+/**
+ * Run: asks first when the slot does not hold this editor's text, naming whose program it
+ * holds (slot.js); the run names the program agreed to (`expect`), so a load by someone
+ * else in between is refused rather than run.
+ */
 async function runProgram() {
+  let choice = await askBeforeRun(app.state?.slot ?? null, app.slotOwner);
+  if (!choice) return;
+  if (choice.load) {
+    if (!(await loadProject(app.workspace, app.editor))) return;
+    choice = { expect: loaded.get().fingerprint ?? undefined };
+  }
   const override = Number($("override").value);
   await moving("Could not run the program", async (extra) => {
     if (app.state && app.state.override !== override) await api("POST", "/api/robot/override", { percent: override });
     app.view.clearPath();
-    await api("POST", "/api/robot/run", extra);
+    await api("POST", "/api/robot/run", { ...extra, expect: choice.expect });
   });
 }
 
@@ -515,7 +560,7 @@ function wireRobotTab() {
     await moving(`Could not move to ${point}`, async (extra) => {
       app.busy(`Moving to ${point}…`);
       await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear, ...extra });
-      app.idle(`At ${point}`);
+      app.idle(); // the robot's own words from here: "Moving to P1", then "At P1" on arrival
     }, () => app.idle("Move failed", true));
   });
   $("path-clear").addEventListener("click", () => app.view.clearPath());

@@ -55,19 +55,24 @@ export function startTask(kind, text, progress = null) {
 
 /**
  * The operation ended: its result ({text, error}, a full bar with `progress` 1) stays until
- * the robot does something else ("Idle": no result to keep).
+ * the robot does something else ("Idle": no result to keep). `at` is what the robot was
+ * doing then (its activity and detail): while that stays, so does the result.
  */
 export function endTask(text = "Idle", error = false, progress = null) {
-  activityLine.set({ task: null, result: text === "Idle" ? null : { text, error, progress } });
+  const m = robot.get().state;
+  const at = `${m?.activity ?? ""}|${m?.activity_detail ?? ""}`;
+  activityLine.set({ task: null, result: text === "Idle" ? null : { text, error, progress, at } });
 }
 
 /**
- * What this browser loaded on the robot: the program text and its step -> line map (the
- * load reply's `step_lines`), kept in localStorage so a reload still marks the running line.
+ * What this browser loaded on the robot: the program text, its step -> line map (the load
+ * reply's `step_lines`) and its fingerprint (the state's `slot` names it while the slot
+ * holds it), kept in localStorage so a reload still marks the running line; sign-out
+ * forgets it (a shared lab PC keeps no program text).
  */
 export class LoadedProgram extends Store {
   constructor() {
-    super({ program: null, lines: {} });
+    super({ program: null, lines: {}, fingerprint: null });
     this.key = null;
   }
 
@@ -76,15 +81,23 @@ export class LoadedProgram extends Store {
     this.key = `melfa.loaded.${user}`;
     try {
       const saved = JSON.parse(localStorage.getItem(this.key) || "null");
-      if (saved) this.set({ program: saved.program, lines: saved.lines || {} });
+      if (saved) this.set({ program: saved.program, lines: saved.lines || {}, fingerprint: saved.fingerprint ?? null });
     } catch { /* unreadable: nothing known */ }
   }
 
-  remember(program, lines) {
-    this.set({ program, lines: lines || {} });
+  remember(program, lines, fingerprint = null) {
+    this.set({ program, lines: lines || {}, fingerprint });
     try {
       localStorage.setItem(this.key, JSON.stringify(this.get()));
     } catch { /* storage full: the highlight just will not survive a reload */ }
+  }
+
+  /** Signing out: the text leaves this browser's storage. */
+  forget() {
+    this.set({ program: null, lines: {}, fingerprint: null });
+    try {
+      if (this.key) localStorage.removeItem(this.key);
+    } catch { /* storage unavailable: nothing kept either */ }
   }
 
   /** The editor's line of a controller step, when `text` is what was loaded. */
