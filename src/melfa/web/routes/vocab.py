@@ -27,8 +27,8 @@ from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import EntryState, QueueStep
 from melfa.vocab.runs import RunOutcome
-from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
 from melfa.vocab.slot import SLOT_WORDS
+from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
 
 router = APIRouter(include_in_schema=False)
 
