@@ -65,9 +65,17 @@ def test_a_part_outside_the_tolerance_stays_and_the_hand_closes_on_nothing() -> 
 
 
 def test_the_nearest_of_two_parts_in_reach_is_taken() -> None:
-    w = world(puck("far", 300, 0, 0), puck("near", 300, 0, 0, d=10, h=30))
-    # the thin one is 5 mm higher at its centre: the grip point is 2 mm from it
-    assert w.close(0.0, flange(300, 0, 113), HAND_DOWN, 1).part == "near"
+    pair = (puck("a", 300, 0, 0, d=10), puck("b", 311, 0, 0, d=10))  # 1 mm apart
+    # the grip point 100 mm below the flange; the pucks' centres are at z = 10
+    assert world(*pair).close(0, flange(304, 0, 110), HAND_DOWN, 1).part == "a"
+    assert world(*pair).close(0, flange(308, 0, 110), HAND_DOWN, 1).part == "b"
+
+
+def test_a_part_let_go_pushed_into_another_rests_on_top_of_it() -> None:
+    w = world(puck("a", 300, 0, 0), puck("b", 0, 300, 0))
+    w.close(0, flange(0, 300, 110), HAND_DOWN, 1)
+    pushed = w.open(1, flange(300, 0, 120), HAND_DOWN, 2)  # b's bottom 10 mm into a
+    assert pushed.on == "a" and pushed.landed == pytest.approx((300, 0, 20))
 
 
 def test_parts_stack_and_side_by_side_parts_do_not() -> None:

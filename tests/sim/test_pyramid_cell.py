@@ -71,3 +71,18 @@ def test_a_post_between_the_stack_and_the_pyramid_is_hit_on_the_carrying_move() 
     assert len({c.move for c in carrying}) == 6
     assert all(PROGRAM.splitlines()[c.line - 1].lstrip()[:3] in ("MOV", "MVS") for c in hits)
     assert any(f.kind is Kind.COLLISION and "'post'" in f.message for f in r.errors)
+
+
+def test_a_block_pushed_into_the_bench_is_a_collision_and_rests_on_it() -> None:
+    pushed = PROGRAM.replace(
+        "Pdest.Z = Pbase.Z + MALT * MFILA", "Pdest.Z = Pbase.Z + MALT * MFILA - 20"
+    )
+    r = preflight(pushed, POINTS, cell=template("thesis-bench"))
+    hits = [c for c in r.collisions if c.carried and c.obstacle == "bench"]
+    assert {c.body for c in hits} == {"block 6", "block 5", "block 4"}  # the bottom row
+    assert {c.line for c in hits} == {line_of("MVS Pdest")}
+    assert max(c.depth for c in hits) == pytest.approx(20.0, abs=0.5)
+    assert any("the carried part 'block 6'" in f.message for f in r.errors)
+    # let go 20 mm inside the bench, each block comes to rest on top of it
+    ends = {p.name: p for p in r.parts}
+    assert ends["block 6"].position[2] == pytest.approx(100.0) and ends["block 6"].on == "bench"

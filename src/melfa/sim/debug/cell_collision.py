@@ -1,5 +1,6 @@
-"""Collisions of the arm's links and the gripper (capsules, `melfa.kin.capsules`) with the
-cell's fixtures, parts and table, along a move, densely enough that nothing is skipped.
+"""Collisions of the arm's links and the gripper (capsules, `melfa.kin.capsules`) and of the
+part the gripper carries (points on its rims or corners) with the cell's fixtures, parts
+and table, along a move, densely enough that nothing is skipped.
 
 A capsule is checked as spheres along its axis (spaced a quarter of its radius apart: the
 union is within 1 mm of the true capsule for the arm's radii). Along a move, the check
@@ -17,12 +18,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
 from melfa.kin import capsules
 from melfa.kin.pose import FloatArray
+from melfa.kin.solver import fk_batch
 from melfa.sim.debug.cell import Gripper, Shape, Solid
 from melfa.sim.debug.cell_world import TABLE
 
@@ -35,9 +38,10 @@ SPHERES_PER_RADIUS = 4
 
 @dataclass(frozen=True, slots=True)
 class Collision:
-    """`body` (a link or the gripper) inside `obstacle` (a fixture, part or the table)
-    during the `move`-th move from `start` to `end` (simulated seconds since the run
-    began), at most `depth` mm deep, caused by `line` of the user's text."""
+    """`body` (a link, the gripper, or the part it carries when `carried`) inside
+    `obstacle` (a fixture, part or the table) during the `move`-th move from `start` to
+    `end` (simulated seconds since the run began), at most `depth` mm deep, caused by
+    `line` of the user's text."""
 
     body: str
     obstacle: str
@@ -46,6 +50,7 @@ class Collision:
     start: float
     end: float
     depth: float
+    carried: bool = False
 
     def to_json(self) -> dict[str, object]:
         return {
@@ -56,6 +61,7 @@ class Collision:
             "start": self.start,
             "end": self.end,
             "depth": self.depth,
+            "carried": self.carried,
         }
 
 
@@ -156,16 +162,31 @@ def move_collisions(
     move: int,
     offset: float,
     line: int | None,
+    carried: tuple[Solid, FloatArray] | None = None,
 ) -> tuple[list[Collision], int]:
     """Collisions along one move sampled at local times `ts` (joints `q`); `sample(ts)`
     gives the joints (N, 6) at any local times, `offset` turns local times into the run's.
+    `carried` is the part the gripper holds and its centre's frame in the flange's: it is
+    checked too (its corners and rims; touching is not a collision, `CONTACT_MM`).
     Returns the collisions and how many samples were checked exactly."""
     names = [s.name for s in obstacles] + ([TABLE] if floor is not None else [])
     if not names:
         return [], len(ts)
+    held = _Carried(carried, bodies) if carried is not None else None
+    body_names = list(bodies.names) + ([held.part.name] if held is not None else [])
+
+    def clearance(rows: FloatArray, threshold: float, placed: Any = None) -> FloatArray:
+        placed = placed if placed is not None else bodies.place(rows)
+        out = bodies.clearance_of(placed, obstacles, floor, threshold)
+        if held is None:
+            return out
+        return np.concatenate([out, held.clearance(rows, obstacles, floor)[:, None]], axis=1)
+
     placed = bodies.place(q)
     moved = bodies.moved(q, placed)  # (N-1, C)
-    clear = bodies.clearance_of(placed, obstacles, floor, float(np.max(moved, initial=0.0)))
+    if held is not None:
+        moved = np.concatenate([moved, held.moved(q, placed)[:, None]], axis=1)
+    clear = clearance(q, float(np.max(moved, initial=0.0)), placed)
     times = [ts]
     rows = [clear]
     if len(ts) > 1:
@@ -177,7 +198,7 @@ def move_collisions(
                 fine.append(ts[k] + (ts[k + 1] - ts[k]) * np.arange(1, m) / m)
         if fine:
             fine_t = np.concatenate(fine)
-            rows.append(bodies.clearance(sample(fine_t), obstacles, floor))
+            rows.append(clearance(sample(fine_t), 0.0))
             times.append(fine_t)
     all_t = np.concatenate(times)
     order = np.argsort(all_t, kind="stable")
@@ -189,19 +210,81 @@ def move_collisions(
         mask = hit[:, c, o]
         for a, b in _runs(mask):
             depth = float(-np.min(all_clear[a:b, c, o]))
+            part = bool(c >= len(bodies.names))
             out.append(
                 Collision(
-                    bodies.names[c],
+                    body_names[c],
                     names[o],
                     line,
                     move,
                     float(all_t[a] + offset),
                     float(all_t[b - 1] + offset),
-                    depth,
+                    depth + CONTACT_MM if part else depth,
+                    part,
                 )
             )
     out.sort(key=lambda col: col.start)
     return out, len(all_t)
+
+
+CONTACT_MM = 0.5
+"""A carried part this far into something only touches it (set down on a block, beside
+one): not a collision."""
+
+
+class _Carried:
+    """The part the gripper holds, as points on its rims or corners (top and bottom)."""
+
+    def __init__(self, carried: tuple[Solid, FloatArray], bodies: ArmBodies) -> None:
+        self.part, self.rel = carried
+        self.bodies = bodies
+        sx, sy, sz = self.part.size
+        if self.part.shape is Shape.CYLINDER:
+            a = np.linspace(0, 2 * math.pi, 12, endpoint=False)
+            ring = np.column_stack([sx / 2 * np.cos(a), sx / 2 * np.sin(a)])
+        else:
+            ring = np.array([[x, y] for x in (-sx / 2, sx / 2) for y in (-sy / 2, sy / 2)])
+        ring = np.vstack([ring, [[0.0, 0.0]]])
+        pts = [
+            np.column_stack([ring, np.full(len(ring), z), np.ones(len(ring))])
+            for z in (-sz / 2, sz / 2)
+        ]
+        self.points = np.vstack(pts)  # (K, 4) in the part's centre frame
+        reach = float(np.linalg.norm(self.rel[:3, 3])) + 0.5 * math.sqrt(
+            sx * sx + sy * sy + sz * sz
+        )
+        self.reach = reach
+
+    def clearance(
+        self, q: FloatArray, obstacles: Sequence[Solid], floor: float | None
+    ) -> FloatArray:
+        """(N, O): the deepest any point of the part is in each obstacle, plus `CONTACT_MM`."""
+        flange = fk_batch(q)
+        if self.bodies.base is not None:
+            flange = self.bodies.base @ flange
+        world = (flange @ self.rel @ self.points.T).transpose(0, 2, 1)[..., :3]  # (N, K, 3)
+        cols = [np.min(_distance(world, s), axis=1) for s in obstacles]
+        if floor is not None:
+            cols.append(np.min(world[..., 2], axis=1) - floor)
+        return np.stack(cols, axis=1) + CONTACT_MM
+
+    def moved(self, q: FloatArray, placed: Any) -> FloatArray:
+        """How far any point of the part can move between samples (as `ArmBodies.moved`:
+        each joint's turn times the part's distance from that joint's axis)."""
+        turn = np.abs(np.radians(np.diff(q, axis=0)))  # (N-1, 6)
+        flange = fk_batch(q)
+        if self.bodies.base is not None:
+            flange = self.bodies.base @ flange
+        half = self.part.size[2] / 2
+        ends = flange @ self.rel @ np.array([[0, 0, -half, 1.0], [0, 0, half, 1.0]]).T
+        a, b = ends[:, :3, 0][:, None], ends[:, :3, 1][:, None]  # (N, 1, 3)
+        sx, sy = self.part.size[0], self.part.size[1]
+        far = capsules.axis_distance(a, b, placed[2], placed[3])[..., 0] + 0.5 * math.hypot(sx, sy)
+        far = np.maximum(far[:-1], far[1:])  # (N-1, 6)
+        total = turn.sum(axis=1)
+        tight = np.einsum("nj,nj->n", turn, far) / np.maximum(1.0 - total, 1e-9)
+        chain = total * (float(np.max(self.bodies.reach)) + self.reach)  # the arm at full stretch
+        return np.asarray(np.where(total < 0.5, tight, chain))
 
 
 def _runs(mask: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:

@@ -8,7 +8,8 @@ it answers with parts and inputs (`cell_run` wires it to a simulated arm and its
   flange until the hand opens.
 * When the hand opens, the part turns upright (keeping its heading) and drops straight
   down onto the highest thing under its footprint: the table, a fixture, a conveyor or
-  another part (stacking works) and stays there. A part that stood on the one taken away
+  another part (stacking works) and stays there; let go pushed into something, it rests
+  on top of it. A part that stood on the one taken away
   drops too.
 * A conveyor moves the parts standing on its belt while its output is on; a part stops
   where its centre reaches the belt's end. A sensor's input is 1 while a part's centre is
@@ -103,11 +104,13 @@ class PartState:
 
 @dataclass(frozen=True, slots=True)
 class Snapshot:
-    """The loose parts (not held) from `time` on, and the one held (if any)."""
+    """The loose parts (not held) from `time` on, and the one held (if any): the part and
+    its centre's frame in the flange's (4×4)."""
 
     time: float
     loose: tuple[Solid, ...]
     held: str | None
+    carried: tuple[Solid, FloatArray] | None = None
 
 
 class CellWorld:
@@ -276,7 +279,10 @@ class CellWorld:
     # ------------------------------------------------------------------ helpers
     def _snap(self) -> None:
         loose = tuple(p for n, p in self._parts.items() if n != self._held)
-        snap = Snapshot(self.time, loose, self._held)
+        carried = None
+        if self._held is not None and self._grip_rel is not None:
+            carried = (self._parts[self._held], self._grip_rel)
+        snap = Snapshot(self.time, loose, self._held, carried)
         if self.snapshots and self.snapshots[-1].time == self.time:
             self.snapshots[-1] = snap
         else:
@@ -285,14 +291,14 @@ class CellWorld:
     def _land(self, name: str) -> None:
         """Drop part `name` straight down onto the highest support under it."""
         part = self._parts[name]
-        bottom = part.position[2]
         best, on = self.floor, TABLE
         supports = list(self._fixed) + [
             p for n, p in self._parts.items() if n != name and n != self._held
         ]
         for s in supports:
             top = s.top
-            if best < top <= bottom + LAND_EPS_MM and footprints_overlap(part, s):
+            # below the part, or reaching into it (pushed in: it comes to rest on top)
+            if best < top < part.top + LAND_EPS_MM and footprints_overlap(part, s):
                 best, on = top, s.name
         x, y, _ = part.position
         self._parts[name] = part.moved((x, y, best))

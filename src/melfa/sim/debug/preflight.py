@@ -40,10 +40,10 @@ from melfa.kin.pose import pose_to_matrix
 from melfa.kin.reach import unreachable_points
 from melfa.kin.solver import fk_batch
 from melfa.lang.points import PointDef
-from melfa.sim.debug.cell import Cell, Solid
+from melfa.sim.debug.cell import Cell
 from melfa.sim.debug.cell_collision import ArmBodies, Collision, move_collisions
 from melfa.sim.debug.cell_run import CellRun
-from melfa.sim.debug.cell_world import TABLE, HandAction, PartState
+from melfa.sim.debug.cell_world import TABLE, HandAction, PartState, Snapshot
 from melfa.sim.debug.engine import (
     DEFAULT_MAX_TIME_S,
     INSTANT,
@@ -279,7 +279,7 @@ def preflight(
         base=arm.base,
         cell=cell,
         limits=limits if limits is not None else Limits(),
-        loose=lambda t: run.world.loose_at(t).loose,
+        loose=run.world.loose_at,
     )
     start = d.interp.now - d.time
     return Report(
@@ -325,11 +325,11 @@ def analyse(
     base: Pose | None = None,
     cell: Cell | None = None,
     limits: Limits | None = None,
-    loose: Callable[[float], Sequence[Solid]] | None = None,
+    loose: Callable[[float], Snapshot] | None = None,
 ) -> Analysis:
     """Findings over a run's moves (`line_of` maps a move's step number to a text line;
-    `start` is the run's start on the moves' clock; `loose(t)` the parts not held at a
-    time since the run began: default, the cell's parts where they start)."""
+    `start` is the run's start on the moves' clock; `loose(t)` the parts at a time since
+    the run began, loose and carried: default, the cell's parts where they start)."""
     cell = cell if cell is not None else Cell()
     limits = limits if limits is not None else Limits()
     best = [JointMargin(j + 1, math.inf, 0.0, 0.0, None, None) for j in range(6)]
@@ -360,17 +360,18 @@ def analyse(
         _joint_margins(best, q, times, index, line)
         findings += _move_findings(index, line, q, times, flange, xyz, cell, limits)
         offset = move.time - start
-        parts = loose(offset) if loose is not None else cell.parts
+        snap = loose(offset) if loose is not None else Snapshot(0.0, cell.parts, None)
         found, n = move_collisions(
             bodies,
             move.plan.sample_many,
             ts,
             q,
-            tuple(fixed) + tuple(parts),
+            tuple(fixed) + snap.loose,
             cell.floor_z,
             move=index,
             offset=offset,
             line=line,
+            carried=snap.carried,
         )
         collisions += found
         checked += n
@@ -405,10 +406,9 @@ def _said(c: Collision, findings: Sequence[Finding]) -> bool:
 
 
 def _collision_finding(c: Collision) -> Finding:
-    what = TABLE if c.obstacle == TABLE else repr(c.obstacle)
-    text = f"the move takes the {c.body} {c.depth:.1f} mm into the {what}"
-    if c.obstacle != TABLE:
-        text = f"the move takes the {c.body} {c.depth:.1f} mm into {what}"
+    what = "the table" if c.obstacle == TABLE else repr(c.obstacle)
+    body = f"the carried part {c.body!r}" if c.carried else f"the {c.body}"
+    text = f"the move takes {body} {c.depth:.1f} mm into {what}"
     return Finding(
         Kind.COLLISION,
         Severity.ERROR,

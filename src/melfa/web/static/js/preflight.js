@@ -101,6 +101,8 @@ export class PreflightPanel {
       }),
       ...(report.findings.length ? [] : [el("li", { class: "pf-ok" }, "Nothing to fix: the arm stays in its limits, above the table and out of the obstacles.")]),
       ...tight.map((t) => el("li", { class: "pf-note" }, t)),
+      ...(report.parts ?? []).map((p) => el("li", { class: "pf-note pf-part", "data-part": p.name },
+        `${p.name} ends at (${p.position.map((v) => v.toFixed(1)).join(", ")})`, p.held ? " in the gripper" : ` on ${p.on}`)),
     );
     this.drawPath(report);
   }
