@@ -325,6 +325,7 @@ def class_phase(url: str, pid: int, who: dict[str, str], students: int, minutes:
         else float("nan")
     )
     refused = sum(1 for s in loads if s != 200)
+    by_minute = [m for t, m in memory if int((t - started) // 60) > int((t - started - 5) // 60)]
     print(
         f"4. class of {students} students (typing, autosaving, private simulators running) and "
         f"an instructor jogging, {minutes:g} min:\n"
@@ -336,7 +337,8 @@ def class_phase(url: str, pid: int, who: dict[str, str], students: int, minutes:
         f"(statuses {sorted(set(loads))})\n"
         f"   server memory: {before:.0f} MiB before, {memory[-1][1]:.0f} MiB at the end; after "
         f"the first minute {slope:.1f} kB/s in all = {slope / students:.2f} kB/s per running "
-        f"private simulator (over {late[-1][0] - late[0][0] if len(late) > 1 else 0:.0f} s)"
+        f"private simulator (over {late[-1][0] - late[0][0] if len(late) > 1 else 0:.0f} s)\n"
+        f"   server memory at each minute, MiB: {', '.join(f'{m:.0f}' for m in by_minute)}"
     )
 
 

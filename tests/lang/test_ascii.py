@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from melfa.lang.ascii import REPLACEMENT, ascii_fold, convert, find_non_ascii, to_controller_ascii
 from melfa.lang.lexer import tokenize
+from melfa.lang.plan import plan_upload
 from melfa.lang.tokens import TokenKind
 
 FREE = (TokenKind.COMMENT, TokenKind.STRING)
@@ -98,8 +99,6 @@ def test_only_comments_and_strings_change(lines: list[str]) -> None:
 def test_every_upload_path_folds_accents_before_numbering() -> None:
     """The web IDE and the service upload through `plan_upload` too, not only the CLI:
     a program with Catalan comments becomes numbered ASCII items, line for line."""
-    from melfa.lang.plan import plan_upload
-
     items = plan_upload("' Piràmide\nMOV P1 ' repòs\nGOTO *FI\n*FI\nEND").items
     assert [item.text for item in items] == [
         "10 ' Piramide",

@@ -12,29 +12,18 @@ from collections.abc import Iterable
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Severity
+from melfa.lang.reporter import Reporter
 from melfa.lang.symbols import Symbols
 
 E, W = Severity.ERROR, Severity.WARNING
 
 
-class RoutineChecks:
+class RoutineChecks(Reporter):
     """interrupt-return and goto-out-of-gosub; mixed into the checker's analyser."""
 
     program: A.Program
     symbols: Symbols
     _entries: frozenset[int] = frozenset()  # the lines routines start on (interrupt_returns)
-
-    def add(
-        self,
-        span: A.Span,
-        severity: Severity,
-        message: str,
-        rule: str,
-        code: str | None = None,
-        suggestion: str | None = None,
-        replace: str | None = None,
-    ) -> None:
-        raise NotImplementedError  # NameChecks'
 
     def interrupt_returns(self) -> None:
         """The routine DEF ACT … GOSUB jumps to ends with RETURN 0 or RETURN 1; a GOSUB

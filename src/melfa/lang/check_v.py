@@ -23,6 +23,7 @@ from melfa.lang.model import (
     V_SYSTEM_VARIABLES,
     Kind,
 )
+from melfa.lang.reporter import Reporter
 from melfa.lang.symbols import Symbols
 
 E, W = Severity.ERROR, Severity.WARNING
@@ -69,24 +70,13 @@ class FunctionBlocks:
         self.lines = frozenset(inside)
 
 
-class VChecks:
+class VChecks(Reporter):
     """The checks that name MELFA BASIC V; mixed into the checker's analyser."""
 
     symbols: Symbols
     out: list[Diagnostic]
     v_functions: frozenset[str] = frozenset()
     v_named: set[str]  # V system variables already reported (once per name)
-
-    def add(
-        self,
-        span: A.Span,
-        severity: Severity,
-        message: str,
-        rule: str,
-        code: str | None = None,
-        suggestion: str | None = None,
-    ) -> None:
-        raise NotImplementedError  # NameChecks'
 
     def v_system_variable(self, node: A.Name) -> bool:
         """``M_PI``, ``C_COM(1)``, ``P_FsCurD``: V's status variables (§6, [S16] lists),
