@@ -1,18 +1,18 @@
 """`melfa check`'s coloured output on a terminal, with source excerpts (Rich).
 
 Apart from `melfa.cli.checking` so that plain output (editors, hooks, pipes) never imports
-Rich; `melfa upload` prints its refusals through `print_text` too.
+Rich; it prints the lines `checking.report_lines` lays out and imports nothing of
+`checking` (which imports this module only on a terminal): the dependency goes one way.
+`melfa upload` prints its refusals through `lang_commands.print_text`, on these lines too.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import TextIO
 
 from rich.console import Console
 from rich.text import Text
-
-from melfa.cli.checking import FileReport, report_lines
 
 
 def rich_console(stream: TextIO, *, terminal: bool) -> Console:
@@ -26,7 +26,7 @@ def rich_console(stream: TextIO, *, terminal: bool) -> Console:
     )
 
 
-def print_text(reports: Sequence[FileReport], console: Console) -> None:
-    """The findings as `report_lines` lays them out; excerpts only on a terminal."""
-    for line in report_lines(reports, excerpts=console.is_terminal):
+def print_lines(lines: Iterable[Sequence[tuple[str, str | None]]], console: Console) -> None:
+    """Lines of (text, style) segments, as `melfa.cli.checking.report_lines` lays them out."""
+    for line in lines:
         console.print(Text.assemble(*((text, style or "") for text, style in line)))

@@ -290,9 +290,9 @@ def print_reports(reports: Sequence[FileReport], color: ColorMode, stream: TextI
     """Coloured (Rich, loaded then) or plain text; source excerpts on a terminal either way."""
     if wants_color(color, stream):
         # Imported only for a terminal, for start-up time: Rich costs more than checking.
-        from melfa.cli.check_rich import print_text, rich_console
+        from melfa.cli.check_rich import print_lines, rich_console
 
-        print_text(reports, rich_console(stream, terminal=True))
+        print_lines(report_lines(reports, excerpts=True), rich_console(stream, terminal=True))
         return
     for line in report_lines(reports, excerpts=color is ColorMode.AUTO and stream.isatty()):
         stream.write("".join(text for text, _ in line) + "\n")

@@ -10,6 +10,7 @@ import difflib
 import os
 import sys
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated
 
@@ -17,7 +18,7 @@ import typer
 from rich.console import Console
 from rich.markup import escape
 
-from melfa.cli.check_rich import print_text, rich_console
+from melfa.cli.check_rich import print_lines, rich_console
 from melfa.cli.checking import (
     ColorMode,
     FileKind,
@@ -27,6 +28,7 @@ from melfa.cli.checking import (
     check_main,
     encode_as_read,
     read_source,
+    report_lines,
     wants_color,
 )
 from melfa.cli.typer_app import app
@@ -34,6 +36,11 @@ from melfa.lang.format import FormatResult, LineNumbers, format_program
 from melfa.lang.project import by_position
 
 __all__ = ["FileKind", "UsageError", "check_files", "print_text", "read_source"]
+
+
+def print_text(reports: Sequence[FileReport], console: Console) -> None:
+    """The findings as `report_lines` lays them out; source excerpts only on a terminal."""
+    print_lines(report_lines(reports, excerpts=console.is_terminal), console)
 
 
 def _console(color: ColorMode, *, stderr: bool = False) -> Console:
