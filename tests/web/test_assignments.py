@@ -234,3 +234,20 @@ def test_the_pyramid_example_through_the_server(web: Web) -> None:
     report = web.ann.post(f"/api/assignments/{made['id']}/check").json()["report"]
     failed = {c["kind"] for c in report["checks"] if not c["passed"]}
     assert "avoids" in failed and "uses" in failed
+
+
+def test_the_debugger_runs_an_assignment_in_its_cell(web: Web) -> None:
+    """On their own simulator a student debugs an assignment's workspace in the
+    assignment's cell (their variant's parts); any other text in the lab's cell."""
+    files = {p.name: p.read_text(encoding="utf-8") for p in (EXAMPLES / "pyramid").iterdir()}
+    made = web.ivy.post("/api/assignments", json={"files": files, "variants": True}).json()
+    ws = _open(web.ann, made["id"])["mine"]["workspace_id"]
+    state = web.ann.get(f"/api/workspaces/{ws}").json()
+    body = {"program": state["program"], "points": state["points"], "check": False}
+    assert web.ann.post("/api/debug", json=body).status_code == 200
+    target = web.app.state.web.targets.private("ann")
+    assert target.debug.cell is None  # the lab's cell has no parts
+    started = web.ann.post("/api/debug", json={**body, "workspace_id": ws})
+    assert started.status_code == 200, started.text
+    names = {p.name for p in target.debug.cell.parts()}
+    assert {f"block {n}" for n in range(1, 7)} <= names

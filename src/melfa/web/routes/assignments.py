@@ -15,6 +15,8 @@ from fastapi import APIRouter, File, Path, Query, Request, UploadFile
 from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse, Response
 
 from melfa.grade import Assignment as GradedAssignment
+from melfa.grade import variant_cell
+from melfa.sim.debug.cell import Cell
 from melfa.store import (
     Assignment,
     AssignmentAction,
@@ -72,6 +74,22 @@ async def _mine(context: WebContext, a: GradedAssignment, copy: Enrolment | None
     history = await context.db(store.history, copy)
     left = await context.db(store.attempts_left, copy)
     return C.mine_out(a, copy, left, history)
+
+
+async def cell_of_workspace(
+    context: WebContext, user: User, workspace_id: int | None
+) -> Cell | None:
+    """The cell of `user`'s variant when `workspace_id` is their copy of an assignment
+    (the debugger on their simulator runs in it); None for any other workspace."""
+    if workspace_id is None:
+        return None
+    copies = await context.db(context.store.assignments.enrolments, user)
+    copy = next((c for c in copies.values() if c.workspace_id == workspace_id), None)
+    if copy is None:
+        return None
+    assignment = await context.db(context.store.assignments.get, copy.assignment_id)
+    a = await _engine(context, assignment)
+    return variant_cell(a, a.variant(copy.seed or None))
 
 
 @router.get("", response_model=AssignmentList, summary="Assignments I may see")
@@ -330,4 +348,4 @@ async def classroom_page(request: Request) -> Response:
     return response
 
 
-__all__ = ["pages", "router"]
+__all__ = ["cell_of_workspace", "pages", "router"]

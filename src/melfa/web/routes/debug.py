@@ -33,6 +33,7 @@ from melfa.web.debug_models import (
 from melfa.web.deps import ActorDep, ContextDep, SessionDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Ok
+from melfa.web.routes.assignments import cell_of_workspace
 from melfa.web.routes.robot import checked_program, operate, planned, sources
 from melfa.web.targets import MINE, Target
 
@@ -129,6 +130,8 @@ async def start(
         await target.debug.close()
         target.debug = None
     owner = target.actor(actor)
+    # An assignment's workspace runs in the assignment's cell (the student's variant).
+    cell = await cell_of_workspace(context, session.user, body.workspace_id)
 
     async def open_session() -> DebugSession:
         try:
@@ -139,7 +142,7 @@ async def start(
                 points,
                 speed=speed,
                 start=start_as,
-                cell=context.preflight.cell,
+                cell=cell if cell is not None else context.preflight.cell,
             )
         except DebugError as exc:
             raise refused(exc) from None

@@ -164,7 +164,7 @@ export class DebugPanel {
     const app = this.app;
     try {
       this.clearError();
-      const body = { program: this.editor.text, points: app.workspace.points, check: true, speed: this.speed.value, start: this.startOptions.spec(), ...this.breakpointSpec() };
+      const body = { program: this.editor.text, points: app.workspace.points, workspace_id: app.workspace.id, check: true, speed: this.speed.value, start: this.startOptions.spec(), ...this.breakpointSpec() };
       this.show(await api("POST", "/api/debug", body));
       app.view.clearPath();
       this.show(await api("POST", ...then));
