@@ -36,13 +36,20 @@ CONTROLS = """
 CHECK = (Path(__file__).parent / "layout_check.js").read_text(encoding="utf-8")
 
 
+def settle(page: Page) -> None:
+    """Wait until the toolbar has re-fitted: the ResizeObserver fires with the layout,
+    the fit runs in the next animation frame (layout.js), so after two frames it is done
+    (a fixed 250 ms was too short on a loaded machine)."""
+    page.evaluate("() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))")
+
+
 def check_every_width(page: Page, state: str, tabs: tuple[str, ...]) -> list[str]:
     found = []
     for width, height in WIDTHS:
         page.set_viewport_size({"width": width, "height": height})
         for tab in tabs:
             page.click(f"#tab-{tab}")
-            page.wait_for_timeout(250)  # the toolbar re-fits on the next frame
+            settle(page)
             found += [f"{state} {width}px {tab}: {p}" for p in page.evaluate(CHECK, CONTROLS)]
     return found
 
@@ -70,7 +77,7 @@ def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
     found = check_every_width(page, "running", ("editor", "points", "robot"))
     # The narrowest window keeps the secondary actions in the More menu, the widest none.
     page.set_viewport_size({"width": 1024, "height": 768})
-    page.wait_for_timeout(250)
+    settle(page)
     moved = page.evaluate("() => window.melfa.overflow.moved")
     assert moved, "at 1024 px the toolbar should have moved something into More"
     page.click("#more-button")
@@ -78,7 +85,7 @@ def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
     page.keyboard.press("Escape")
     expect(page.locator("#more-menu")).to_be_hidden()
     page.set_viewport_size({"width": 1920, "height": 1080})
-    page.wait_for_timeout(250)
+    settle(page)
     assert page.evaluate("() => window.melfa.overflow.moved") == []
     alice.screenshot("layout-1920")
 
@@ -95,7 +102,7 @@ def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
     for width, height in WIDTHS[:2]:
         page.set_viewport_size({"width": width, "height": height})
         page.click("#tab-robot")
-        page.wait_for_timeout(250)
+        settle(page)
         alice.screenshot(f"layout-{width}")
     free_the_robot(page, server)
 
@@ -124,7 +131,7 @@ def test_a_long_holder_name_gives_way_and_stop_stays(
     expect(page.locator("#lease-text")).to_have_attribute("title", re.compile(name))
     for width, height in WIDTHS[:2]:
         page.set_viewport_size({"width": width, "height": height})
-        page.wait_for_timeout(250)
+        settle(page)
         found = page.evaluate(CHECK, CONTROLS)
         assert not found, (width, found)
     holder.page.click("#lease-release")
