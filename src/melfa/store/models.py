@@ -43,6 +43,14 @@ class Role(enum.Enum):
         """Admins and instructors see every workspace and the audit log."""
         return self is not Role.STUDENT
 
+    def may_manage(self, other: Role) -> bool:
+        """Whether this role may add, import, reset the password of or remove an account
+        of role ``other`` (the one rule every accounts door asks): admins everyone,
+        instructors students, students nobody."""
+        if self is Role.ADMIN:
+            return True
+        return self is Role.INSTRUCTOR and other is Role.STUDENT
+
 
 @dataclass(frozen=True, slots=True)
 class User:

@@ -38,6 +38,7 @@ from melfa.web.routes import (
     audit,
     check,
     debug,
+    desk,
     health,
     lease,
     model,
@@ -70,8 +71,9 @@ TAGS = [
     {"name": "queue", "description": "Turns at the shared robot, fair and in order."},
     {"name": "lease", "description": "Who may move the robot."},
     {"name": "runs", "description": "Recorded runs on the lab robot, and their replay."},
+    {"name": "desk", "description": "The instructor's desk: the lab robot's live settings."},
     {"name": "audit", "description": "What moved the robot, and who asked."},
-    {"name": "users", "description": "Accounts (admins)."},
+    {"name": "users", "description": "Accounts (instructors: students; admins: everyone)."},
     {"name": "tokens", "description": "My personal access tokens (for programs)."},
     {"name": "health", "description": "Is everything up."},
 ]
@@ -198,12 +200,14 @@ def create_app(
         lease.router,
         audit.router,
         users.router,
+        desk.router,
         tokens.router,
         health.router,
     ):
         app.include_router(router)
     app.include_router(session.pages)
     app.include_router(audit.pages)
+    app.include_router(desk.pages)
     app.include_router(assignments.pages)
     app.include_router(pages.router)
     app.include_router(model.router)

@@ -89,6 +89,18 @@ class UserList(BaseModel):
     users: list[UserOut]
 
 
+class EnrolIn(Input):
+    csv: LongText = Field(description="A class list: header username,name,group[,role][,password].")
+
+
+class EnrolOut(BaseModel):
+    created: list[str]
+    skipped: list[str] = Field(description="Accounts that already existed (left as they were).")
+    passwords: dict[str, str] = Field(
+        description="Username to generated password, for the hand-out sheet; shown once."
+    )
+
+
 # --- workspaces ----------------------------------------------------------------------------
 
 

@@ -48,6 +48,21 @@ async def index(request: Request) -> Response:
     return response
 
 
+async def staff_page(request: Request, page: str, refusal: str) -> Response:
+    """A static page only staff open (``page`` in static/, at ``/<stem>``): sign-in first,
+    ``refusal`` (HTML) with 403 for a student."""
+    context: WebContext = request.app.state.web
+    session = await find_session(context, request.cookies.get(SESSION_COOKIE))
+    if session is None:
+        return RedirectResponse(f"/login?next=/{Path(page).stem}", status_code=303)
+    request.state.user = session.user.username
+    if not session.user.role.is_staff:
+        return HTMLResponse(refusal, 403)
+    response = FileResponse(STATIC / page, media_type="text/html")
+    cache_headers(response)
+    return response
+
+
 @router.get("/favicon.ico")
 async def favicon() -> FileResponse:
     """Browsers ask for it whatever the page says."""
@@ -82,4 +97,4 @@ WebSocket <code>/api/ws</code> (see docs/api.md).</p>
     return HTMLResponse(body)
 
 
-__all__ = ["VENDOR", "router", "vendor_ready"]
+__all__ = ["VENDOR", "router", "staff_page", "vendor_ready"]

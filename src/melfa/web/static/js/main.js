@@ -72,6 +72,7 @@ async function main() {
   $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
   $("audit-link").hidden = app.role === "student";
   $("classroom-link").hidden = app.role === "student";
+  $("desk-link").hidden = app.role === "student";
 
   app.view = new RobotView($("view3d"));
   const workspace = new Workspace(app.user);

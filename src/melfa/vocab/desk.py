@@ -1,0 +1,61 @@
+"""The instructor's desk: what staff do from the IDE (accounts, the gate, the hold) as
+audit actions, and the words the desk and the audit view show for them.
+
+Pure: the web layer records a `DeskAction` as the audit entry's action (its value, e.g.
+``account.add``) and the browser gets `DESK_WORDS` and `ACTION_WORDS` through ``/vocab.js``.
+"""
+
+from __future__ import annotations
+
+import enum
+
+__all__ = ["ACTION_WORDS", "DESK_WORDS", "DeskAction"]
+
+
+class DeskAction(enum.StrEnum):
+    """What a member of staff did at the desk, as the audit log stores it."""
+
+    ACCOUNT_ADD = "account.add"
+    ACCOUNT_IMPORT = "account.import"
+    ACCOUNT_PASSWORD = "account.password"
+    ACCOUNT_REMOVE = "account.remove"
+    GATE = "gate.set"
+
+
+ACTION_WORDS: dict[DeskAction, str] = {
+    DeskAction.ACCOUNT_ADD: "added the account {who}",
+    DeskAction.ACCOUNT_IMPORT: "imported a class list ({count} accounts)",
+    DeskAction.ACCOUNT_PASSWORD: "set a new password for {who}",
+    DeskAction.ACCOUNT_REMOVE: "removed the account {who}",
+    DeskAction.GATE: "turned the simulation gate {state}",
+}
+"""The audit view's sentence for each action (after the user's name); ``{who}`` is the
+account, ``{count}`` how many were created, ``{state}`` on or off."""
+
+DESK_WORDS: dict[str, str] = {
+    "title": "Instructor's desk",
+    "accounts": "Accounts",
+    "add": "Add an account",
+    "import": "Import a class list…",
+    "import-help": (
+        "A CSV file with a header row: username, name, group, and optionally role and "
+        "password (generated when empty). The same file works with melfa users import."
+    ),
+    "import-ok": "Import",
+    "importing": "Importing… (each password is hashed)",
+    "imported": "{created} added, {skipped} already there.",
+    "reset": "New password…",
+    "reset-confirm": "Give {who} a new password? They are signed out everywhere.",
+    "remove": "Remove…",
+    "remove-confirm": "Remove the account {who}? Their sign-ins end now.",
+    "removed": "{who} was removed.",
+    "shown-once": "Hand these out now: they are shown only once and stored only as hashes.",
+    "no-accounts": "No accounts you may manage yet.",
+    "only-students": "As an instructor you manage students' accounts; an admin manages staff.",
+    "gate": "Simulation gate",
+    "gate-on": "On: a program must pass pre-flight before it is loaded onto the lab robot.",
+    "gate-off": "Off: students may load onto the lab robot without a pre-flight.",
+    "gate-turn-on": "Require pre-flight",
+    "gate-turn-off": "Stop requiring pre-flight",
+}
+"""The desk's labels, help and confirmations (``{who}``: an account's name)."""

@@ -1,0 +1,178 @@
+// The instructor's desk (/desk, docs/ide.md "The instructor's desk"): the accounts staff
+// manage (instructors their students, admins everyone — the server decides, the page
+// shows what it was given), adding one, importing a class list (the CSV `melfa users
+// import` reads), a new password shown once, removing; and the lab robot's simulation
+// gate switched live. Every word comes from /vocab.js (melfa.vocab.desk).
+
+import { api, downloadText, setCsrf } from "./api.js";
+import { $, el, readTextFile, showError, toast } from "./ui.js";
+import { DESK_WORDS as W } from "/vocab.js";
+
+const state = { me: null, users: [], gate: false };
+const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
+const when = (iso) => (iso ? new Date(iso).toLocaleString([], { dateStyle: "medium", timeStyle: "short" }) : "never");
+
+async function main() {
+  let session;
+  try {
+    session = await api("GET", "/api/session");
+  } catch (err) {
+    if (err.status !== 401) showError("Could not reach the server", err);
+    return;
+  }
+  setCsrf(session.csrf_token);
+  state.me = session.user;
+  $("desk-user").textContent = session.user.display_name || session.user.username;
+  $("desk-title").textContent = W.title;
+  $("acc-title").textContent = W.accounts;
+  $("acc-note").textContent = state.me.role === "admin" ? "" : W["only-students"];
+  $("acc-add").textContent = W.add + "…";
+  $("acc-import").textContent = W.import;
+  $("add-title").textContent = W.add;
+  $("import-title").textContent = W.import.replace("…", "");
+  $("import-help").textContent = W["import-help"];
+  $("once-help").textContent = W["shown-once"];
+  $("gate-title").textContent = W.gate;
+  $("acc-none").textContent = W["no-accounts"];
+  const roles = state.me.role === "admin" ? ["student", "instructor", "admin"] : ["student"];
+  $("add-role").replaceChildren(...roles.map((r) => el("option", { value: r }, r)));
+  $("acc-find").addEventListener("input", () => drawUsers());
+  wireAdd();
+  wireImport();
+  $("gate-toggle").addEventListener("click", () => setGate(!state.gate));
+  await Promise.all([loadUsers(), loadDesk()]);
+  document.body.dataset.ready = "true";
+}
+
+async function loadUsers() {
+  state.users = (await api("GET", "/api/users")).users;
+  drawUsers();
+}
+
+function drawUsers() {
+  const find = $("acc-find").value.trim().toLowerCase();
+  const shown = state.users.filter((u) => !find || [u.username, u.display_name, u.group || ""].some((s) => s.toLowerCase().includes(find)));
+  $("acc-none").hidden = shown.length > 0;
+  $("acc-rows").replaceChildren(...shown.map((u) => el("tr", { "data-user": u.username },
+    el("td", {}, el("strong", {}, u.username)),
+    el("td", {}, u.display_name || "—"),
+    el("td", {}, u.group || "—"),
+    el("td", {}, u.role),
+    el("td", { title: u.last_login || "" }, when(u.last_login)),
+    el("td", { class: "desk-actions" },
+      el("button", { type: "button", class: "btn btn-sm", "data-act": "reset", onclick: () => resetPassword(u) }, W.reset),
+      u.username === state.me.username ? null
+        : el("button", { type: "button", class: "btn btn-sm btn-danger-ghost", "data-act": "remove", onclick: () => remove(u) }, W.remove)))));
+}
+
+/** A confirmation in the page's own dialog; resolves true on the confirming button. */
+function confirmed(text, label) {
+  const dialog = $("confirm-dialog");
+  $("confirm-text").textContent = text;
+  $("confirm-ok").textContent = label.replace("…", "");
+  dialog.returnValue = "";
+  dialog.showModal();
+  return new Promise((resolve) => dialog.addEventListener("close", () => resolve(dialog.returnValue === "yes"), { once: true }));
+}
+
+/** The passwords just generated, shown this once (with a CSV for the hand-out sheet). */
+function showOnce(passwords) {
+  const entries = Object.entries(passwords);
+  if (!entries.length) return;
+  $("once-rows").replaceChildren(...entries.map(([user, pw]) => el("tr", {}, el("td", {}, user), el("td", { class: "desk-password" }, pw))));
+  $("once-csv").onclick = () => downloadText("username,password\n" + entries.map(([u, p]) => `${u},${p}`).join("\n") + "\n", "passwords.csv", "text/csv");
+  $("once-dialog").showModal();
+}
+
+async function resetPassword(u) {
+  if (!(await confirmed(fill(W["reset-confirm"], { who: u.username }), W.reset))) return;
+  try {
+    const reply = await api("PUT", `/api/users/${encodeURIComponent(u.username)}/password`, {});
+    showOnce({ [u.username]: reply.password });
+  } catch (err) {
+    showError(W.reset.replace("…", ""), err);
+  }
+}
+
+async function remove(u) {
+  if (!(await confirmed(fill(W["remove-confirm"], { who: u.username }), W.remove))) return;
+  try {
+    await api("DELETE", `/api/users/${encodeURIComponent(u.username)}`);
+    toast(fill(W.removed, { who: u.username }), { kind: "ok" });
+    await loadUsers();
+  } catch (err) {
+    showError(W.remove.replace("…", ""), err);
+  }
+}
+
+function wireAdd() {
+  const dialog = $("add-dialog");
+  $("acc-add").addEventListener("click", () => { $("add-form").reset(); $("add-problems").replaceChildren(); dialog.showModal(); $("add-username").focus(); });
+  $("add-cancel").addEventListener("click", () => dialog.close());
+  $("add-form").addEventListener("submit", async (event) => {
+    event.preventDefault();
+    const body = { username: $("add-username").value, display_name: $("add-name").value, group: $("add-group").value || null, role: $("add-role").value };
+    try {
+      const reply = await api("POST", "/api/users", body);
+      dialog.close();
+      await loadUsers();
+      showOnce({ [reply.user.username]: reply.password });
+    } catch (err) {
+      $("add-problems").replaceChildren(el("li", { class: "error" }, err.message));
+    }
+  });
+}
+
+function wireImport() {
+  const dialog = $("import-dialog");
+  let text = null;
+  $("acc-import").addEventListener("click", () => { $("import-form").reset(); text = null; $("import-ok").disabled = true; $("import-problems").replaceChildren(); dialog.showModal(); });
+  $("import-cancel").addEventListener("click", () => dialog.close());
+  $("import-file").addEventListener("change", async () => {
+    const file = $("import-file").files[0];
+    text = file ? await readTextFile(file) : null;
+    $("import-ok").disabled = !text;
+    $("import-problems").replaceChildren();
+  });
+  $("import-form").addEventListener("submit", async (event) => {
+    event.preventDefault();
+    $("import-ok").disabled = true;
+    $("import-ok").textContent = W.importing;
+    try {
+      const reply = await api("POST", "/api/users/import", { csv: text });
+      dialog.close();
+      toast(fill(W.imported, { created: reply.created.length, skipped: reply.skipped.length }), { kind: "ok" });
+      await loadUsers();
+      showOnce(reply.passwords);
+    } catch (err) {
+      const problems = err.detail?.problems || [];
+      $("import-problems").replaceChildren(el("li", { class: "error" }, err.message),
+        ...problems.map((p) => el("li", {}, `line ${p.line}: ${p.message}`)));
+    } finally {
+      $("import-ok").textContent = W["import-ok"];
+      $("import-ok").disabled = !text;
+    }
+  });
+}
+
+async function loadDesk() {
+  drawGate((await api("GET", "/api/desk")).require_simulation);
+}
+
+function drawGate(on) {
+  state.gate = on;
+  $("gate-state").textContent = on ? W["gate-on"] : W["gate-off"];
+  $("gate-state").className = "desk-state" + (on ? " on" : "");
+  $("gate-toggle").textContent = on ? W["gate-turn-off"] : W["gate-turn-on"];
+  $("gate-toggle").setAttribute("aria-pressed", String(on));
+}
+
+async function setGate(on) {
+  try {
+    drawGate((await api("PUT", "/api/desk/gate", { require_simulation: on })).require_simulation);
+  } catch (err) {
+    showError(W.gate, err);
+  }
+}
+
+main();

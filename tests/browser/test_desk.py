@@ -1,0 +1,119 @@
+"""The instructor's desk in Debian's Chromium at 1366×768 (issue 26's "Done when"): an
+instructor imports a class list, reads the passwords shown once, resets a student's
+password (the student signs in with it), removes an account, and toggles the simulation
+gate (a student's pre-flight settings follow at once). Screenshots for docs/ide.md."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from tests.browser.conftest import Server, Session, axe_serious
+
+pytestmark = pytest.mark.timeout(120)
+
+HASHING = 30_000  # ms: three Argon2 hashes on a loaded shared machine
+
+CLASS_LIST = "username,name,group\ndora,Dora Diaz,G3\neli,Eli Ek,G3\nfay,Fay Fox,G4\n"
+
+
+def _desk(s: Session) -> Page:
+    page = s.page
+    page.goto(s.server.url + "/desk")
+    page.wait_for_selector("body[data-ready=true]")
+    return page
+
+
+def _shot(s: Session, name: str) -> None:
+    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
+    s.screenshot(name)
+
+
+def _signs_in(page: Page, server: Server, user: str, password: str) -> bool:
+    other = page.context.browser.new_context()  # type: ignore[union-attr]
+    try:
+        reply = other.request.post(
+            server.url + "/api/session", data={"username": user, "password": password}
+        )
+        return reply.ok
+    finally:
+        other.close()
+
+
+def _desk_axe(page: Page) -> list[str]:
+    return [p for p in axe_serious(page) if any(k in p for k in ("acc-", "gate-", "once-", "desk"))]
+
+
+def test_an_instructor_manages_accounts_from_the_desk(
+    open_session: Any, server: Server, tmp_path: Path
+) -> None:
+    server.add_user("mia", role="instructor")
+    mia: Session = open_session("mia")
+    page = _desk(mia)
+    rows = page.locator("#acc-rows tr")
+    expect(page.locator("#acc-rows tr[data-user=alice]")).to_be_visible()
+    expect(page.locator("#acc-rows tr[data-user=admin]")).to_have_count(0)  # staff: admins'
+    expect(page.locator("#acc-note")).to_contain_text("you manage students")
+
+    class_list = tmp_path / "class.csv"
+    class_list.write_text(CLASS_LIST, encoding="utf-8")
+    page.click("#acc-import")
+    page.set_input_files("#import-file", str(class_list))
+    page.click("#import-ok")
+    once = page.locator("#once-dialog")
+    expect(once).to_be_visible(timeout=HASHING)
+    expect(once.locator("tbody tr")).to_have_count(3)
+    dora_first = once.locator("tbody tr", has_text="dora").locator("td").nth(1).inner_text()
+    _shot(mia, "desk-imported")
+    assert _desk_axe(page) == []
+    once.get_by_role("button", name="Done").click()
+    expect(page.locator("#acc-rows tr[data-user=fay]")).to_contain_text("G4")
+    assert _signs_in(page, server, "dora", dora_first)
+
+    page.locator("#acc-rows tr[data-user=dora] [data-act=reset]").click()
+    expect(page.locator("#confirm-text")).to_contain_text("Give dora a new password?")
+    page.click("#confirm-ok")
+    expect(once).to_be_visible(timeout=HASHING)
+    expect(once.locator("tbody tr")).to_have_count(1)
+    new_password = once.locator(".desk-password").inner_text()
+    assert new_password != dora_first
+    once.get_by_role("button", name="Done").click()
+    assert _signs_in(page, server, "dora", new_password)
+    assert not _signs_in(page, server, "dora", dora_first)
+
+    before = rows.count()
+    page.locator("#acc-rows tr[data-user=fay] [data-act=remove]").click()
+    page.click("#confirm-ok")
+    expect(rows).to_have_count(before - 1)
+    expect(page.locator("#acc-rows tr[data-user=fay]")).to_have_count(0)
+
+    page.fill("#acc-find", "G3")
+    expect(rows).to_have_count(2)
+    page.fill("#acc-find", "")
+    _shot(mia, "desk-accounts")
+
+
+def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) -> None:
+    server.add_user("noa", role="instructor")
+    noa: Session = open_session("noa")
+    page = _desk(noa)
+    alice: Session = open_session("alice")
+
+    def required() -> bool:
+        reply = alice.page.request.get(server.url + "/api/preflight")
+        return bool(reply.json()["require_simulation"])
+
+    toggle = page.locator("#gate-toggle")
+    expect(toggle).to_have_attribute("aria-pressed", "false")
+    assert required() is False
+    toggle.click()
+    expect(toggle).to_have_attribute("aria-pressed", "true")
+    expect(page.locator("#gate-state")).to_contain_text("must pass pre-flight")
+    assert required() is True
+    _shot(noa, "desk-gate-on")
+    toggle.click()
+    expect(toggle).to_have_attribute("aria-pressed", "false")
+    assert required() is False

@@ -1,0 +1,74 @@
+"""The instructor's desk over REST: accounts managed by staff (instructors their students,
+admins everyone: one rule, `Role.may_manage`), a class list imported from the CSV that
+`melfa users import` reads, and the simulation gate switched live; each change audited."""
+
+from __future__ import annotations
+
+from tests.web.conftest import Web, assert_error
+
+CLASS_LIST = "username,name,group\ndora,Dora Diaz,G3\neli,Eli Ek,G3\nann,Ann A,G1\n"
+PROGRAM = "MOV P1\nEND"
+POINTS = "P1=(400.00,0.00,500.00,180.00,0.00,180.00)(7,0)"
+
+
+def _actions(web: Web, actor: str) -> list[tuple[str, dict[str, object]]]:
+    page = web.store.audit.query(actor=actor, limit=50)
+    return [(e.action, e.details) for e in reversed(page.entries)]
+
+
+def test_an_instructor_manages_students_only(web: Web) -> None:
+    ivy = web.ivy
+    names = [u["username"] for u in ivy.get("/api/users").json()["users"]]
+    assert names == ["ann", "bob", "cat"]  # no admin, no instructor
+    assert_error(ivy.post("/api/users", json={"username": "zed", "role": "instructor"}), 403)
+    assert_error(ivy.put("/api/users/admin/password", json={}), 403, "forbidden")
+    assert_error(ivy.delete("/api/users/admin"), 403, "forbidden")
+    created = ivy.post("/api/users", json={"username": "gus", "group": "G2"})
+    assert created.status_code == 201, created.text
+    new = ivy.put("/api/users/bob/password", json={})
+    password = new.json()["password"]
+    assert password and len(password) >= 12
+    signed_in = web.client.post("/api/session", json={"username": "bob", "password": password})
+    assert signed_in.status_code == 200
+    web.client.cookies.clear()
+    assert ivy.delete("/api/users/gus").json() == {"ok": True}
+    assert [a for a, _ in _actions(web, "ivy")] == [
+        "account.add",
+        "account.password",
+        "account.remove",
+    ]
+    assert _actions(web, "ivy")[1][1] == {"who": "bob"}
+
+
+def test_a_class_list_is_imported_all_or_nothing(web: Web) -> None:
+    ivy = web.ivy
+    bad = "username,name,group\ndora,Dora,G3\nx,Bad,G3\n"
+    error = assert_error(ivy.post("/api/users/import", json={"csv": bad}), 422, "invalid-value")
+    assert error["detail"]["problems"][0]["line"] == 3
+    assert web.store.accounts.find_user("dora") is None  # nothing half-imported
+    staff = "username,name,group,role\nzoe,Zoe,G3,instructor\n"
+    assert_error(ivy.post("/api/users/import", json={"csv": staff}), 403, "forbidden")
+    report = ivy.post("/api/users/import", json={"csv": CLASS_LIST}).json()
+    assert report["created"] == ["dora", "eli"] and report["skipped"] == ["ann"]
+    assert sorted(report["passwords"]) == ["dora", "eli"]
+    dora = web.client.post(
+        "/api/session", json={"username": "dora", "password": report["passwords"]["dora"]}
+    )
+    assert dora.status_code == 200 and dora.json()["user"]["group"] == "G3"
+    web.client.cookies.clear()
+    assert _actions(web, "ivy") == [("account.import", {"count": 2})]
+
+
+def test_the_gate_is_switched_live_and_every_load_obeys(web: Web) -> None:
+    ann, ivy = web.ann, web.ivy
+    assert_error(ann.put("/api/desk/gate", json={"require_simulation": True}), 403)
+    assert ivy.get("/api/desk").json() == {"require_simulation": False}
+    on = ivy.put("/api/desk/gate", json={"require_simulation": True})
+    assert on.json() == {"require_simulation": True}
+    body = {"program": PROGRAM, "points": POINTS}
+    assert_error(ann.post("/api/robot/project", json=body), 409, "simulation-required")
+    assert ann.get("/api/preflight").json()["require_simulation"] is True
+    ivy.put("/api/desk/gate", json={"require_simulation": False})
+    loaded = ann.post("/api/robot/project", json=body)
+    assert loaded.status_code == 200, loaded.text
+    assert _actions(web, "ivy") == [("gate.set", {"state": "on"}), ("gate.set", {"state": "off"})]
