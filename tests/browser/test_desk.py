@@ -13,7 +13,7 @@ from playwright.sync_api import Page, expect
 
 from tests.browser.conftest import Server, Session, axe_serious
 
-pytestmark = pytest.mark.timeout(120)
+pytestmark = pytest.mark.timeout(300)
 
 HASHING = 30_000  # ms: three Argon2 hashes on a loaded shared machine
 
