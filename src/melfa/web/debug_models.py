@@ -46,7 +46,7 @@ class FeedLineIn(Input):
 
 
 class StartIn(Input):
-    """How the run starts (docs/debugger.md "How a run starts"); words in `melfa.vocab.start`."""
+    """How the run starts (docs/ide.md "Debugging"); words in `melfa.vocab.start`."""
 
     servo: StartServo = StartServo.AS_IT_IS
     place: StartPlace = StartPlace.AS_IT_STANDS

@@ -1,4 +1,4 @@
-// "How the run starts" in the debugger panel (docs/debugger.md "How a run starts"): the
+// "How the run starts" in the debugger panel (docs/ide.md "Debugging"): the
 // servo, where the arm starts (as the simulator's stands, at joint angles, or at a position
 // in XYZ the server solves to joints), the override and lines for the program's INPUT #.
 // Sent as `start` with POST /api/debug; the words come from /vocab.js (melfa.vocab.start),
