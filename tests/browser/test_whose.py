@@ -237,3 +237,42 @@ def test_sign_out_leaves_no_program_text_in_the_browser(
     s.page.wait_for_url("**/login")
     stored = s.eval("() => JSON.stringify(Object.assign({}, localStorage))")
     assert "secret solution" not in stored, stored
+
+
+def test_the_editor_follows_the_running_line(
+    open_session: Any, server: Server, stop_robot: None
+) -> None:
+    filler = "".join(f"' step {i} of the long way round\n" for i in range(50))
+    program = f"MOV P1\n{filler}MOV P2\nMOV P3\nEND\n"  # P2 on line 52, off the first screen
+    s = loaded_by(open_session, server, "alice", program)
+    page = s.page
+    s.eval("() => window.melfa.editor.editor.gotoLine(1, 0, false)")
+    page.click("#act-run")
+    page.wait_for_function(
+        "() => Number(document.getElementById('editor').dataset.runLine || 0) >= 52",
+        timeout=30_000,
+    )
+    shown = s.eval(
+        """() => {
+        const e = window.melfa.editor.editor;
+        const row = Number(document.getElementById('editor').dataset.runLine) - 1;
+        return [e.getFirstVisibleRow(), row, e.getLastVisibleRow()];
+      }"""
+    )
+    first, row, last = shown
+    assert first <= row <= last, shown
+    page.click("#estop")
+
+
+def test_a_run_stopped_by_a_reload_says_so_when_the_page_is_back(
+    open_session: Any, server: Server, stop_robot: None
+) -> None:
+    s = loaded_by(open_session, server, "alice", LOOP)
+    page = s.page
+    page.click("#act-run")
+    page.wait_for_function("() => window.melfa.state && window.melfa.state.program_running")
+    page.reload()  # her only page closes while the arm moves: the service stops it
+    s.wait_ready()
+    told = page.locator(".toast", has_text="Your run was stopped")
+    expect(told).to_be_visible()
+    expect(told).to_contain_text("every page of yours had closed")
