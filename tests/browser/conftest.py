@@ -138,6 +138,8 @@ class Session:
     def wait_ready(self) -> None:
         self.page.wait_for_selector("#web-status[data-state=up]")
         self.page.wait_for_function("() => window.melfa && window.melfa.workspace?.id")
+        # The live document is here (co-editing: the editor is read-only until it is).
+        self.page.wait_for_function("() => window.melfa.workspace.live?.synced")
         self.page.wait_for_function("() => window.melfa.state && window.melfa.state.joints")
 
     def eval(self, script: str, arg: Any = None) -> Any:

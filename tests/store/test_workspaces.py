@@ -65,20 +65,30 @@ def test_identical_content_adds_no_revision(store: Store, ada: User) -> None:
     assert len(store.workspaces.revisions(ws.id)) == 1
 
 
-def test_stale_save_is_refused_with_the_current_revision(store: Store, ada: User) -> None:
+def test_stale_save_is_merged_with_what_was_saved_since(store: Store, ada: User) -> None:
+    ws = store.workspaces.personal(ada)
+    store.workspaces.save(ws.id, "A\n", "P1=(1,2,3,0,0,0)(7,0)\n", base=0, author=ada)
+    store.workspaces.save(ws.id, "A\ntab one\n", "", base=1, author=ada)  # tab 1 -> rev 2
+    merged = store.workspaces.save(
+        ws.id, "tab two\nA\n", "P2=(0,0,0,0,0,0)(7,0)\n", base=1, author=ada
+    )
+    assert merged.revision.number == 3
+    assert merged.revision.program == "tab two\nA\ntab one\n"
+    # tab one deleted P1, tab two changed it to P2: a line both changed keeps both sides.
+    assert merged.revision.points == "P2=(0,0,0,0,0,0)(7,0)\n"
+    assert store.workspaces.state(ws.id).program == "tab two\nA\ntab one\n"
+    # A stale save of what is already there is harmless.
+    same = store.workspaces.save(ws.id, "A\ntab one\n", "", base=2, author=ada)
+    assert (same.created, same.revision.number) == (False, 3)
+
+
+def test_save_on_a_revision_no_longer_kept_is_refused(store: Store, ada: User) -> None:
     ws = store.workspaces.personal(ada)
     store.workspaces.save(ws.id, "A\n", "", base=0, author=ada)
-    store.workspaces.save(ws.id, "tab one\n", "", base=1, author=ada)  # tab 1 -> rev 2
     with pytest.raises(SaveConflict) as err:
-        store.workspaces.save(ws.id, "tab two\n", "", base=1, author=ada)  # tab 2, stale
-    assert err.value.base == 1
-    assert err.value.current.number == 2
-    assert err.value.current.program == "tab one\n"
-    assert "revision 2" in str(err.value)
-    assert store.workspaces.state(ws.id).program == "tab one\n"
-    # A stale save of what is already there is harmless.
-    same = store.workspaces.save(ws.id, "tab one\n", "", base=1, author=ada)
-    assert (same.created, same.revision.number) == (False, 2)
+        store.workspaces.save(ws.id, "B\n", "", base=5, author=ada)
+    assert (err.value.base, err.value.current.number) == (5, 1)
+    assert "revision 1" in str(err.value)
 
 
 def test_restore_creates_a_new_revision(store: Store, ada: User) -> None:
@@ -96,8 +106,8 @@ def test_restore_creates_a_new_revision(store: Store, ada: User) -> None:
     assert [r.number for r in store.workspaces.revisions(ws.id)] == [3, 2, 1]
     with pytest.raises(NotFound):
         store.workspaces.restore(ws.id, 99, author=ada)
-    with pytest.raises(SaveConflict):
-        store.workspaces.restore(ws.id, 2, author=ada, base=2)
+    # Restoring 2 on top of 2 while 3 is current: the edit 2 -> 2 is none, 3 stays.
+    assert not store.workspaces.restore(ws.id, 2, author=ada, base=2).created
 
 
 def test_group_workspace_is_shared_by_members(store: Store, ada: User) -> None:

@@ -41,12 +41,27 @@ def test_autosave_then_reload_returns_what_was_typed(web: Web) -> None:
     assert (loaded["revision"], loaded["program"], loaded["points"]) == (1, PROGRAM, POINTS)
 
 
-def test_conflict_returns_current_revision(web: Web) -> None:
+def test_a_save_on_an_older_revision_merges_with_what_was_saved_since(web: Web) -> None:
+    """Issue 26: bob's save on revision 1 no longer drops ann's line (nor asks anyone to
+    choose): both lines are in the revision it makes."""
+    ws = _default(web)
+    web.ann.put(f"/api/workspaces/{ws}", json={"base": 0, "program": "MOV P1\n", "points": ""})
+    web.ann.put(f"/api/workspaces/{ws}", json={"base": 1, "program": "MOV P1\nA\n", "points": ""})
+    stale = web.bob.put(
+        f"/api/workspaces/{ws}", json={"base": 1, "program": "B\nMOV P1\n", "points": ""}
+    )
+    assert stale.status_code == 200
+    assert stale.json()["revision"]["number"] == 3
+    assert stale.json()["revision"]["program"] == "B\nMOV P1\nA\n"
+    assert web.ann.get(f"/api/workspaces/{ws}").json()["program"] == "B\nMOV P1\nA\n"
+
+
+def test_a_save_on_a_revision_not_kept_returns_the_current_one(web: Web) -> None:
     ws = _default(web)
     web.ann.put(f"/api/workspaces/{ws}", json={"base": 0, "program": "A\n", "points": ""})
-    stale = web.bob.put(f"/api/workspaces/{ws}", json={"base": 0, "program": "B\n", "points": ""})
+    stale = web.bob.put(f"/api/workspaces/{ws}", json={"base": 7, "program": "B\n", "points": ""})
     error = assert_error(stale, 409, "save-conflict")
-    assert error["detail"]["base"] == 0
+    assert error["detail"]["base"] == 7
     assert error["detail"]["current"]["number"] == 1
     assert error["detail"]["current"]["program"] == "A\n"
     assert error["detail"]["current"]["author"] == "ann"
@@ -69,8 +84,9 @@ def test_revisions_and_restore(web: Web) -> None:
     assert restored.json()["revision"]["restored_from"] == 1
     assert web.ann.get(f"/api/workspaces/{ws}").json()["program"] == "one\n"
     assert_error(web.ann.get(f"/api/workspaces/{ws}/revisions/99"), 404, "not-found")
+    # Restoring 2 ("two") from revision 3 ("three") while 4 ("one") is current: both kept.
     stale = web.ann.post(f"/api/workspaces/{ws}/revisions/2/restore", json={"base": 3})
-    assert_error(stale, 409, "save-conflict")
+    assert stale.json()["revision"]["program"] == "one\ntwo\n"
 
 
 def test_numbers_beyond_the_database_are_refused_not_crashed(web: Web) -> None:

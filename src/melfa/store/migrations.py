@@ -317,6 +317,25 @@ _SUBMISSION_FINGERPRINTS = Migration(
 """The instructor's gate's fingerprint of a graded text (`melfa.lang.plan.fingerprint_of`):
 a recorded run with the same one ran that text on the arm (the class view's column)."""
 
+_LIVE_DOCS = Migration(
+    "0013_live_docs",
+    (
+        """
+        CREATE TABLE live_docs (
+            workspace_id INTEGER PRIMARY KEY REFERENCES workspaces (id),
+            epoch TEXT NOT NULL,
+            revision INTEGER NOT NULL,
+            state BLOB NOT NULL,
+            updated TEXT NOT NULL
+        )
+        """,
+    ),
+)
+"""The shared document behind a workspace's live co-editing (`web.coedit`): its CRDT state
+as one update (``state``), which revision it was last saved as, and an ``epoch`` named when
+it was made. A browser that was offline merges its edits into the same document on
+reconnect only while the epoch is the same (a new document would duplicate the text)."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -330,5 +349,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _RUNS,
     _QUEUES,
     _SUBMISSION_FINGERPRINTS,
+    _LIVE_DOCS,
 )
 """Every migration, in the order they apply. Append only."""

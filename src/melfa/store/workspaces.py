@@ -6,8 +6,12 @@ not lost if the web page is refreshed". Rules (docs/store.md):
 * A workspace's content is its newest revision. Saving never rewrites a revision; restoring
   an old one adds a new revision with the old content.
 * Saves carry the revision the client edited (`base`). If another save landed in between
-  (a second browser tab), the save is refused with `SaveConflict` carrying the current
-  revision, instead of one tab silently overwriting the other.
+  (a partner, the desktop client, a tab that was offline), the two edits are merged line
+  by line (`merge.merge3`: no line of either is dropped; where both changed the same
+  lines, the ones saved first come first). Only when the base revision is no longer kept
+  (thinned) is the save refused with `SaveConflict` carrying the current revision.
+* A shared workspace's live document (`web.coedit`) saves with `save_live`: its revision
+  and the document's CRDT state together (`live_docs`).
 * Saving the content that is already there adds nothing (and never conflicts).
 * Explicit saves, imports, restores and the text a restore replaced are kept forever;
   autosaves are thinned
@@ -17,12 +21,15 @@ not lost if the web page is refreshed". Rules (docs/store.md):
 from __future__ import annotations
 
 import sqlite3
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from datetime import datetime, timedelta
 
 from melfa.store.accounts import Accounts
 from melfa.store.db import Database
 from melfa.store.errors import AccessDenied, AlreadyExists, InvalidValue, NotFound, SaveConflict
+from melfa.store.live_docs import LiveDoc, keep_live_doc, read_live_doc
+from melfa.store.merge import merge3
 from melfa.store.models import (
     Revision,
     RevisionInfo,
@@ -295,16 +302,17 @@ class Workspaces:
     def state(self, workspace_id: int) -> WorkspaceState:
         """The current content and the revision number to send back with the next save."""
 
-        def read(conn: sqlite3.Connection) -> WorkspaceState:
-            ws = conn.execute(_WS_SELECT + " WHERE w.id = ?", (workspace_id,)).fetchone()
-            if ws is None:
-                raise NotFound(f"no workspace {workspace_id}")
-            head = _head(conn, workspace_id, ws["head"])
-            if head is None:
-                return WorkspaceState(_workspace(ws), 0, "", "")
-            return WorkspaceState(_workspace(ws), head.number, head.program, head.points)
+        return self.db.read(lambda conn: self._state(conn, workspace_id))
 
-        return self.db.read(read)
+    @staticmethod
+    def _state(conn: sqlite3.Connection, workspace_id: int) -> WorkspaceState:
+        ws = conn.execute(_WS_SELECT + " WHERE w.id = ?", (workspace_id,)).fetchone()
+        if ws is None:
+            raise NotFound(f"no workspace {workspace_id}")
+        head = _head(conn, workspace_id, ws["head"])
+        if head is None:
+            return WorkspaceState(_workspace(ws), 0, "", "")
+        return WorkspaceState(_workspace(ws), head.number, head.program, head.points)
 
     def save(
         self,
@@ -318,7 +326,9 @@ class Workspaces:
     ) -> SaveResult:
         """Store new content on top of revision `base` (0 for a never-saved workspace).
 
-        `SaveConflict` when `base` is not the newest revision and the content differs.
+        When `base` is not the newest revision, the edit from `base` to this content is
+        merged with what was saved since (`merge3`); `SaveConflict` only when revision
+        `base` is no longer kept.
         """
         _check_size("program", program)
         _check_size("points", points)
@@ -351,7 +361,14 @@ class Workspaces:
         if current.program == program and current.points == points:
             return SaveResult(current, created=False)
         if base is not None and base != current.number:
-            raise SaveConflict(base, current)
+            old = _head(conn, workspace_id, base) if 0 < base < current.number else None
+            if old is None and base != 0:
+                raise SaveConflict(base, current)
+            old_program, old_points = (old.program, old.points) if old else ("", "")
+            program = merge3(old_program, current.program, program)
+            points = merge3(old_points, current.points, points)
+            if current.program == program and current.points == points:
+                return SaveResult(current, created=False)
         number = head_number + 1
         conn.execute(
             "INSERT INTO revisions (workspace_id, number, author_id, author, created, reason,"
@@ -400,6 +417,51 @@ class Workspaces:
             else:
                 seen.add(bucket)
         conn.executemany("DELETE FROM revisions WHERE id = ?", doomed)
+
+    def save_live(
+        self,
+        workspace_id: int,
+        program: str,
+        points: str,
+        *,
+        authors: Sequence[User],
+        epoch: str,
+        state: bytes,
+    ) -> SaveResult:
+        """The live document's text as a new autosave revision by everyone who typed in
+        it since the last one (its author reads "alice, bob"), with its CRDT state. The live
+        document is the workspace while it is open, so no base is checked: saves from
+        elsewhere were merged into it first (`web.coedit`)."""
+        _check_size("program", program)
+        _check_size("points", points)
+        now = self.db.clock()
+
+        def write(conn: sqlite3.Connection) -> SaveResult:
+            author = authors[0] if authors else None
+            result = self._save(
+                conn, workspace_id, program, points, None, author, SaveReason.AUTOSAVE, now, None
+            )
+            names = ", ".join(dict.fromkeys(a.username for a in authors))
+            if result.created and len(authors) > 1:
+                conn.execute(
+                    "UPDATE revisions SET author = ? WHERE workspace_id = ? AND number = ?",
+                    (names, workspace_id, result.revision.number),
+                )
+                result = SaveResult(replace(result.revision, author=names), created=True)
+            doc = LiveDoc(workspace_id, epoch, result.revision.number, state)
+            keep_live_doc(conn, doc, to_text(now))
+            return result
+
+        return self.db.write(write)
+
+    def live_doc(self, workspace_id: int) -> tuple[LiveDoc | None, WorkspaceState]:
+        """The live document's stored state (None before its first save) and the
+        workspace's newest revision, read together."""
+
+        def read(conn: sqlite3.Connection) -> tuple[LiveDoc | None, WorkspaceState]:
+            return read_live_doc(conn, workspace_id), self._state(conn, workspace_id)
+
+        return self.db.read(read)
 
     # --- files ----------------------------------------------------------------------------
 

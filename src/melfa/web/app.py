@@ -22,6 +22,7 @@ from melfa.service.clock import Clock
 from melfa.store import Store
 from melfa.web import errors
 from melfa.web.audit_sink import ServiceAuditSink
+from melfa.web.coedit import CoeditHub
 from melfa.web.config import SESSION_COOKIE, WebSettings
 from melfa.web.context import WebContext
 from melfa.web.deps import find_session
@@ -37,6 +38,7 @@ from melfa.web.routes import (
     assignments,
     audit,
     check,
+    coedit,
     debug,
     desk,
     health,
@@ -145,6 +147,12 @@ def create_app(
                 queue_clock or Clock(time.time),
             )
             context.queues[LAB] = await turns.start()
+            context.coedit = CoeditHub(
+                config.coedit,
+                context.db,
+                the_store.workspaces.live_doc,
+                the_store.workspaces.save_live,
+            )
             app.state.web = context
             keeper: RunKeeper | None = None
             if the_service.recorder is None:  # every run on the lab robot is recorded
@@ -161,6 +169,7 @@ def create_app(
                         await task
                 for queue in context.queues.values():
                     await queue.close()
+                await context.coedit.close()
                 await registry.close()
                 if keeper is not None:
                     the_service.stop_recording()  # a run under way ends with the server
@@ -213,6 +222,7 @@ def create_app(
     app.include_router(model.router)
     app.include_router(vocab.router)
     app.include_router(ws_router)
+    app.include_router(coedit.router)
     app.include_router(rosbridge_routes())
     app.mount("/static", CachedStaticFiles(directory=STATIC), name="static")
     app.add_middleware(

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from melfa.service import ServiceConfig
 from melfa.service.queue import QueueSettings
+from melfa.web.coedit import CoeditSettings
 from melfa.web.limits import Limits
 from melfa.web.pools import PoolSizes
 
@@ -47,6 +48,9 @@ class WebSettings:
     private_idle_s: float = 1800.0
     """A private simulator nobody used (no request, no open socket) for this long is freed;
     its owner's programs stay in the workspace and a new one is made on next use."""
+
+    coedit: CoeditSettings = field(default_factory=CoeditSettings)
+    """When a live document becomes a revision; when a silent editor is let go."""
 
     require_simulation: bool = False
     """The instructor's gate: the lab robot loads and runs a program only after the same

@@ -12,6 +12,7 @@ from melfa.ros.rosapi import ParamBudget
 from melfa.service import Actor, RobotService
 from melfa.service.queue_keeper import QueueKeeper
 from melfa.store import Store
+from melfa.web.coedit import CoeditHub
 from melfa.web.config import WebSettings
 from melfa.web.guard import SocketGuard
 from melfa.web.pools import Pools
@@ -63,6 +64,8 @@ class WebContext:
     """The rosapi parameters every /rosbridge socket holds, against one total."""
     queues: dict[str, QueueKeeper] = field(default_factory=dict)
     """The queue of each shared robot, by target id (``lab``)."""
+    coedit: CoeditHub = field(init=False)
+    """Live co-editing: the open workspaces' shared documents (set by `create_app`)."""
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
         """Run a store call off the event loop, in the store's own pool (never behind a

@@ -1,6 +1,7 @@
 """The signed-in user's workspaces: list, create (named, optionally from an opened file),
-rename and archive; read, autosave with a base revision (409 on conflict, with what is
-stored now), history and restore, `.MB4`/`.POS` import and export."""
+rename and archive; read, save with a base revision (merged line by line with what was
+saved since, and into the live document while the workspace is open: `web.coedit`),
+history and restore, `.MB4`/`.POS` import and export."""
 
 from __future__ import annotations
 
@@ -117,17 +118,23 @@ async def get_workspace(
 async def save_workspace(
     workspace_id: WorkspaceId, body: SaveIn, session: SessionDep, context: ContextDep
 ) -> SaveOut:
-    """Store program and points on top of revision ``base``; 409 ``save-conflict`` with the
-    current revision in ``error.detail.current`` when someone saved meanwhile."""
+    """Store program and points on top of revision ``base``. When someone saved meanwhile
+    (or is editing it live), this edit is merged with theirs line by line: no line of
+    either is dropped, and the merged text is the revision returned. 409 ``save-conflict``
+    (the current revision in ``error.detail.current``) only when revision ``base`` is no
+    longer kept."""
     ws = await open_workspace(context, session.user, workspace_id)
-    result = await context.db(
-        context.store.workspaces.save,
+    result = await context.coedit.rest_write(
         ws.id,
-        body.program,
-        body.points,
-        base=body.base,
-        author=session.user,
-        reason=SaveReason(body.reason),
+        lambda: context.db(
+            context.store.workspaces.save,
+            ws.id,
+            body.program,
+            body.points,
+            base=body.base,
+            author=session.user,
+            reason=SaveReason(body.reason),
+        ),
     )
     for queue in context.queues.values():  # a queued text that changed is marked stale
         queue.workspace_saved(ws.id, result.revision.program, result.revision.points)
@@ -177,8 +184,11 @@ async def restore_revision(
     context: ContextDep,
 ) -> SaveOut:
     ws = await open_workspace(context, session.user, workspace_id)
-    result = await context.db(
-        context.store.workspaces.restore, ws.id, number, author=session.user, base=body.base
+    result = await context.coedit.rest_write(
+        ws.id,
+        lambda: context.db(
+            context.store.workspaces.restore, ws.id, number, author=session.user, base=body.base
+        ),
     )
     return SaveOut(revision=revision_out(result.revision), created=result.created)
 
@@ -198,13 +208,16 @@ async def import_file(
     data = await file.read(MAX_UPLOAD_BYTES + 1)
     if len(data) > MAX_UPLOAD_BYTES:
         raise ApiError(413, "too-large", f"{filename}: files above 2 MiB are not accepted")
-    result = await context.db(
-        context.store.workspaces.import_file,
+    result = await context.coedit.rest_write(
         ws.id,
-        filename,
-        data,
-        base=base,
-        author=session.user,
+        lambda: context.db(
+            context.store.workspaces.import_file,
+            ws.id,
+            filename,
+            data,
+            base=base,
+            author=session.user,
+        ),
     )
     return SaveOut(revision=revision_out(result.revision), created=result.created)
 

@@ -38,6 +38,9 @@ export class ProgramEditor extends EventTarget {
       scrollPastEnd: 0.3,
     });
     editor.textInput.getElement().setAttribute("aria-label", "Program (MELFA BASIC IV)");
+    // Undo and redo take back this page's own edits, never a partner's (coedit.js).
+    editor.commands.addCommand({ name: "undo", bindKey: { win: "Ctrl-Z", mac: "Command-Z" }, exec: () => workspace.live?.undo.undo() });
+    editor.commands.addCommand({ name: "redo", bindKey: { win: "Ctrl-Shift-Z|Ctrl-Y", mac: "Command-Shift-Z|Command-Y" }, exec: () => workspace.live?.undo.redo() });
     editor.commands.addCommand({ name: "melfaCheck", bindKey: { win: "F7", mac: "F7" }, exec: () => this.check() });
     // Tab should leave the editor for keyboard users when pressed with Escape first (Ace default keeps it).
     this.editor = editor;
@@ -52,12 +55,17 @@ export class ProgramEditor extends EventTarget {
     });
     this.liveCheck = debounce(() => this.check(), CHECK_DELAY_MS);
 
-    this.session.on("change", () => {
+    // Typing is an edit of the live document (workspace.js, coedit.js); partners' edits
+    // come back as Yjs deltas applied in place, so this editor's cursor stays put.
+    this.session.on("change", (delta) => {
       if (this.settingText) return;
-      this.workspace.update({ program: this.session.getValue() });
+      this.workspace.editProgram(delta, this.session.doc);
       if (this.liveBox.checked) this.liveCheck();
     });
     workspace.on("replaced", () => this.setText(workspace.program));
+    workspace.on("remote", ({ delta }) => this.applyRemote(delta));
+    workspace.on("access", () => this.editor.setReadOnly(!workspace.writable));
+    this.editor.setReadOnly(true); // until the live document is here
     workspace.on("points", () => {
       if (this.liveBox.checked) this.liveCheck();
     });
@@ -80,6 +88,31 @@ export class ProgramEditor extends EventTarget {
     this.editor.clearSelection();
     this.settingText = false;
     this.clear();
+    if (this.liveBox.checked) this.liveCheck();
+  }
+
+  /** A partner's edit (a Yjs delta on the program): applied where it was made. */
+  applyRemote(delta) {
+    const doc = this.session.doc;
+    this.settingText = true;
+    try {
+      let index = 0;
+      for (const op of delta) {
+        if (op.retain) {
+          index += op.retain;
+        } else if (typeof op.insert === "string") {
+          doc.insert(doc.indexToPosition(index, 0), op.insert);
+          index += op.insert.length;
+        } else if (op.delete) {
+          const from = doc.indexToPosition(index, 0);
+          const to = doc.indexToPosition(index + op.delete, 0);
+          doc.remove(new Range(from.row, from.column, to.row, to.column));
+        }
+      }
+    } finally {
+      this.settingText = false;
+    }
+    if (this.session.getValue() !== this.workspace.program) this.setText(this.workspace.program);
     if (this.liveBox.checked) this.liveCheck();
   }
 

@@ -4,6 +4,7 @@
 
 import { api, setCsrf } from "./api.js";
 import { ProgramEditor } from "./editor.js";
+import { PresenceView } from "./coedit-view.js";
 import { ActionLog } from "./actionlog.js";
 import { AssignmentsPanel } from "./assign.js";
 import { commandLabel, describeActivity } from "./activity.js";
@@ -79,6 +80,7 @@ async function main() {
   app.workspace = workspace;
   const editor = new ProgramEditor(workspace);
   app.editor = editor;
+  app.presence = new PresenceView(workspace, editor);
   const points = new PointsTab(workspace, app);
   app.points = points;
   editor.onAddPoint = (name) => points.addFromRobot(name);
@@ -111,6 +113,7 @@ async function main() {
   try {
     app.switcher = new WorkspaceSwitcher(workspace, app.user);
     await workspace.open();
+    await workspace.whenSynced();
     // The welcome project greets an empty default workspace, never one made empty on purpose.
     if (workspace.id === workspace.defaultId) welcomed = await welcome(workspace, editor);
   } catch (err) {
@@ -134,10 +137,7 @@ async function main() {
   points.check();
   if (editor.liveBox.checked) editor.check();
   window.addEventListener("beforeunload", (e) => {
-    if (workspace.dirty) {
-      workspace.writeDraft(); // kept in this browser either way
-      workspace.save("autosave");
-    }
+    workspace.live?.keepNow(); // edits not yet at the server stay in this browser
     if (app.jog.held) app.jog.stopJog();
   });
 }
@@ -406,7 +406,7 @@ function wireToolbar(workspace, editor) {
       const name = await workspace.exportFile(kind);
       toast(`Saved ${name}`, { kind: "ok", text: kind === "program" ? "Numbered 10, 20, 30…; jumps rewritten to match." : "Points in the controller's format." });
     } catch (err) {
-      if (err.code !== "save-conflict") showError("Could not save the file", err);
+      showError("Could not save the file", err);
     }
   });
   $("act-check").addEventListener("click", async () => {

@@ -1,16 +1,16 @@
-// The workspace: program + points, autosaved to the server with the base revision, and a
-// draft in localStorage on every keystroke so a reload, a dropped connection or a crashed
-// tab never loses typing. A 409 conflict asks the student (keep mine / load theirs); edits
-// are never dropped silently. One object follows the CURRENT workspace: switching to
-// another (or creating one) saves the edits first, then swaps id and texts, so everything
-// holding `app.workspace` (editor, points, history, debugger, load, export) acts on it.
+// The workspace: program + points, edited live with everyone who has it open (coedit.js:
+// a Yjs document kept in step with the server's and every partner's). Every edit reaches
+// the server as it is typed; the server saves the document as revisions (History). Two
+// people typing at once both keep their lines, so no dialog ever asks anyone to choose;
+// offline, edits stay in this browser and merge when the connection is back. One object
+// follows the CURRENT workspace: switching to another (or creating one) saves first, then
+// swaps id and texts, so everything holding `app.workspace` (editor, points, history,
+// debugger, load, export) acts on it.
 
-import { api, ApiError, OfflineError, downloadText } from "./api.js";
+import { api, downloadText } from "./api.js";
+import { CoeditSession, EDITOR, spliceTo } from "./coedit.js";
 import { showDiff } from "./opener.js";
-import { $, debounce, el, showError, toast } from "./ui.js";
-
-const AUTOSAVE_MS = 1200;
-const RETRY_MS = 5000;
+import { $, el, showError, toast } from "./ui.js";
 
 export class Workspace extends EventTarget {
   constructor(user) {
@@ -23,19 +23,13 @@ export class Workspace extends EventTarget {
     this.shared = false;
     this.list = []; // what GET /api/workspaces gave: [{id, kind, owner, name, shared}]
     this.defaultId = null;
-    this.base = 0; // the revision our texts are based on
+    this.base = 0; // the newest revision the server saved
     this.program = "";
     this.points = "";
-    this.saved = { program: "", points: "" }; // what the server has at `base`
-    this.saving = null; // the save in flight
-    this.again = false; // another save is needed after it
-    this.conflictOpen = false;
-    this.autosave = debounce(() => this.save("autosave"), AUTOSAVE_MS);
-    this.retryTimer = null;
-  }
-
-  get draftKey() {
-    return `melfa.draft.${this.user}.${this.id}`;
+    this.live = null; // the CoeditSession of the current workspace
+    this.pending = false; // edits since the last revision
+    this.offlineEdits = false; // edits the server has not had yet (typed offline)
+    this.editAnyway = new Set(); // staff: workspaces of others they chose to edit
   }
 
   /** The workspace's name as a file name stem (downloads are named after it). */
@@ -43,8 +37,25 @@ export class Workspace extends EventTarget {
     return (this.name || this.owner || "program").replace(/[^A-Za-z0-9._-]+/g, "_").replace(/^[._]+|[._]+$/g, "") || "program";
   }
 
+  /** Edits not in a revision yet (the server saves them shortly), or typed offline (kept
+   * in this browser until the server has them). */
   get dirty() {
-    return this.program !== this.saved.program || this.points !== this.saved.points;
+    return this.pending || this.offlineEdits;
+  }
+
+  /** Resolves once the live document is here (or after `ms`, offline). */
+  whenSynced(ms = 10000) {
+    const live = this.live;
+    if (!live || live.synced) return Promise.resolve(Boolean(live));
+    return new Promise((resolve) => {
+      live.on("welcome", () => resolve(true));
+      setTimeout(() => resolve(live.synced), ms);
+    });
+  }
+
+  /** This browser may type here (synced, and a member or staff who chose to edit). */
+  get writable() {
+    return Boolean(this.live && this.live.synced && this.live.writable);
   }
 
   emit(type, detail = {}) {
@@ -75,8 +86,8 @@ export class Workspace extends EventTarget {
     return this.list;
   }
 
-  /** Open the workspace opened last in this browser (else the default one); restore an
-   * unsaved draft or ask when it conflicts. */
+  /** Open the workspace opened last in this browser (else the default one); edits this
+   * browser kept (typed offline) merge into it. */
   async open() {
     await this.refreshList();
     let last = null;
@@ -84,11 +95,11 @@ export class Workspace extends EventTarget {
     await this.load(this.list.some((w) => w.id === last && !w.archived) ? last : this.defaultId);
   }
 
-  /** Load workspace `id` into this object (nothing of the previous one is kept here). */
+  /** Load workspace `id` into this object (nothing of the previous one is kept here) and
+   * join its live document. */
   async load(id) {
     const ws = await api("GET", `/api/workspaces/${id}`);
-    clearTimeout(this.retryTimer);
-    this.autosave.cancel();
+    this.live?.close();
     this.id = ws.id;
     this.owner = ws.owner;
     this.name = ws.name;
@@ -96,37 +107,65 @@ export class Workspace extends EventTarget {
     this.shared = ws.shared;
     try { localStorage.setItem(this.lastKey, String(ws.id)); } catch { /* no storage */ }
     this.base = ws.revision;
-    this.saved = { program: ws.program, points: ws.points };
     this.program = ws.program;
     this.points = ws.points;
-    const draft = this.readDraft();
-    if (draft && (draft.program !== ws.program || draft.points !== ws.points)) {
-      if (draft.base === ws.revision) {
-        // Typed but never saved (reload, network gone): keep typing where it stopped.
-        this.program = draft.program;
-        this.points = draft.points;
-        toast("Unsaved edits restored", { kind: "info", text: "Your last edits were kept in this browser; saving them now." });
-        this.autosave();
+    this.pending = false;
+    this.offlineEdits = false;
+    const live = new CoeditSession(ws.id, this.user, { edit: this.editAnyway.has(ws.id) });
+    this.live = live;
+    const mine = (fn) => (detail) => { if (this.live === live) fn(detail); };
+    const synced = mine(() => {
+      this.program = live.program.toString();
+      this.points = live.points.toString();
+      this.base = live.revision;
+      this.offlineEdits = false;
+      this.emit("replaced", { source: "live" });
+      this.emit("points", {});
+      this.emit("access", {});
+      this.showStatus();
+    });
+    live.on("welcome", synced);
+    live.on("reset", synced);
+    live.on("change", mine(({ field, delta, local, fromEditor }) => {
+      this.pending = true;
+      if (local && !live.online) this.offlineEdits = true;
+      if (field === "program") {
+        this.program = live.program.toString();
+        if (!fromEditor) this.emit("remote", { delta }); // a partner's, an undo, a file
       } else {
-        this.program = draft.program;
-        this.points = draft.points;
-        this.emit("replaced", { source: "draft" });
-        this.conflict({ number: ws.revision, author: "?", program: ws.program, points: ws.points, created: "" }, true);
+        this.points = live.points.toString();
+        this.emit("points", {});
       }
-    } else if (draft) {
-      this.clearDraft();
-    }
+      this.showStatus();
+    }));
+    live.on("status", mine(() => this.showStatus()));
+    live.on("saved", mine((saved) => {
+      this.base = saved.revision;
+      this.pending = false;
+      this.showStatus();
+      this.emit("saved", { number: saved.revision, authors: saved.authors });
+    }));
+    live.on("presence", mine(({ peers }) => this.emit("presence", { peers })));
     this.emit("replaced", { source: "open" });
     this.emit("switched", {});
+    this.emit("access", {});
     this.showStatus();
+    await this.whenSynced(5000); // typing starts on the live document
   }
 
-  /** Save what is typed before leaving this workspace: true when the server has it. A
-   * conflict opens the usual dialog (and stays here); offline keeps the draft here. */
+  /** Staff: edit this workspace of someone else (it opens read-only). */
+  async editHere() {
+    this.editAnyway.add(this.id);
+    await this.load(this.id);
+  }
+
+  /** Save what is typed before leaving this workspace (a revision, when online).
+   * Offline, the edits are kept in this browser and merge on the next visit. */
   async flush() {
-    if (this.saving) await this.saving.catch(() => {});
-    if (this.dirty && !this.conflictOpen) await this.save("autosave").catch(() => {});
-    return !this.dirty && !this.conflictOpen;
+    if (!this.live) return true;
+    this.live.keepNow();
+    if (this.live.online) await this.live.flush();
+    return true; // offline edits are kept in this browser and merge on the next visit
   }
 
   /** Switch to workspace `id`, never losing edits: false (and a message) if they could
@@ -177,134 +216,55 @@ export class Workspace extends EventTarget {
     return this.list.filter((w) => w.kind === "personal" && w.owner === this.user).map((w) => w.name);
   }
 
-  readDraft() {
-    try {
-      const draft = JSON.parse(localStorage.getItem(this.draftKey) || "null");
-      return draft && typeof draft.program === "string" ? draft : null;
-    } catch {
-      return null;
-    }
-  }
-
-  writeDraft() {
-    try {
-      localStorage.setItem(this.draftKey, JSON.stringify({ base: this.base, program: this.program, points: this.points, at: Date.now() }));
-    } catch {
-      /* storage full or disabled: the server copy still saves */
-    }
-  }
-
-  clearDraft() {
-    localStorage.removeItem(this.draftKey);
-  }
-
-  /** The editor changed the program (or the points tab the points). */
+  /** The points tab (or anything but the editor) changed a text: as edits of the live
+   * document, so partners' concurrent edits elsewhere in it stay. */
   update({ program, points }) {
-    if (program !== undefined) this.program = program;
-    if (points !== undefined) this.points = points;
-    if (this.dirty) {
-      this.writeDraft();
-      this.status("Unsaved changes…", "dirty");
-      this.autosave();
-    } else {
-      this.showStatus();
-    }
-    if (points !== undefined) this.emit("points", {});
+    if (!this.writable) return;
+    if (program !== undefined) spliceTo(this.live.program, program);
+    if (points !== undefined) spliceTo(this.live.points, points);
   }
 
-  /** Replace both texts (restore, load theirs, file opened): the editor follows. */
+  /** The editor's own change (an Ace delta on `aceDoc`), as the same edit of the program. */
+  editProgram(delta, aceDoc) {
+    if (!this.writable) return;
+    const text = this.live.program;
+    const index = aceDoc.positionToIndex(delta.start);
+    const chunk = delta.lines.join("\n");
+    this.live.doc.transact(() => {
+      if (delta.action === "insert") text.insert(index, chunk);
+      else text.delete(index, chunk.length);
+    }, EDITOR);
+  }
+
+  /** Replace both texts (a file opened, the welcome project): the editor follows. */
   replace({ program, points }, source) {
-    if (program !== undefined) this.program = program;
-    if (points !== undefined) this.points = points;
+    this.update({ program, points });
     this.emit("replaced", { source });
     this.emit("points", {});
-    this.update({});
   }
 
   showStatus() {
-    if (this.dirty) this.status("Unsaved changes…", "dirty");
-    else this.status(this.base ? `Saved · revision ${this.base}` : "Not saved yet");
+    const live = this.live;
+    if (!live) return this.status("—");
+    if (live.state === "refused") return this.status("Cannot open this workspace", "error");
+    if (live.state === "offline") {
+      return this.status(live.synced ? "Offline — edits kept here; they merge when the connection is back" : "Offline — connecting…", "error");
+    }
+    if (!live.synced) return this.status("Connecting…");
+    if (!live.writable) return this.status(`Read-only · revision ${this.base}`);
+    if (this.pending) return this.status("Live · saving…", "dirty");
+    this.status(this.base ? `Saved · revision ${this.base}` : "Not saved yet");
   }
 
-  /** Save now (reason autosave|save). Resolves when the server has our texts. */
+  /** Save now: the server makes a revision of the live document. Resolves true once it
+   * has; false offline (the edits stay in this browser). */
   async save(reason = "autosave") {
-    this.autosave.cancel();
-    if (this.saving) {
-      this.again = true;
-      await this.saving.catch(() => {});
-      if (!this.dirty && reason === "autosave") return;
+    if (!this.live) return false;
+    const done = await this.flush().then(() => this.live.online);
+    if (!done && reason !== "autosave") {
+      throw new Error("You are offline: your edits are kept in this browser and saved when the connection is back.");
     }
-    if (!this.dirty && reason === "autosave") return;
-    if (this.conflictOpen) return;
-    const sent = { program: this.program, points: this.points };
-    const id = this.id;
-    this.status("Saving…");
-    const job = api("PUT", `/api/workspaces/${id}`, { base: this.base, ...sent, reason });
-    this.saving = job;
-    try {
-      const out = await job;
-      if (id !== this.id) return; // switched meanwhile (never: switching waits for saves)
-      this.base = out.revision.number;
-      this.saved = { program: out.revision.program, points: out.revision.points };
-      clearTimeout(this.retryTimer);
-      if (!this.dirty) this.clearDraft();
-      else this.writeDraft();
-      this.showStatus();
-      this.emit("saved", out.revision);
-    } catch (err) {
-      if (err instanceof ApiError && err.code === "save-conflict") {
-        this.conflict(err.detail.current);
-      } else if (err instanceof OfflineError || err.status >= 500) {
-        this.status("Offline — edits kept in this browser", "error");
-        clearTimeout(this.retryTimer);
-        this.retryTimer = setTimeout(() => this.save("autosave"), RETRY_MS);
-      } else {
-        this.status("Not saved", "error");
-        showError("Could not save the workspace", err);
-      }
-      if (reason !== "autosave") throw err;
-    } finally {
-      this.saving = null;
-      if (this.again) {
-        this.again = false;
-        if (this.dirty) this.autosave();
-      }
-    }
-  }
-
-  /** Someone saved meanwhile (`current` is their revision): ask, never drop edits. */
-  conflict(current, fromDraft = false) {
-    if (this.conflictOpen) return;
-    this.conflictOpen = true;
-    this.status("Conflict — choose a version", "error");
-    const dialog = $("conflict-dialog");
-    const who = current.author && current.author !== "?" ? `${current.author} saved revision ${current.number}` : `The workspace is now at revision ${current.number}`;
-    $("conflict-text").textContent = fromDraft
-      ? `This browser holds edits made on revision ${this.readDraft()?.base ?? "?"}, but ${who.charAt(0).toLowerCase() + who.slice(1)}. Keep your edits (they become the newest revision; theirs stays in the history) or load theirs (yours can be downloaded first).`
-      : `${who} while you were editing. Keep your edits (they become the newest revision; theirs stays in the history) or load theirs (download yours first if you want them).`;
-    const finish = () => {
-      this.conflictOpen = false;
-      dialog.close();
-    };
-    $("conflict-mine").onclick = () => {
-      finish();
-      this.base = current.number;
-      this.saved = { program: current.program, points: current.points };
-      this.save("save").catch(() => {});
-    };
-    $("conflict-theirs").onclick = () => {
-      finish();
-      this.base = current.number;
-      this.saved = { program: current.program, points: current.points };
-      this.clearDraft();
-      this.replace({ program: current.program, points: current.points }, "theirs");
-    };
-    $("conflict-download").onclick = () => {
-      downloadText(this.program, `${this.fileStem}-mine.MB4`);
-      if (this.points) downloadText(this.points, `${this.fileStem}-mine.POS`);
-    };
-    dialog.addEventListener("cancel", (e) => e.preventDefault(), { once: true }); // a choice is required
-    if (!dialog.open) dialog.showModal();
+    return done;
   }
 
   /** Save, then download the server's numbered export (kind program|points). */
@@ -340,25 +300,21 @@ export class Workspace extends EventTarget {
     }
   }
 
+  /** Make revision `number` current again: the server saves what is typed first, then
+   * edits the live document into the old text, for everyone who has it open. */
   async restore(number) {
-    await this.save("autosave").catch(() => {}); // the current text becomes a revision first
     try {
-      const out = await api("POST", `/api/workspaces/${this.id}/revisions/${number}/restore`, { base: this.base });
-      this.base = out.revision.number;
-      this.saved = { program: out.revision.program, points: out.revision.points };
-      this.clearDraft();
-      this.replace({ program: out.revision.program, points: out.revision.points }, "restore");
-      toast(`Revision ${number} restored`, { kind: "ok", text: `It is now revision ${out.revision.number}.` });
+      const out = await api("POST", `/api/workspaces/${this.id}/revisions/${number}/restore`, {});
+      toast(`Revision ${number} restored`, { kind: "ok", text: `It is now revision ${out.revision.number}; the text it replaced stays in History.` });
       this.loadHistory();
     } catch (err) {
-      if (err.code === "save-conflict") this.conflict(err.detail.current);
-      else showError("Could not restore", err);
+      showError("Could not restore", err);
     }
   }
 }
 
 // Revisions named by what made them.
-const REASONS = { autosave: "Autosaved", save: "Saved", file: "Opened a file", restore: "Restored", import: "Imported", theirs: "Their version" };
+const REASONS = { autosave: "Autosaved", save: "Saved", file: "Opened a file", restore: "Restored", import: "Imported" };
 
 function formatTime(iso) {
   const date = new Date(/[zZ]|[+-]\d\d:?\d\d$/.test(iso) ? iso : iso + "Z"); // store times are UTC
