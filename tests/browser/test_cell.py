@@ -12,6 +12,7 @@ import pytest
 from playwright.sync_api import Browser, expect
 
 from tests.browser.conftest import SCREENSHOTS, Server, Session, serving
+from tests.browser.test_debugger import gutter
 
 pytestmark = pytest.mark.timeout(240)
 
@@ -35,6 +36,15 @@ def close_up(s: Session, name: str) -> None:
     SCREENSHOTS.mkdir(parents=True, exist_ok=True)
     s.page.mouse.move(0, 0)
     s.page.locator("#view3d").screenshot(path=str(SCREENSHOTS / f"{name}.png"))
+
+
+HELD = "JSON.parse(document.getElementById('view3d').dataset.parts)['block 6'][3] === 1"
+PROGRAM = (EXAMPLES / "pyramid.MB4").read_text(encoding="utf-8")
+
+
+def line_of(text: str, after: int = 0) -> int:
+    lines = PROGRAM.splitlines()
+    return next(n for n in range(after + 1, len(lines) + 1) if lines[n - 1].strip() == text)
 
 
 def parts(s: Session) -> dict[str, list[float]]:
@@ -91,26 +101,56 @@ def test_an_instructor_builds_the_cell_from_the_thesis_bench(browser: Browser, l
         s.close()
 
 
+def bench_as_the_lab_cell(browser: Browser, lab: Server) -> None:
+    """The instructor's part of it through the API (the test above does it in the page)."""
+    admin = browser.new_context()
+    try:
+        reply = admin.request.post(
+            lab.url + "/api/session", data={"username": "admin", "password": lab.passwords["admin"]}
+        )
+        headers = {"X-CSRF-Token": reply.json()["csrf_token"]}
+        bench = admin.request.get(lab.url + "/api/preflight/templates/thesis-bench").json()
+        assert admin.request.put(lab.url + "/api/preflight/cell", data=bench, headers=headers).ok
+    finally:
+        admin.close()
+
+
 def test_a_debug_run_moves_the_blocks_in_the_3d_view(browser: Browser, lab: Server) -> None:
+    bench_as_the_lab_cell(browser, lab)
     s = Session(browser, lab, "bob")
     try:
         s.login_api()
         page = s.page
-        s.set_program((EXAMPLES / "pyramid.MB4").read_text(encoding="utf-8"))
+        s.set_program(PROGRAM)
         s.set_points((EXAMPLES / "pyramid.POS").read_text(encoding="utf-8"))
         s.eval("() => window.melfa.targets.choose('mine')")
         expect(page.locator("#debug-bar")).to_be_visible()
         page.wait_for_function("() => document.getElementById('view3d').dataset.cellParts === '6'")
         start = parts(s)
-        page.select_option("#dbg-speed", "x10")
+        # stop where the hand has just closed on the top block, and where it is about to
+        # let it go on the pyramid's first place
+        editor = "window.melfa.editor.editor"
+        for line in (line_of("DLY 0.5"), line_of("HOPEN 1", after=30)):
+            s.eval(f"(n) => {editor}.scrollToLine(n - 5, false, false, () => {{}})", line)
+            gutter(page, line)
+        page.select_option("#dbg-speed", "instant")
         page.click("#dbg-start")
-        # the top block rides in the gripper, lifted off the stack …
+        expect(page.locator("#dbg-status")).to_contain_text("breakpoint")
+        page.wait_for_function(f"() => {HELD}")
+        assert parts(s)["block 6"] == [350, -250, 225, 1]  # in the gripper, at the stack
+        page.click("#dbg-continue")
         page.wait_for_function(
-            """() => { const p = JSON.parse(document.getElementById('view3d').dataset.parts);
-                       const b = p['block 6']; return b[3] === 1 && b[2] > 260; }"""
+            f"() => {HELD} && JSON.parse(document.getElementById('view3d').dataset.parts)"
+            "['block 6'][1] === 150"
         )
+        # carried across the bench by the arm, still in the gripper
+        assert parts(s)["block 6"] == [380, 150, 100, 1]
         close_up(s, "cell-carrying")
-        # … and the run ends with the six blocks stacked 3-2-1 where the program puts them
+        for line in (line_of("DLY 0.5"), line_of("HOPEN 1", after=30)):
+            s.eval(f"(n) => {editor}.scrollToLine(n - 5, false, false, () => {{}})", line)
+            gutter(page, line)
+        page.click("#dbg-continue")
+        # the run ends with the six blocks stacked 3-2-1 where the program puts them
         expect(page.locator("#debug-panel")).to_contain_text("Finished", timeout=60_000)
         end = parts(s)
         assert end != start
