@@ -117,3 +117,33 @@ def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) 
     toggle.click()
     expect(toggle).to_have_attribute("aria-pressed", "false")
     assert required() is False
+
+
+def test_an_instructors_stop_holds_until_released(open_session: Any, server: Server) -> None:
+    server.add_user("ola", role="instructor")
+    ola: Session = open_session("ola")
+    page = _desk(ola)
+    alice: Session = open_session("alice")
+    hold = page.locator("#hold-toggle")
+    expect(hold).to_have_attribute("aria-pressed", "false")
+    hold.click()
+    expect(hold).to_have_attribute("aria-pressed", "true")
+    expect(page.locator("#hold-state")).to_contain_text("Held by ola")
+    _shot(ola, "desk-held")
+    try:
+        alice.page.click("#act-load")  # the student is told who stopped it
+        expect(alice.page.locator(".toast").last).to_contain_text(
+            "ola stopped the robot and is holding it"
+        )
+        page.click("#reset-alarm")  # from the staff side, without taking over
+        expect(page.locator(".toast").last).to_contain_text("The alarm was reset")
+    finally:
+        hold.click()
+    expect(hold).to_have_attribute("aria-pressed", "false")
+    reply = alice.page.request.post(
+        server.url + "/api/robot/run",
+        headers={
+            "X-CSRF-Token": str(alice.eval("() => document.cookie.match(/melfa_csrf=([^;]+)/)[1]"))
+        },
+    )
+    assert reply.status != 423 or reply.json()["error"]["code"] != "held"

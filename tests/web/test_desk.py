@@ -4,7 +4,14 @@ admins everyone: one rule, `Role.may_manage`), a class list imported from the CS
 
 from __future__ import annotations
 
+import json
+from typing import Any
+
+from melfa.vocab.refusals import Refusal
 from tests.web.conftest import Web, assert_error
+
+HELD_TEXT = " ".join(Refusal.HELD.words(who="ivy"))
+"""What every door says while ivy holds the robot (one home: `melfa.vocab.refusals`)."""
 
 CLASS_LIST = "username,name,group\ndora,Dora Diaz,G3\neli,Eli Ek,G3\nann,Ann A,G1\n"
 PROGRAM = "MOV P1\nEND"
@@ -62,9 +69,9 @@ def test_a_class_list_is_imported_all_or_nothing(web: Web) -> None:
 def test_the_gate_is_switched_live_and_every_load_obeys(web: Web) -> None:
     ann, ivy = web.ann, web.ivy
     assert_error(ann.put("/api/desk/gate", json={"require_simulation": True}), 403)
-    assert ivy.get("/api/desk").json() == {"require_simulation": False}
+    assert ivy.get("/api/desk").json() == {"require_simulation": False, "held_by": None}
     on = ivy.put("/api/desk/gate", json={"require_simulation": True})
-    assert on.json() == {"require_simulation": True}
+    assert on.json()["require_simulation"] is True
     body = {"program": PROGRAM, "points": POINTS}
     assert_error(ann.post("/api/robot/project", json=body), 409, "simulation-required")
     assert ann.get("/api/preflight").json()["require_simulation"] is True
@@ -72,3 +79,37 @@ def test_the_gate_is_switched_live_and_every_load_obeys(web: Web) -> None:
     loaded = ann.post("/api/robot/project", json=body)
     assert loaded.status_code == 200, loaded.text
     assert _actions(web, "ivy") == [("gate.set", {"state": "on"}), ("gate.set", {"state": "off"})]
+
+
+def _ws_ask(web: Web, user: str, message: dict[str, Any]) -> dict[str, Any]:
+    with getattr(web, user).ws() as ws:
+        ws.send_text(json.dumps({**message, "id": 7}))
+        while True:
+            reply: dict[str, Any] = json.loads(ws.receive_text())
+            if reply.get("id") == 7:
+                return reply
+
+
+def test_an_instructors_stop_holds_until_released(web: Web) -> None:
+    ann, ivy = web.ann, web.ivy
+    body = {"program": PROGRAM, "points": POINTS}
+    assert ann.post("/api/lease").status_code == 200
+    assert_error(ann.post("/api/desk/hold"), 403, "forbidden")
+    held = ivy.post("/api/desk/hold")
+    assert held.json() == {"require_simulation": False, "held_by": "ivy"}
+    error = assert_error(ann.post("/api/robot/project", json=body), 423, "held")
+    assert error["message"] == HELD_TEXT  # the student is told who stopped it
+    assert_error(ann.post("/api/robot/run"), 423, "held")
+    # The staff side resets an alarm without taking over (ann keeps the lease).
+    assert ivy.post("/api/robot/reset-alarm").json() == {"ok": True}
+    assert ann.get("/api/lease").json()["holder"]["user"] == "ann"
+    assert_error(web.bob.post("/api/robot/reset-alarm"), 423, "held")
+    jog = _ws_ask(web, "ann", {"type": "jog_start", "frame": "joint", "axis": 1, "direction": 1})
+    assert (jog["error"]["code"], jog["error"]["message"]) == ("held", HELD_TEXT)
+    released = ivy.delete("/api/desk/hold")
+    assert released.json()["held_by"] is None
+    loaded = ann.post("/api/robot/project", json=body)
+    assert loaded.status_code == 200, loaded.text
+    actions = [a for a, _ in _actions(web, "ivy")]
+    assert [a for a in actions if a.startswith("desk.")] == ["desk.hold", "desk.release"]
+    assert "robot.stop" in actions

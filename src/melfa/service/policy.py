@@ -28,6 +28,10 @@ What it holds, in the order it asks:
    a run waits for the supervisor's *Arm ready* (`Policy.attend`). While the queue is
    active the lease itself refuses a free take (`Refusal.QUEUE_ACTIVE`).
 
+5. **The instructor's hold** (`Policy.hold`): staff stopped the robot and hold it; every
+   command from anyone but staff is refused (`Refusal.HELD`, naming who holds it) until
+   they release it. Staff may reset an alarm without taking the lease (nothing moves).
+
 Entering the queue asks the same policy (`Policy.may_queue`): the plan passes the checker
 and, with the gate on, passed pre-flight (its cycle time is kept for the queue's
 estimates, `Policy.cycle_time`).
@@ -46,7 +50,7 @@ from typing import Protocol
 
 from melfa.lang.plan import Part, UploadPlan, digest
 from melfa.service.errors import Refused
-from melfa.service.events import Actor
+from melfa.service.events import Actor, Role
 from melfa.service.lease import Lease, LeaseChange
 from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
@@ -172,6 +176,12 @@ class Policy:
         self.gate = gate
         self.turns: Turns | None = None
         """The queue of a shared robot (set by its keeper)."""
+        self.held_by: str | None = None
+        """Who of the staff holds the robot stopped (`hold`); None: nobody."""
+
+    def hold(self, user: str | None) -> None:
+        """``user`` (staff) holds the robot: only staff's commands go until ``hold(None)``."""
+        self.held_by = user
 
     def admit(
         self, actor: Actor, command: Command, plan: UploadPlan | None = None
@@ -182,8 +192,13 @@ class Policy:
             refused = plan_refusal(plan)
             if refused is not None:
                 raise refused
+        staff = actor.role is Role.INSTRUCTOR
+        if self.held_by is not None and not staff:
+            raise Refused(Refusal.HELD, who=self.held_by)
         if self.gate is not None and not self.gate.allows(command, plan):
             raise Refused(Refusal.SIMULATION_REQUIRED)
+        if staff and command is Command.RESET_ALARM:
+            return None  # the staff side resets a student's alarm without taking over
         change = self.lease.check(actor)
         if self.turns is not None:
             refused = self.turns.refusal(actor, command)

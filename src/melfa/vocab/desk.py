@@ -20,6 +20,8 @@ class DeskAction(enum.StrEnum):
     ACCOUNT_PASSWORD = "account.password"
     ACCOUNT_REMOVE = "account.remove"
     GATE = "gate.set"
+    HOLD = "desk.hold"
+    RELEASE = "desk.release"
 
 
 ACTION_WORDS: dict[DeskAction, str] = {
@@ -28,6 +30,8 @@ ACTION_WORDS: dict[DeskAction, str] = {
     DeskAction.ACCOUNT_PASSWORD: "set a new password for {who}",
     DeskAction.ACCOUNT_REMOVE: "removed the account {who}",
     DeskAction.GATE: "turned the simulation gate {state}",
+    DeskAction.HOLD: "stopped the lab robot and held it",
+    DeskAction.RELEASE: "released the lab robot",
 }
 """The audit view's sentence for each action (after the user's name); ``{who}`` is the
 account, ``{count}`` how many were created, ``{state}`` on or off."""
@@ -57,5 +61,12 @@ DESK_WORDS: dict[str, str] = {
     "gate-off": "Off: students may load onto the lab robot without a pre-flight.",
     "gate-turn-on": "Require pre-flight",
     "gate-turn-off": "Stop requiring pre-flight",
+    "hold": "Stop and hold",
+    "hold-title": "Stop and hold",
+    "hold-free": "Students may drive the lab robot.",
+    "held": "Held by {who}: the robot is stopped and no student's Run, Load or jog starts.",
+    "release": "Release",
+    "reset-alarm": "Reset alarm",
+    "alarm-reset": "The alarm was reset.",
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name)."""

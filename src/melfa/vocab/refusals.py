@@ -50,6 +50,9 @@ class Refusal(enum.StrEnum):
     """A claim from someone the arm is not offered to."""
     NOT_QUEUED = "not-queued"
     """A queue operation for someone who is not in the queue."""
+    HELD = "held"
+    """A member of staff stopped the lab robot and holds it: nothing a student sends starts
+    until they release it (`melfa.service.policy.Policy.hold`)."""
 
     def words(self, **facts: object) -> tuple[str, str]:
         """(what happened, the fix), with ``facts`` filled in."""
@@ -124,6 +127,10 @@ _WORDS: dict[Refusal, _Words] = {
     ),
     Refusal.NOT_QUEUED: _Words(
         "{user} is not in the queue.", "Join the queue with Run on the lab robot."
+    ),
+    Refusal.HELD: _Words(
+        "{who} stopped the robot and is holding it.",
+        "Wait until they release it; ask them if you are not sure why.",
     ),
 }
 assert set(_WORDS) == set(Refusal), "every refusal has its words"

@@ -209,6 +209,7 @@ REFUSAL_STATUS: dict[Refusal, int] = {
     Refusal.TURN_OVER: 423,
     Refusal.NOT_YOUR_TURN: 409,
     Refusal.NOT_QUEUED: 409,
+    Refusal.HELD: 423,
 }
 """The HTTP status of each policy refusal (the code is the refusal's own)."""
 assert set(REFUSAL_STATUS) == set(Refusal), "every refusal has its status"

@@ -2,7 +2,9 @@
 
 The simulation gate (`melfa.service.policy.Gate`) was a start-up flag; here staff turn it
 on and off while the server runs, and every door (REST, WebSocket, rosbridge, the thesis's
-messages) obeys at once because they all pass the one policy. Each switch is audited."""
+messages) obeys at once because they all pass the one policy. *Stop and hold* stops the
+robot and holds it (`Policy.hold`): nothing a student sends starts, and each refusal names
+who holds it, until a member of staff releases it. Each switch is audited."""
 
 from __future__ import annotations
 
@@ -10,10 +12,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
-from melfa.store import AuditEvent
+from melfa.store import AuditEvent, Session
 from melfa.vocab.desk import DeskAction
 from melfa.web.context import WebContext
-from melfa.web.deps import ContextDep, StaffDep
+from melfa.web.deps import ContextDep, StaffDep, actor_of
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input
 from melfa.web.routes.pages import staff_page
@@ -26,6 +28,9 @@ class DeskOut(BaseModel):
     require_simulation: bool = Field(
         description="The lab robot loads and runs only texts that passed pre-flight (the gate)."
     )
+    held_by: str | None = Field(
+        description="Who of the staff stopped the lab robot and holds it (null: nobody)."
+    )
 
 
 class GateIn(Input):
@@ -33,7 +38,21 @@ class GateIn(Input):
 
 
 def _desk(context: WebContext) -> DeskOut:
-    return DeskOut(require_simulation=context.service.policy.simulation_required)
+    policy = context.service.policy
+    return DeskOut(require_simulation=policy.simulation_required, held_by=policy.held_by)
+
+
+async def _audit(
+    context: WebContext, session: Session, action: DeskAction, **details: object
+) -> None:
+    await context.store.audit.record_async(
+        AuditEvent(
+            action=action.value,
+            actor=session.user.username,
+            role=session.user.role.value,
+            details=dict(details),
+        )
+    )
 
 
 @router.get("", response_model=DeskOut, summary="The lab robot's settings (staff)")
@@ -47,14 +66,24 @@ async def set_gate(body: GateIn, session: StaffDep, context: ContextDep) -> Desk
     if gate is None:
         raise ApiError(409, "refused", "this robot has no simulation gate")
     gate.required = body.require_simulation
-    await context.store.audit.record_async(
-        AuditEvent(
-            action=DeskAction.GATE.value,
-            actor=session.user.username,
-            role=session.user.role.value,
-            details={"state": "on" if body.require_simulation else "off"},
-        )
-    )
+    state = "on" if body.require_simulation else "off"
+    await _audit(context, session, DeskAction.GATE, state=state)
+    return _desk(context)
+
+
+@router.post("/hold", response_model=DeskOut, summary="Stop the lab robot and hold it")
+async def hold(session: StaffDep, context: ContextDep) -> DeskOut:
+    """Held first, then stopped: nothing queued after the STOP can start."""
+    context.service.policy.hold(session.user.username)
+    await context.service.stop(actor_of(session))
+    await _audit(context, session, DeskAction.HOLD)
+    return _desk(context)
+
+
+@router.delete("/hold", response_model=DeskOut, summary="Release the lab robot")
+async def release(session: StaffDep, context: ContextDep) -> DeskOut:
+    context.service.policy.hold(None)
+    await _audit(context, session, DeskAction.RELEASE)
     return _desk(context)
 
 

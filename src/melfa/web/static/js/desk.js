@@ -2,13 +2,14 @@
 // manage (instructors their students, admins everyone — the server decides, the page
 // shows what it was given), adding one, importing a class list (the CSV `melfa users
 // import` reads), a new password shown once, removing; and the lab robot's simulation
-// gate switched live. Every word comes from /vocab.js (melfa.vocab.desk).
+// gate switched live, Stop and hold (students' commands refused, naming who holds it, until
+// released), and resetting an alarm without taking over. Every word comes from /vocab.js (melfa.vocab.desk).
 
 import { api, downloadText, setCsrf } from "./api.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
 import { DESK_WORDS as W } from "/vocab.js";
 
-const state = { me: null, users: [], gate: false };
+const state = { me: null, users: [], gate: false, heldBy: null };
 const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
 const when = (iso) => (iso ? new Date(iso).toLocaleString([], { dateStyle: "medium", timeStyle: "short" }) : "never");
 
@@ -40,6 +41,10 @@ async function main() {
   wireAdd();
   wireImport();
   $("gate-toggle").addEventListener("click", () => setGate(!state.gate));
+  $("hold-title").textContent = W["hold-title"];
+  $("reset-alarm").textContent = W["reset-alarm"];
+  $("hold-toggle").addEventListener("click", () => setHold(!state.heldBy));
+  $("reset-alarm").addEventListener("click", () => resetAlarm());
   await Promise.all([loadUsers(), loadDesk()]);
   document.body.dataset.ready = "true";
 }
@@ -156,7 +161,34 @@ function wireImport() {
 }
 
 async function loadDesk() {
-  drawGate((await api("GET", "/api/desk")).require_simulation);
+  drawDesk(await api("GET", "/api/desk"));
+}
+
+function drawDesk(desk) {
+  drawGate(desk.require_simulation);
+  state.heldBy = desk.held_by;
+  const held = desk.held_by != null;
+  $("hold-state").textContent = held ? fill(W.held, { who: desk.held_by }) : W["hold-free"];
+  $("hold-state").className = "desk-state" + (held ? " held" : "");
+  $("hold-toggle").textContent = held ? W.release : W.hold;
+  $("hold-toggle").setAttribute("aria-pressed", String(held));
+}
+
+async function setHold(on) {
+  try {
+    drawDesk(await api(on ? "POST" : "DELETE", "/api/desk/hold"));
+  } catch (err) {
+    showError(W["hold-title"], err);
+  }
+}
+
+async function resetAlarm() {
+  try {
+    await api("POST", "/api/robot/reset-alarm");
+    toast(W["alarm-reset"], { kind: "ok" });
+  } catch (err) {
+    showError(W["reset-alarm"], err);
+  }
 }
 
 function drawGate(on) {
@@ -169,7 +201,7 @@ function drawGate(on) {
 
 async function setGate(on) {
   try {
-    drawGate((await api("PUT", "/api/desk/gate", { require_simulation: on })).require_simulation);
+    drawDesk(await api("PUT", "/api/desk/gate", { require_simulation: on }));
   } catch (err) {
     showError(W.gate, err);
   }
