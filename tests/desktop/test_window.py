@@ -683,6 +683,25 @@ def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> N
     wait_until(lambda: lease.text().startswith("You, since "))
 
 
+def test_the_queue_and_its_claim(ui: Ui, observer: ApiClient) -> None:
+    """The lab robot's queue in the status bar; when the arm is offered to this user, the
+    claim button shows, and its click gives the lease and runs the queued program."""
+    program = "SERVO ON\nMOV P1\nEND\n"
+    points = "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    observer._call("DELETE", "/api/lease")  # earlier tests took it: the arm is free
+    joined = observer._call("POST", "/api/queue", {"program": program, "points": points})
+    assert joined["entries"][0]["state"] == "offered"  # the same user, another session
+    wait_until(lambda: ui.window.claim_button.isVisible())
+    assert "offered to you" in ui.window.queue_label.text()
+    ui.window.claim_button.click()
+    wait_until(lambda: not ui.window.claim_button.isVisible())
+    wait_until(lambda: "At the arm: you" in ui.window.queue_label.text())
+    assert observer._call("GET", "/api/lease")["you"] is True
+    ui.idle()
+    observer._call("POST", "/api/queue/done")  # the arm is free again for the other tests
+    wait_until(lambda: "empty" in ui.window.queue_label.text())
+
+
 def test_main_signs_in_opens_the_window_and_exits_when_closed(
     qapp: QApplication, server: Server
 ) -> None:

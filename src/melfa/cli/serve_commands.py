@@ -28,6 +28,7 @@ from melfa.cli import EXIT_INTERRUPTED
 from melfa.cli.typer_app import app
 from melfa.link import ROBOT_ENV, RobotSpecError, parse_robot
 from melfa.store import ADMIN_PASSWORD_ENV, ADMIN_USERNAME, DATA_ENV, Store, StoreError
+from melfa.vocab.queue import TurnEnd
 
 if TYPE_CHECKING:
     import uvicorn
@@ -119,6 +120,30 @@ def serve(
             "whichever door it comes through (web, rosbridge, the thesis's messages).",
         ),
     ] = False,
+    turn_minutes: Annotated[
+        float,
+        typer.Option(
+            "--turn-minutes",
+            help="The lab robot's queue: how long a student's turn at the arm lasts.",
+            min=0.5,
+        ),
+    ] = 4.0,
+    claim_seconds: Annotated[
+        float,
+        typer.Option(
+            "--claim-seconds",
+            help="The queue: how long the arm is offered before a student moves back one place.",
+            min=5.0,
+        ),
+    ] = 60.0,
+    turn_end: Annotated[
+        TurnEnd,
+        typer.Option(
+            "--turn-end",
+            help="The queue: at a turn's end a running program is stopped, or may finish "
+            "(nothing new starts).",
+        ),
+    ] = TurnEnd.STOP,
     private_idle: Annotated[
         float,
         typer.Option(
@@ -148,6 +173,7 @@ def serve(
     # Lazily (start-up): `melfa --help` imports this module; the web stack loads to serve only.
     import uvicorn
 
+    from melfa.service.queue import QueueSettings
     from melfa.web import WebSettings, create_app
     from melfa.web.logs import configure
     from melfa.web.pools import PoolSizes
@@ -194,6 +220,7 @@ def serve(
         robot_trace=trace,
         allowed_origins=tuple(allowed_origins or ()),
         require_simulation=require_simulation,
+        queue=QueueSettings(claim_s=claim_seconds, turn_s=turn_minutes * 60, at_turn_end=turn_end),
         private_idle_s=private_idle,
         allowed_hosts=hosts,
         trusted_proxies=tuple(trusted_proxies or ()),

@@ -384,6 +384,11 @@ class ApiClient:
         """`POST /api/robot/run`: start the loaded program."""
         self._call("POST", "/api/robot/run", {"servo_on": True}, timeout=LONG_TIMEOUT_S)
 
+    def claim(self) -> None:
+        """`POST /api/queue/claim`: take the lab robot's arm when the queue offers it; the
+        queued program loads and runs."""
+        self._call("POST", "/api/queue/claim", {"start": True})
+
     def stop(self) -> None:
         """`POST /api/robot/stop`: allowed to everyone, overtakes queued commands."""
         self._call("POST", "/api/robot/stop", {}, timeout=STOP_TIMEOUT_S)

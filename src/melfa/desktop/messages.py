@@ -21,6 +21,7 @@ from melfa.live.messages import (
     JogMessage,
     LinkMessage,
     ProgressMessage,
+    QueueMessage,
     StateMessage,
     StateOut,
 )
@@ -35,6 +36,7 @@ LiveMessage = (
     | JogMessage
     | JogHeartbeatAck
     | ErrorMessage
+    | QueueMessage
 )
 """The messages this client acts on (the rest of `melfa.live.messages.ServerMessage` it
 reads and lets pass)."""

@@ -45,6 +45,7 @@ from melfa.desktop.words import (
     diagnostic_lines,
     jog_label,
     link_words,
+    queue_line,
     sentence,
     upload_progress,
 )
@@ -56,6 +57,7 @@ from melfa.live.messages import (
     JogMessage,
     LinkMessage,
     ProgressMessage,
+    QueueMessage,
     StateOut,
 )
 from melfa.protocol.advice import Fix
@@ -274,6 +276,12 @@ class Presenter:
                 self._jog_ended("the server ended it")
         elif isinstance(message, ErrorMessage):
             self._on_refused(message)
+        elif isinstance(message, QueueMessage):
+            line, offered = queue_line(message, self.me)
+            self.view.show_queue(line, offered)
+            for step in message.steps:
+                if step.user == self.me:
+                    self._log(step.kind.words(step.user, step.by, step.position, step.seconds))
 
     def _on_jog_changed(self, message: JogMessage) -> None:
         if message.active or not self.hold.active:
@@ -480,6 +488,15 @@ class Presenter:
         self.loaded = Loaded(program.name, dict(outcome.step_lines))
         if self.state is not None:
             self.view.show_state(self.state)  # the line of this file from now on
+
+    def claim(self) -> bool:
+        """Take the lab robot's arm the queue offers: the queued program loads and runs."""
+        return self._submit(
+            "Claiming the arm", self.client.claim, self._on_claimed, "Claim refused"
+        )
+
+    def _on_claimed(self, _: None) -> None:
+        self._done("Your turn at the lab robot: your queued program loads and runs")
 
     def run(self) -> bool:
         """Start the program loaded in the robot."""

@@ -69,6 +69,7 @@ QPushButton#stop {
     font-size: 18pt; font-weight: 800; letter-spacing: 2px;
 }
 QPushButton#stop:hover { background: #e53935; }
+QPushButton#claim { background: #23824a; color: white; font-weight: bold; padding: 4px 14px; }
 QPushButton#stop:pressed { background: #b71c1c; }
 QLineEdit { padding: 4px 6px; border: 1px solid #b8bec6; border-radius: 4px; background: white; }
 QLineEdit[readOnly="true"] { background: #f7f9fb; }

@@ -29,6 +29,7 @@ class View(Protocol):
     def show_progress(self, percent: int | None) -> None: ...
     def show_jog(self, held: JogKey | None) -> None: ...
     def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None: ...
+    def show_queue(self, line: str, offered: bool) -> None: ...
 
 
 class NoView:
@@ -68,6 +69,9 @@ class NoView:
         pass
 
     def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None:
+        pass
+
+    def show_queue(self, line: str, offered: bool) -> None:
         pass
 
 

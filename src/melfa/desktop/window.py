@@ -22,6 +22,7 @@ from PySide6.QtGui import (
 )
 from PySide6.QtWidgets import (
     QAbstractItemView,
+    QApplication,
     QComboBox,
     QFrame,
     QGridLayout,
@@ -159,6 +160,15 @@ class MainWindow(QMainWindow):
         self._busy_text = ""
         self._followed_line: int | None = None
         """The running line last scrolled into view (scrolled again only when it moves)."""
+        self.queue_label = QLabel("")
+        self.queue_label.setAccessibleName("Lab robot queue")
+        self.claim_button = QPushButton("Claim the arm and run")
+        self.claim_button.setObjectName("claim")
+        self.claim_button.setToolTip("Your turn at the lab robot: claim it before the time ends")
+        self.claim_button.setVisible(False)
+        self.claim_button.clicked.connect(presenter.claim)
+        self.statusBar().addPermanentWidget(self.queue_label)
+        self.statusBar().addPermanentWidget(self.claim_button)
         self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.feed_label)
         self.statusBar().showMessage(f"Signed in as {user}.")
@@ -608,6 +618,17 @@ class MainWindow(QMainWindow):
 
     def show_status(self, text: str) -> None:
         self.statusBar().showMessage(text)
+
+    def show_queue(self, line: str, offered: bool) -> None:
+        """The lab robot's queue; when the arm is offered to this user, a claim button that
+        cannot be missed (the window comes to the front and asks for attention)."""
+        self.queue_label.setText(line)
+        was = self.claim_button.isVisible()
+        self.claim_button.setVisible(offered)
+        if offered and not was:
+            self.raise_()
+            self.activateWindow()
+            QApplication.alert(self)
 
     def closeEvent(self, event: QCloseEvent) -> None:  # noqa: N802 (Qt's name)
         self.presenter.shutdown()

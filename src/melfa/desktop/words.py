@@ -13,10 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from melfa.desktop.api import ApiError, CheckResult, ServerUnreachable
-from melfa.live.messages import StateOut
+from melfa.live.messages import QueueOut, StateOut
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.vocab.activity import Activity, jog_detail, said, where
 from melfa.vocab.link import LINK_WORDS, LinkStatus
+from melfa.vocab.queue import EntryState
 
 JOG_AXES = {"xyz": POSE_NAMES, "tool": POSE_NAMES, "joint": JOINT_NAMES}
 
@@ -203,3 +204,33 @@ __all__ = [
     "upload_progress",
     "where_in_program",
 ]
+
+
+def queue_line(queue: QueueOut, me: str) -> tuple[str, bool]:
+    """The lab robot's queue in one line for the status bar, and whether the arm is offered
+    to ``me`` now (the window then shows its claim button).
+
+    >>> from datetime import datetime, UTC
+    >>> at = datetime(2026, 11, 27, 9, 0, tzinfo=UTC)
+    >>> entry = dict(user="ann", position=1, state="offered", estimate=at, offer_ends=at)
+    >>> q = QueueOut(target="lab", now=at, active=True, paused=False, attended=False,
+    ...              turn=None, entries=[entry], claim_s=60, turn_s=240, at_turn_end="stop")
+    >>> queue_line(q, "ann")
+    ('Lab robot queue: the arm is offered to you: claim it now', True)
+    >>> queue_line(q, "bob")
+    ('Lab robot queue: 1 waiting', False)
+    """
+    if not queue.active:
+        return "Lab robot queue: empty, the arm is free", False
+    parts = [f"Lab robot queue: {len(queue.entries)} waiting"]
+    turn = queue.turn
+    if turn is not None:
+        who = "you" if turn.user == me else turn.user
+        parts.insert(0, f"At the arm: {who} ({round(turn.left_s / 60)} min left)")
+    mine = next((e for e in queue.entries if e.user == me), None)
+    if mine is not None and mine.state is EntryState.OFFERED:
+        return "Lab robot queue: the arm is offered to you: claim it now", True
+    if mine is not None:
+        wait = max(0, round((mine.estimate - queue.now).total_seconds() / 60))
+        parts.append(f"you are number {mine.position}, in about {wait} min")
+    return " · ".join(parts), False
