@@ -147,3 +147,49 @@ def test_an_instructors_stop_holds_until_released(open_session: Any, server: Ser
         },
     )
     assert reply.status != 423 or reply.json()["error"]["code"] != "held"
+
+
+def test_an_instructor_reads_the_audit_log(open_session: Any, server: Server) -> None:
+    server.add_user("pia", role="instructor")
+    pia: Session = open_session("pia")
+    page = _desk(pia)
+    alice: Session = open_session("alice")
+    page.click("#gate-toggle")
+    expect(page.locator("#gate-toggle")).to_have_attribute("aria-pressed", "true")
+    try:
+        alice.page.click("#act-load")  # refused by the gate: audited as a refusal
+        expect(alice.page.locator(".toast").last).to_contain_text("pre-flight")
+    finally:
+        page.click("#gate-toggle")
+    expect(page.locator("#gate-toggle")).to_have_attribute("aria-pressed", "false")
+    page.click("#tab-audit")
+    rows = page.locator("#audit-rows tr")
+    expect(rows.first).to_be_visible()
+    expect(page.locator("#audit-rows tr", has_text="turned the simulation gate on")).to_have_count(
+        1
+    )
+    expect(page.locator("#audit-rows tr", has_text="signed in").first).to_be_visible()
+    refused = page.locator("#audit-rows tr.refused", has_text="Load project")
+    expect(refused.first).to_contain_text("alice")
+    assert "{" not in page.locator("#audit-rows").inner_text()  # plain words, no JSON
+    # One row per robot command: an accepted entry with its outcome reads once.
+    entries = page.request.get(server.url + "/api/audit?limit=500").json()["entries"]
+    robot = [e for e in entries if e["action"].startswith("robot.")]
+    ended = {e["details"]["command_id"] for e in robot if e["result"] != "accepted"}
+    pairs = sum(
+        1 for e in robot if e["result"] == "accepted" and e["details"]["command_id"] in ended
+    )
+    page.select_option("#audit-kind", "robot")
+    expect(page.locator("#audit-rows tr")).to_have_count(len(robot) - pairs)
+    page.select_option("#audit-kind", "all")
+    page.fill("#audit-who", "alice")
+    page.press("#audit-who", "Enter")
+    expect(page.locator("#audit-rows tr", has_text="pia")).to_have_count(0)
+    with page.expect_download() as download:
+        page.click("#audit-csv")
+    text = Path(download.value.path()).read_text(encoding="utf-8")
+    assert text.startswith("When,Who,What,Result\n") and "alice" in text
+    page.fill("#audit-who", "")
+    page.press("#audit-who", "Enter")
+    expect(page.locator("#audit-rows tr", has_text="pia").first).to_be_visible()
+    _shot(pia, "desk-audit")

@@ -20,7 +20,7 @@ POINTS = "P1=(400.00,0.00,500.00,180.00,0.00,180.00)(7,0)"
 
 def _actions(web: Web, actor: str) -> list[tuple[str, dict[str, object]]]:
     page = web.store.audit.query(actor=actor, limit=50)
-    return [(e.action, e.details) for e in reversed(page.entries)]
+    return [(e.action, e.details) for e in reversed(page.entries) if e.action != "session.sign-in"]
 
 
 def test_an_instructor_manages_students_only(web: Web) -> None:
@@ -113,3 +113,11 @@ def test_an_instructors_stop_holds_until_released(web: Web) -> None:
     actions = [a for a, _ in _actions(web, "ivy")]
     assert [a for a in actions if a.startswith("desk.")] == ["desk.hold", "desk.release"]
     assert "robot.stop" in actions
+
+
+def test_a_sign_in_is_audited_and_a_wrong_one_is_not(web: Web) -> None:
+    wrong = web.client.post("/api/session", json={"username": "ann", "password": "not-it-123"})
+    assert wrong.status_code == 401
+    web.ann.get("/api/session")
+    entries = web.store.audit.query(action="session.sign-in").entries
+    assert [(e.actor, e.role, e.result) for e in entries] == [("ann", "student", "ok")]

@@ -13,8 +13,10 @@ __all__ = ["ACTION_WORDS", "DESK_WORDS", "DeskAction"]
 
 
 class DeskAction(enum.StrEnum):
-    """What a member of staff did at the desk, as the audit log stores it."""
+    """What a member of staff did at the desk (and a sign-in, by anyone), as the audit log
+    stores it beside the robot's commands (``robot.<command>``)."""
 
+    SIGN_IN = "session.sign-in"
     ACCOUNT_ADD = "account.add"
     ACCOUNT_IMPORT = "account.import"
     ACCOUNT_PASSWORD = "account.password"
@@ -25,6 +27,7 @@ class DeskAction(enum.StrEnum):
 
 
 ACTION_WORDS: dict[DeskAction, str] = {
+    DeskAction.SIGN_IN: "signed in",
     DeskAction.ACCOUNT_ADD: "added the account {who}",
     DeskAction.ACCOUNT_IMPORT: "imported a class list ({count} accounts)",
     DeskAction.ACCOUNT_PASSWORD: "set a new password for {who}",
@@ -68,5 +71,13 @@ DESK_WORDS: dict[str, str] = {
     "release": "Release",
     "reset-alarm": "Reset alarm",
     "alarm-reset": "The alarm was reset.",
+    "audit": "Audit log",
+    "audit-all": "everything",
+    "audit-robot": "robot commands",
+    "audit-refused": "refusals",
+    "audit-desk": "accounts, gate and hold",
+    "audit-sign-in": "sign-ins",
+    "audit-csv": "Export CSV",
+    "audit-columns": "When,Who,What,Result",
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name)."""

@@ -16,8 +16,9 @@ from typing import Annotated
 from fastapi import APIRouter, Form, Request, Response
 from fastapi.responses import HTMLResponse, RedirectResponse
 
-from melfa.store import NewSession, User
+from melfa.store import AuditEvent, NewSession, User
 from melfa.store.logins import LoginTicket
+from melfa.vocab.desk import DeskAction
 from melfa.web.config import CSRF_COOKIE, SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import user_out
@@ -68,7 +69,16 @@ async def sign_in(context: WebContext, username: str, password: str, addr: str) 
     user = await password_checked(context, username, password, addr)
     if user is None:
         raise ApiError(401, "wrong-login", "wrong username or password")
-    return await context.db(context.store.sessions.create, user, addr)
+    new = await context.db(context.store.sessions.create, user, addr)
+    await context.store.audit.record_async(
+        AuditEvent(
+            action=DeskAction.SIGN_IN.value,
+            actor=user.username,
+            role=user.role.value,
+            details={"from": addr},
+        )
+    )
+    return new
 
 
 def set_cookies(request: Request, response: Response, new: NewSession) -> None:
