@@ -31,6 +31,7 @@ from melfa.desktop.login import LoginDialog
 from melfa.desktop.messages import LiveMessage, parse_message
 from melfa.desktop.presenter import Presenter
 from melfa.desktop.window import MainWindow
+from melfa.vocab.activity import Activity
 from melfa.vocab.link import LinkStatus
 from tests.desktop.conftest import EXAMPLES, Server
 
@@ -292,7 +293,7 @@ def test_exec_moves_the_arm_and_the_pose_updates(ui: Ui, observer: ApiClient) ->
 
 def still(observer: ApiClient) -> bool:
     state = observer.state()
-    idle = state.activity in ("idle", "paused")
+    idle = state.activity in (Activity.IDLE, Activity.PAUSED, Activity.AT)  # not moving
     return state.moving is False and state.running is False and not state.jogging and idle
 
 

@@ -27,6 +27,7 @@ from pathlib import Path
 import pytest
 
 from melfa.desktop.api import ApiClient
+from melfa.vocab.activity import Activity
 from tests.desktop.conftest import EXAMPLES, Server
 from tests.waiting import wait_until
 
@@ -181,7 +182,7 @@ def audited(observer: ApiClient, action: str) -> list[dict[str, object]]:
 
 def still(observer: ApiClient) -> bool:
     state = observer.state()
-    idle = state.activity in ("idle", "paused")
+    idle = state.activity in (Activity.IDLE, Activity.PAUSED, Activity.AT)  # not moving
     return not state.moving and not state.running and not state.jogging and idle
 
 

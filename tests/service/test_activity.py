@@ -5,11 +5,12 @@ program paused, never "running" while the arm goes to the point."""
 
 from __future__ import annotations
 
-from melfa.service import ServoPolicy
+from melfa.service import JogFrame, ServoPolicy
 from melfa.vocab.activity import Activity
 from tests.plans import project
 from tests.service.helpers import ANN, RecordingController, clock, make_service, run, until
 
+TURN_ON = ServoPolicy.TURN_ON
 PROGRAM = "MOV P1\nMOV P2\nMOV P1\nMOV P2\nEND\n"
 POINTS = ["P1=(300,0,400,180,0,180)(7,0)", "P2=(300,150,400,180,0,180)(7,0)"]
 
@@ -70,6 +71,24 @@ def test_stop_then_move_to_says_moving_then_at_the_point_never_running() -> None
             assert {d for _, d, _ in said} == {"P3"}
             assert any(running for _, _, running in said)  # the arm really went
             assert not service.state.running and not service.state.moving
+            sub.close()
+
+    run(main())
+
+
+def test_a_jog_step_moves_to_its_label_then_the_arm_is_idle() -> None:
+    """A step jog is "moving-to X+" while it moves and idle once the arm stopped (it
+    stayed "moving-to" for ever: the step never told the activity it was sent)."""
+    controller = RecordingController()
+
+    async def main() -> None:
+        service, _ = make_service(controller)
+        async with service:
+            sub = service.subscribe()
+            assert await until(lambda: service.state.activity is Activity.IDLE)
+            await service.jog_step(ANN, JogFrame.XYZ, "X", +1, wait=True, servo=TURN_ON)
+            assert await until(lambda: service.state.activity is Activity.IDLE)
+            assert not service.state.moving
             sub.close()
 
     run(main())

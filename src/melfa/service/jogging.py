@@ -247,13 +247,17 @@ class JogSession:
                 worker.poll_while_moving(robot)
 
         self._step_busy = True
-        self._snapshots.motion = Motion(MotionKind.STEP, request.label)
+        # Told when the controller took the step, so the activity can see it arrive
+        # (without, "Moving to X+" stayed after the arm had stopped).
+        motion = Motion(MotionKind.STEP, request.label)
+        self._snapshots.motion = motion
+        sent = self._dispatch.telling_sent(motion, step)
         try:
             await self._dispatch.command(
                 actor,
                 Command.JOG_STEP,
                 request.label,
-                self._dispatch.servo_first(actor, Command.JOG_STEP, servo, step),
+                self._dispatch.servo_first(actor, Command.JOG_STEP, servo, sent),
                 priority=Priority.JOG,
             )
         finally:
