@@ -125,6 +125,7 @@ def test_json_shape_is_exact(runner: CliRunner, tmp_path: Path) -> None:
         "rule",
         "message",
         "suggestion",
+        "replace",
     }
     assert (first["line"], first["column"], first["end_line"], first["end_column"]) == (2, 4, 2, 8)
     assert (first["severity"], first["code"]) == ("error", "L4220")

@@ -63,5 +63,5 @@ class Diagnostic(Record):
             "rule": self.rule,
             "message": self.message,
             "suggestion": self.suggestion,
-            **({"replace": self.replace} if self.replace is not None else {}),
+            "replace": self.replace,
         }

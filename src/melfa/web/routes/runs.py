@@ -8,7 +8,7 @@ from __future__ import annotations
 import datetime as dt
 from typing import Annotated
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Path, Query
 from pydantic import BaseModel, Field
 
 from melfa.service.recording_compare import unpack
@@ -171,7 +171,9 @@ async def list_runs(
     user: Annotated[
         str | None, Query(description="Whose runs (instructors: anyone's; default all)")
     ] = None,
-    before: Annotated[int | None, Query(description="Older than this run id (paging)")] = None,
+    before: Annotated[
+        int | None, Query(ge=1, le=2**62, description="Older than this run id (paging)")
+    ] = None,
     limit: Annotated[int, Query(ge=1, le=MAX_PAGE)] = 50,
 ) -> list[RunSummaryOut]:
     """A student's own runs; an instructor's list holds everyone's (or ``user``'s)."""
@@ -184,8 +186,12 @@ async def list_runs(
     return [RunSummaryOut(**_summary(i)) for i in infos]  # type: ignore[arg-type]
 
 
+RunId = Annotated[int, Path(ge=1, le=2**62, description="The run's id")]
+"""A run's id in a path: SQLite's integers end at 2**63 (a larger one was a 500)."""
+
+
 @router.get("/{run_id}", response_model=RunOut, summary="One run with its samples")
-async def get_run(run_id: int, session: SessionDep, context: ContextDep) -> RunOut:
+async def get_run(run_id: RunId, session: SessionDep, context: ContextDep) -> RunOut:
     """The summary, the student's text, every sample (for the replay) and the simulated
     path it is compared with."""
     run = await _visible(context, session.user, run_id)
@@ -194,7 +200,7 @@ async def get_run(run_id: int, session: SessionDep, context: ContextDep) -> RunO
 
 @router.put("/{run_id}/kept", response_model=RunSummaryOut, summary="Keep a run from thinning")
 async def keep_run(
-    run_id: int, body: KeepIn, session: StaffDep, context: ContextDep
+    run_id: RunId, body: KeepIn, session: StaffDep, context: ContextDep
 ) -> RunSummaryOut:
     """Instructors: keep a run's samples whatever thinning comes later (or stop keeping)."""
     await _visible(context, session.user, run_id)
