@@ -68,3 +68,9 @@ def test_docs_page_lists_operations_without_cdn(web: Web) -> None:
     assert "/api/robot/run" in page.text and "robot-run" in page.text
     assert "cdn" not in page.text.lower() and "<script" not in page.text
     assert web.client.get("/openapi.json").json()["info"]["title"] == "melfa"
+
+
+def test_schema_names_are_plain() -> None:
+    """Two models with one name get module-path names (melfa__web__…): clients read these."""
+    names = list(current_openapi()["components"]["schemas"])  # type: ignore[call-overload]
+    assert not [n for n in names if "__" in n]

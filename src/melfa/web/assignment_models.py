@@ -42,7 +42,7 @@ class GroupsOut(BaseModel):
     groups: list[str]
 
 
-class CheckOut(BaseModel):
+class AssignmentCheckOut(BaseModel):
     kind: CheckKind
     title: str
 
@@ -53,7 +53,7 @@ class FolderOut(BaseModel):
     files: dict[str, str]
     title: str | None
     statement_html: str | None
-    checks: list[CheckOut]
+    checks: list[AssignmentCheckOut]
     variants: list[str] = Field(description="The names of its variant groups.")
     due: datetime | None
     attempts: int | None
@@ -103,7 +103,7 @@ class AssignmentList(BaseModel):
 
 class AssignmentOut(AssignmentInfo):
     statement_html: str = Field(description="The statement, Markdown rendered (no raw HTML).")
-    checks: list[CheckOut]
+    checks: list[AssignmentCheckOut]
     cell: dict[str, Any] = Field(description="The cell of the caller's variant.")
 
 
@@ -119,7 +119,7 @@ class HistoryOut(BaseModel):
     gradings: list[GradingOut]
 
 
-class ReportOut(BaseModel):
+class GradingReportOut(BaseModel):
     grading: GradingOut
     student: str
     workspace_id: int
@@ -155,20 +155,20 @@ class ClassOut(BaseModel):
 
 
 __all__ = [
+    "AssignmentCheckOut",
     "AssignmentInfo",
     "AssignmentList",
     "AssignmentOut",
-    "CheckOut",
     "ClassOut",
     "ClassRowOut",
     "FolderIn",
     "FolderOut",
     "GradedOut",
     "GradingOut",
+    "GradingReportOut",
     "GroupsOut",
     "HistoryOut",
     "MineOut",
     "Problem",
     "PublishIn",
-    "ReportOut",
 ]

@@ -39,8 +39,8 @@ from melfa.vocab.classroom import (
     ClassFilter,
 )
 from melfa.web.assignment_models import (
+    AssignmentCheckOut,
     AssignmentInfo,
-    CheckOut,
     ClassRowOut,
     FolderOut,
     GradingOut,
@@ -130,9 +130,9 @@ def _problem(p: Any) -> dict[str, str]:
     return {"file": p.file, "where": p.where, "message": p.message}
 
 
-def checks_of(assignment: GradedAssignment) -> list[CheckOut]:
+def checks_of(assignment: GradedAssignment) -> list[AssignmentCheckOut]:
     return [
-        CheckOut(kind=CheckKind(c.kind), title=c.title or default_title(c))
+        AssignmentCheckOut(kind=CheckKind(c.kind), title=c.title or default_title(c))
         for c in assignment.spec.checks
     ]
 

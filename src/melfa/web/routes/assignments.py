@@ -34,11 +34,11 @@ from melfa.web.assignment_models import (
     FolderIn,
     FolderOut,
     GradedOut,
+    GradingReportOut,
     GroupsOut,
     HistoryOut,
     MineOut,
     PublishIn,
-    ReportOut,
 )
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
@@ -252,18 +252,18 @@ async def history(
 
 
 @router.get(
-    "/{assignment_id}/gradings/{grading_id}", response_model=ReportOut, summary="One report"
+    "/{assignment_id}/gradings/{grading_id}", response_model=GradingReportOut, summary="One report"
 )
 async def report(
     assignment_id: AssignmentId, grading_id: GradingId, session: SessionDep, context: ContextDep
-) -> ReportOut:
+) -> GradingReportOut:
     """A check's or submission's report: the student's own, or any for instructors."""
     user = session.user
     assignment = await _assignment(context, user, assignment_id, AssignmentAction.VIEW)
     found = await context.db(context.store.assignments.submission, assignment.id, grading_id)
     if found.username.lower() != user.username.lower():
         require(user, AssignmentAction.MANAGE, assignment)
-    return ReportOut(
+    return GradingReportOut(
         grading=C.grading_out(found.summary),
         student=found.username,
         workspace_id=found.workspace_id,

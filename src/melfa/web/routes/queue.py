@@ -37,7 +37,7 @@ class ClaimIn(Input):
     start: bool = Field(True, description="Load and run the queued text at once.")
 
 
-class MoveIn(Input):
+class PlaceIn(Input):
     user: str = Field(max_length=100)
     position: int = Field(ge=1, le=10_000, description="1-based place in the line.")
 
@@ -144,7 +144,7 @@ async def resume(session: StaffDep, context: ContextDep, target: TargetQuery = L
 
 @router.post("/move", response_model=QueueOut, summary="Move a student (instructors)")
 async def move(
-    body: MoveIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
+    body: PlaceIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
 ) -> QueueOut:
     keeper, by = keeper_of(context, target), actor_of(session)
     return await _act(keeper, by, "move", lambda: keeper.move(body.user, body.position, by))

@@ -38,7 +38,7 @@ class DeviationOut(BaseModel):
     simulated: list[float] = Field(description="The nearest simulated point, X, Y, Z (mm).")
 
 
-class ReportOut(BaseModel):
+class RunReportOut(BaseModel):
     """Real against simulated: the real TCP is compared, sample by sample, with the
     simulated path of the same line (and its neighbours), not at the same time."""
 
@@ -65,7 +65,7 @@ class RunSummaryOut(BaseModel):
     simulated_by: str | None = Field(description="Whose passed pre-flight it is compared with.")
     cycle_real: float | None = Field(description="Cycle time of a finished run (s).")
     cycle_simulated: float | None
-    report: ReportOut
+    report: RunReportOut
     kept: bool = Field(description="Kept from thinning by an instructor.")
 
 
@@ -113,7 +113,7 @@ def _summary(info: RunInfo) -> dict[str, object]:
         "simulated_by": info.simulated_by,
         "cycle_real": info.cycle_real,
         "cycle_simulated": info.cycle_simulated,
-        "report": ReportOut.model_validate(info.report or {}),
+        "report": RunReportOut.model_validate(info.report or {}),
         "kept": info.kept,
     }
 
