@@ -28,7 +28,7 @@ from typing import Any, ClassVar, Protocol
 from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.service.clock import Clock
 from melfa.service.errors import Cancelled, Refused
-from melfa.service.events import Actor, Event, Role
+from melfa.service.events import Actor, Event, LeaseChanged, Role
 from melfa.service.queue import Entry, QueueError, QueueSettings, Step, TurnQueue
 from melfa.service.service import RobotService
 from melfa.service.servo import ServoPolicy
@@ -468,8 +468,6 @@ class QueueKeeper:
 
     async def _watch_lease(self) -> None:
         """A change of the lease (given back, expired, its holder gone) wakes the keeper."""
-        from melfa.service.events import LeaseChanged
-
         sub = self.service.subscribe(LeaseChanged)
         try:
             async for _ in sub:
