@@ -14,7 +14,7 @@ import functools
 import math
 
 from melfa.lang import ast as A  # noqa: N812
-from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.diagnostics import Severity
 from melfa.lang.model import (
     FUNCTIONS,
     MAX_JOINT_ELEMENTS,
@@ -25,6 +25,7 @@ from melfa.lang.model import (
     Kind,
     is_external,
 )
+from melfa.lang.reporter import Reporter
 from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import osa_distance, suggest
 
@@ -59,30 +60,11 @@ def _a(kind: Kind) -> str:
     return f"a {kind.value}"
 
 
-class NameChecks:
+class NameChecks(Reporter):
     """The checks on names and calls; mixed into the checker's analyser."""
 
     program: A.Program
     symbols: Symbols
-    out: list[Diagnostic]
-
-    def add(
-        self,
-        span: A.Span,
-        severity: Severity,
-        message: str,
-        rule: str,
-        code: str | None = None,
-        suggestion: str | None = None,
-        replace: str | None = None,
-    ) -> None:
-        """Report a finding on `span` (``replace``: the text that fixes it there)."""
-        self.out.append(
-            Diagnostic(
-                span.line, span.column, span.end_line, span.end_column, severity, message,
-                rule, code, suggestion, replace,
-            )
-        )  # fmt: skip
 
     # ------------------------------------------------------------------ system variables
 

@@ -74,7 +74,6 @@ class VChecks(Reporter):
     """The checks that name MELFA BASIC V; mixed into the checker's analyser."""
 
     symbols: Symbols
-    out: list[Diagnostic]
     v_functions: frozenset[str] = frozenset()
     v_named: set[str]  # V system variables already reported (once per name)
 

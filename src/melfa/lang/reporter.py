@@ -1,20 +1,21 @@
-"""`Reporter`: how the checker's mixins report a finding, declared once.
+"""`Reporter`: how the checker's mixins report a finding, written once.
 
 The checker's analyser (`melfa.lang.check`) is made of mixins, one per family of checks
-(`check_names`, `check_routines`, `check_v`); each reports through the analyser's one `add`
-(`check_names.NameChecks.add`). The mixins that only use it subclass this protocol, so the
-type checker knows the method without a stub of their own.
+(`check_names`, `check_routines`, `check_v`); each subclasses this base and reports through
+its one `add`, which appends to the analyser's ``out``.
 """
 
 from __future__ import annotations
 
-from typing import Protocol
-
 from melfa.lang import ast as A  # noqa: N812
-from melfa.lang.diagnostics import Severity
+from melfa.lang.diagnostics import Diagnostic, Severity
 
 
-class Reporter(Protocol):
+class Reporter:
+    """The one `add` of the checker's mixins; the analyser supplies ``out``."""
+
+    out: list[Diagnostic]
+
     def add(
         self,
         span: A.Span,
@@ -26,7 +27,12 @@ class Reporter(Protocol):
         replace: str | None = None,
     ) -> None:
         """Report a finding on `span` (``replace``: the text that fixes it there)."""
-        ...
+        self.out.append(
+            Diagnostic(
+                span.line, span.column, span.end_line, span.end_column, severity, message,
+                rule, code, suggestion, replace,
+            )
+        )  # fmt: skip
 
 
 __all__ = ["Reporter"]
