@@ -179,6 +179,18 @@ def test_who_may_see_what(web: Web) -> None:
     assert_error(web.ann.get("/api/assignments/99"), 404, "not-found")
 
 
+def test_the_class_view_page_is_for_staff(web: Web) -> None:
+    """``/classroom``: sign in first (and come back), a student is told it is not theirs."""
+    anonymous = web.client.get("/classroom", follow_redirects=False)
+    assert anonymous.status_code == 303
+    assert anonymous.headers["location"] == "/login?next=/classroom"
+    refused = web.ann.get("/classroom")
+    assert refused.status_code == 403 and "Only instructors and admins" in refused.text
+    page = web.ivy.get("/classroom")
+    assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
+    assert "class view" in page.text
+
+
 def _row(opened_min_ago: float | None, passed: bool | None) -> ClassRow:
     now = datetime(2026, 1, 1, 12, tzinfo=UTC)
     copy = None

@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import Annotated
 
 from fastapi import APIRouter, File, Path, Query, Request, UploadFile
-from fastapi.responses import FileResponse, HTMLResponse, RedirectResponse, Response
+from fastapi.responses import Response
 
 from melfa.grade import Assignment as GradedAssignment
 from melfa.grade import variant_cell
@@ -40,12 +40,10 @@ from melfa.web.assignment_models import (
     MineOut,
     PublishIn,
 )
-from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
-from melfa.web.deps import ContextDep, SessionDep, StaffDep, find_session
+from melfa.web.deps import ContextDep, SessionDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
-from melfa.web.routes.pages import STATIC
-from melfa.web.static_files import cache_headers
+from melfa.web.routes.pages import staff_page
 
 router = APIRouter(prefix="/api/assignments", tags=["assignments"], responses=ERROR_RESPONSES)
 pages = APIRouter(include_in_schema=False)
@@ -336,16 +334,9 @@ async def class_csv(
 @pages.get("/classroom", response_model=None)
 async def classroom_page(request: Request) -> Response:
     """The instructor's page: publish, and the class view of each assignment."""
-    context: WebContext = request.app.state.web
-    session = await find_session(context, request.cookies.get(SESSION_COOKIE))
-    if session is None:
-        return RedirectResponse("/login?next=/classroom", status_code=303)
-    request.state.user = session.user.username
-    if not session.user.role.is_staff:
-        return HTMLResponse("<p>Only instructors and admins see the class view.</p>", 403)
-    response = FileResponse(STATIC / "classroom.html", media_type="text/html")
-    cache_headers(response)
-    return response
+    return await staff_page(
+        request, "classroom.html", "<p>Only instructors and admins see the class view.</p>"
+    )
 
 
 __all__ = ["cell_of_workspace", "pages", "router"]
