@@ -12,10 +12,10 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
-from melfa.store import AuditEvent, Session
 from melfa.vocab.desk import DeskAction
 from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, StaffDep, actor_of
+from melfa.web.desk_audit import audit_desk
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input
 from melfa.web.routes.pages import staff_page
@@ -42,19 +42,6 @@ def _desk(context: WebContext) -> DeskOut:
     return DeskOut(require_simulation=policy.simulation_required, held_by=policy.held_by)
 
 
-async def _audit(
-    context: WebContext, session: Session, action: DeskAction, **details: object
-) -> None:
-    await context.store.audit.record_async(
-        AuditEvent(
-            action=action.value,
-            actor=session.user.username,
-            role=session.user.role.value,
-            details=dict(details),
-        )
-    )
-
-
 @router.get("", response_model=DeskOut, summary="The lab robot's settings (staff)")
 async def desk(session: StaffDep, context: ContextDep) -> DeskOut:
     return _desk(context)
@@ -67,7 +54,7 @@ async def set_gate(body: GateIn, session: StaffDep, context: ContextDep) -> Desk
         raise ApiError(409, "refused", "this robot has no simulation gate")
     gate.required = body.require_simulation
     state = "on" if body.require_simulation else "off"
-    await _audit(context, session, DeskAction.GATE, state=state)
+    await audit_desk(context, session, DeskAction.GATE, state=state)
     return _desk(context)
 
 
@@ -76,14 +63,14 @@ async def hold(session: StaffDep, context: ContextDep) -> DeskOut:
     """Held first, then stopped: nothing queued after the STOP can start."""
     context.service.policy.hold(session.user.username)
     await context.service.stop(actor_of(session))
-    await _audit(context, session, DeskAction.HOLD)
+    await audit_desk(context, session, DeskAction.HOLD)
     return _desk(context)
 
 
 @router.delete("/hold", response_model=DeskOut, summary="Release the lab robot")
 async def release(session: StaffDep, context: ContextDep) -> DeskOut:
     context.service.policy.hold(None)
-    await _audit(context, session, DeskAction.RELEASE)
+    await audit_desk(context, session, DeskAction.RELEASE)
     return _desk(context)
 
 

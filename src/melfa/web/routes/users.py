@@ -10,12 +10,13 @@ from typing import Annotated
 
 from fastapi import APIRouter, Path
 
-from melfa.store import AuditEvent, Role, Session, User, generate_password
+from melfa.store import Role, Session, User, generate_password
 from melfa.store.enrol import EnrolmentError, enrol, parse_enrolment
 from melfa.vocab.desk import DeskAction
 from melfa.web.context import WebContext
 from melfa.web.convert import user_out
 from melfa.web.deps import ContextDep, StaffDep
+from melfa.web.desk_audit import audit_desk
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import (
     EnrolIn,
@@ -50,19 +51,6 @@ async def _manageable(context: WebContext, session: Session, username: str) -> U
     return user
 
 
-async def _audit(
-    context: WebContext, session: Session, action: DeskAction, **details: object
-) -> None:
-    await context.store.audit.record_async(
-        AuditEvent(
-            action=action.value,
-            actor=session.user.username,
-            role=session.user.role.value,
-            details=dict(details),
-        )
-    )
-
-
 @router.get("", response_model=UserList, summary="The accounts you may manage")
 async def list_users(session: StaffDep, context: ContextDep) -> UserList:
     """Admins: every account; instructors: the students."""
@@ -85,7 +73,7 @@ async def add_user(body: UserCreateIn, session: StaffDep, context: ContextDep) -
         group=body.group or None,
         display_name=body.display_name,
     )
-    await _audit(context, session, DeskAction.ACCOUNT_ADD, who=user.username)
+    await audit_desk(context, session, DeskAction.ACCOUNT_ADD, who=user.username)
     return UserCreatedOut(user=user_out(user), password=generated)
 
 
@@ -107,7 +95,7 @@ async def import_users(body: EnrolIn, session: StaffDep, context: ContextDep) ->
         if not session.user.role.may_manage(row.user.role):
             raise _refuse(session, row.user.role)
     report = await context.hash(enrol, context.store.accounts, rows)
-    await _audit(context, session, DeskAction.ACCOUNT_IMPORT, count=len(report.created))
+    await audit_desk(context, session, DeskAction.ACCOUNT_IMPORT, count=len(report.created))
     return EnrolOut(created=report.created, skipped=report.skipped, passwords=report.generated)
 
 
@@ -118,7 +106,7 @@ async def remove_user(username: Username, session: StaffDep, context: ContextDep
     user = await _manageable(context, session, username)
     await context.db(context.store.accounts.remove_user, user.username)
     context.guard.revoke_user(user.username, "the account was removed")
-    await _audit(context, session, DeskAction.ACCOUNT_REMOVE, who=user.username)
+    await audit_desk(context, session, DeskAction.ACCOUNT_REMOVE, who=user.username)
     return Ok()
 
 
@@ -133,7 +121,7 @@ async def set_password(
     assert password is not None
     await context.hash(context.store.accounts.set_password, user.username, password)
     context.guard.revoke_user(user.username, "the password was changed")
-    await _audit(context, session, DeskAction.ACCOUNT_PASSWORD, who=user.username)
+    await audit_desk(context, session, DeskAction.ACCOUNT_PASSWORD, who=user.username)
     return PasswordOut(password=generated)
 
 
