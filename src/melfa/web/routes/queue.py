@@ -10,9 +10,10 @@ once, switch attended mode and say *Arm ready*. Every change reaches every socke
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Annotated
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Depends, Query
 from pydantic import Field
 
 from melfa.live.messages import QueueOut
@@ -129,65 +130,69 @@ async def done(actor: ActorDep, context: ContextDep, target: TargetQuery = LAB) 
 # ---------------------------------------------------------------------- the instructor
 
 
+@dataclass(frozen=True)
+class _Staff:
+    """A member of staff acting on one shared robot's queue."""
+
+    context: WebContext
+    target: str
+    by: Actor
+
+    async def act(self, name: str, call: Callable[[QueueKeeper, Actor], None]) -> QueueOut:
+        keeper = keeper_of(self.context, self.target)
+        return await _act(keeper, self.by, name, lambda: call(keeper, self.by))
+
+
+def _staff(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> _Staff:
+    return _Staff(context, target, actor_of(session))
+
+
+StaffQueue = Annotated[_Staff, Depends(_staff)]
+
+
 @router.post("/pause", response_model=QueueOut, summary="Pause (instructors)")
-async def pause(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> QueueOut:
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "pause", lambda: keeper.pause(by))
+async def pause(staff: StaffQueue) -> QueueOut:
+    return await staff.act("pause", lambda q, by: q.pause(by))
 
 
 @router.post("/resume", response_model=QueueOut, summary="Resume (instructors)")
-async def resume(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> QueueOut:
+async def resume(staff: StaffQueue) -> QueueOut:
     """A turn kept while you held the arm continues with its time left."""
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "resume", lambda: keeper.resume(by))
+    return await staff.act("resume", lambda q, by: q.resume(by))
 
 
 @router.post("/move", response_model=QueueOut, summary="Move a student (instructors)")
-async def move(
-    body: PlaceIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
-) -> QueueOut:
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "move", lambda: keeper.move(body.user, body.position, by))
+async def move(body: PlaceIn, staff: StaffQueue) -> QueueOut:
+    return await staff.act("move", lambda q, by: q.move(body.user, body.position, by))
 
 
 @router.post("/skip", response_model=QueueOut, summary="Skip a student (instructors)")
-async def skip(
-    body: SkipIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
-) -> QueueOut:
+async def skip(body: SkipIn, staff: StaffQueue) -> QueueOut:
     """Out of the queue; at the arm, the turn ends and a running program is stopped."""
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "skip", lambda: keeper.skip(body.user, by))
+    return await staff.act("skip", lambda q, by: q.skip(body.user, by))
 
 
 @router.post("/extend", response_model=QueueOut, summary="Extend the turn (instructors)")
-async def extend(
-    body: ExtendIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
-) -> QueueOut:
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "extend", lambda: keeper.extend(body.seconds, by))
+async def extend(body: ExtendIn, staff: StaffQueue) -> QueueOut:
+    return await staff.act("extend", lambda q, by: q.extend(body.seconds, by))
 
 
 @router.post("/take", response_model=QueueOut, summary="Take the arm at once (instructors)")
-async def take(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> QueueOut:
+async def take(staff: StaffQueue) -> QueueOut:
     """The lease is yours and the queue pauses; the turn at the arm keeps its time left."""
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "take", lambda: keeper.take(by))
+    return await staff.act("take", lambda q, by: q.take(by))
 
 
 @router.put("/attended", response_model=QueueOut, summary="Attended mode (instructors)")
-async def attended(
-    body: AttendedIn, session: StaffDep, context: ContextDep, target: TargetQuery = LAB
-) -> QueueOut:
+async def attended(body: AttendedIn, staff: StaffQueue) -> QueueOut:
     """On: each run on the arm waits for your *Arm ready*."""
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "attended", lambda: keeper.set_attended(body.on, by))
+    return await staff.act("attended", lambda q, by: q.set_attended(body.on, by))
 
 
 @router.post("/ready", response_model=QueueOut, summary="Arm ready (instructors)")
-async def ready(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> QueueOut:
+async def ready(staff: StaffQueue) -> QueueOut:
     """Attended mode: the waiting run goes (or the next run will, when none waits)."""
-    keeper, by = keeper_of(context, target), actor_of(session)
-    return await _act(keeper, by, "ready", lambda: keeper.arm_ready(by))
+    return await staff.act("ready", lambda q, by: q.arm_ready(by))
 
 
 __all__ = ["router"]
