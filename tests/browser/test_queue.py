@@ -192,3 +192,42 @@ def runs(lab: Lab) -> list[str]:
     lab.store.db.flush()
     entries = lab.store.audit.query(action="robot.run", limit=50).entries
     return [str(e.actor) for e in entries if e.result == "ok"]
+
+
+def test_a_claim_from_my_simulator_turns_the_ide_to_the_lab_robot_and_stop_reaches_it(
+    browser: Browser, lab: Lab
+) -> None:
+    """A student debugs on My simulator and queues from there (the queue's button sits in
+    the simulator's side panel too): claiming runs their program on the lab robot, so the
+    IDE shows the lab robot, and the big STOP pressed back on My simulator during the turn
+    still stops the lab robot (it used to stop the private simulator only)."""
+    server = lab.start()
+    amy = ide(browser, server, "amy")
+    try:
+        amy.page.click("#target-switch [data-target=mine]")
+        amy.wait_ready()
+        join(amy)
+        expect(amy.page.locator("#claim-dialog")).to_have_attribute("open", "")
+        amy.page.click("#claim-go")
+        expect(amy.page.locator("body")).to_have_attribute("data-target", "lab")
+        expect(amy.page.locator(".view-head h2")).to_have_text("Lab RV-6S")
+        expect(amy.page.locator("#lease-text")).to_contain_text("you")
+        wait_until(lambda: runs(lab) == ["amy"], what="amy's program run")
+
+        amy.page.click("#target-switch [data-target=mine]")
+        amy.wait_ready()
+        amy.page.click("#estop")
+        wait_until(lambda: "lab" in stops(lab, "amy"), what="amy's STOP on the lab robot")
+    finally:
+        amy.close()
+
+
+def stops(lab: Lab, user: str) -> set[str]:
+    """Which robots ``user``'s STOPs reached: "lab", "private" (the audit's session)."""
+    lab.store.db.flush()
+    entries = lab.store.audit.query(action="robot.stop", limit=50).entries
+    return {
+        "private" if (e.details or {}).get("session") == "private" else "lab"
+        for e in entries
+        if e.actor == user
+    }

@@ -204,16 +204,23 @@ export class QueuePanel {
     await this.post("/api/queue/me", null, "Could not leave the queue", "DELETE");
   }
 
+  /** Claims the arm: the queued program loads and runs on the lab robot, so the IDE turns
+   * to it (a student who queued from My simulator watches the arm they claimed). */
   async claim() {
     this.dialog.close();
-    await this.post("/api/queue/claim", { start: true }, "Could not claim the arm");
+    if (await this.post("/api/queue/claim", { start: true }, "Could not claim the arm")) {
+      this.app.targets?.choose("lab");
+    }
   }
 
+  /** Sends a queue request; true when the server took it. */
   async post(path, body, what, method = "POST") {
     try {
       this.update({ ...(await api(method, path, body ?? undefined)), steps: [] });
+      return true;
     } catch (err) {
       showError(what, err);
+      return false;
     }
   }
 }

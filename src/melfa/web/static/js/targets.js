@@ -75,9 +75,14 @@ export class TargetSwitch extends EventTarget {
     }
   }
 
-  /** The STOP button: the active target, and the lab robot too when we left it holding it. */
+  /**
+   * The STOP button: the active target, and the lab robot too when this user may have it
+   * moving while the view shows their simulator: they left it holding control, or the
+   * queue gave them the arm (a claim from My simulator) — whatever the 3D view shows.
+   */
   async stopOthers() {
-    if (!this.isPrivate || !this.labHeld) return;
+    const myTurn = this.app.queue?.queue?.turn?.user === this.app.user;
+    if (!this.isPrivate || !(this.labHeld || myTurn)) return;
     try {
       await api("POST", "/api/robot/stop?target=lab");
     } catch {
