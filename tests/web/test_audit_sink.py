@@ -5,10 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from melfa.service.audit import AuditSink
-from melfa.service.events import Actor
+from melfa.service.events import Actor, RobotNote
 from melfa.service.events import AuditEvent as ServiceEvent
 from melfa.service.events import Role as ServiceRole
 from melfa.store import Store
+from melfa.vocab.robot_log import NoteKind
 from melfa.web.audit_sink import ServiceAuditSink
 
 
@@ -34,5 +35,23 @@ def _check(store: Store) -> None:
         "detail": "slot 1",
         "moves": True,
         "session": "s-1",
+        "robot": "lab",
     }
     assert entries[1].role == "student"
+
+
+def test_each_robot_s_notes_are_its_log(tmp_path: Path) -> None:
+    """A note (control, alarm) is stored under its robot: one robot's log is a query."""
+    with Store(tmp_path / "melfa.sqlite3") as store:
+        ada = Actor("ada", ServiceRole.STUDENT, "s-1")
+        lab, mine = ServiceAuditSink(store.audit), ServiceAuditSink(store.audit, "sim:ada")
+        lab.note(RobotNote(actor=ada, kind=NoteKind.CONTROL, facts={"reason": "acquired"}))
+        mine.note(RobotNote(actor=ada, kind=NoteKind.ALARM, facts={"number": 9100}))
+        mine.write(ServiceEvent(actor=ada, command_id=1, command="run"))
+        lab.flush()
+        assert [e.action for e in store.audit.query(robot="lab").entries] == ["control.changed"]
+        log = store.audit.query(robot="sim:ada").entries
+        assert [(e.action, e.details.get("number")) for e in log] == [
+            ("robot.run", None),
+            ("alarm.raised", 9100),
+        ]

@@ -190,7 +190,12 @@ def test_staff_join_read_only_unless_they_ask_and_others_are_refused(web: Web) -
     assert ann.flush().revision == 1
     assert web.ann.get(f"/api/workspaces/{ws}").json()["program"] == "MOV P1\n"
     ivy.disconnect()
-    editing = Peer(web.ivy, ws, edit=True).connect()
+    asking = Peer(web.ivy, ws, edit=True).connect()  # the browser's word is not enough
+    assert asking.welcome is not None and not asking.welcome.writable
+    assert asking.welcome.visiting and asking.welcome.owner == "G1"
+    asking.disconnect()
+    assert web.ivy.put(f"/api/workspaces/{ws}/staff-edit").json()["writable"]
+    editing = Peer(web.ivy, ws).connect()
     assert editing.welcome is not None and editing.welcome.writable
     editing.disconnect()
     ann.disconnect()

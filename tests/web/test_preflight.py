@@ -48,6 +48,8 @@ def test_preflight_flags_a_move_below_the_instructors_table(web: Web) -> None:
     assert "table" in below[0]["message"]
     bad = web.ivy.put("/api/preflight/cell", json={"boxes": [{"name": "x", "min": [1, 1, 1]}]})
     assert_error(bad, 422, "invalid-cell")
+    edits = ok(web.ivy.get("/api/audit", params={"action": "cell.edit"}))["entries"]
+    assert [(e["actor"], e["details"]["obstacles"]) for e in edits] == [("ivy", 1)]  # audited
 
 
 def test_the_gate_refuses_an_unsimulated_program_on_the_lab_robot(gated: Web) -> None:

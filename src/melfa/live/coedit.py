@@ -105,6 +105,12 @@ class WelcomeOut(_Sent):
     peer: int
     user: str
     writable: bool
+    visiting: bool = Field(
+        default=False,
+        description="Staff reading someone else's workspace (read-only until they choose "
+        "Edit as instructor).",
+    )
+    owner: str = Field(default="", description="Whose workspace it is (a user or a group).")
     epoch: str
     revision: int
     update: Base64

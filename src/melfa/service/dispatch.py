@@ -22,7 +22,7 @@ from melfa.robot import Robot, UploadReport
 from melfa.service.audit import AuditSink
 from melfa.service.bus import EventBus
 from melfa.service.errors import JogBusy, Refused, ServiceError
-from melfa.service.events import Actor, AuditEvent, CommandResult, UploadProgress
+from melfa.service.events import Actor, AuditEvent, CommandResult, RobotNote, UploadProgress
 from melfa.service.lease import LeaseChange
 from melfa.service.lifecycle import Life
 from melfa.service.policy import Policy
@@ -276,6 +276,11 @@ class Dispatcher:
         with contextlib.suppress(Exception):
             self.audit_sink.write(entry)
         self._bus.publish(entry)
+
+    def note(self, note: RobotNote) -> None:
+        """What happened to the robot that no command asked for (`melfa.service.notes`)."""
+        with contextlib.suppress(Exception):
+            self.audit_sink.note(note)
 
     def finish(
         self,

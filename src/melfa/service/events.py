@@ -19,6 +19,7 @@ from melfa.vocab.commands import Command
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LinkStatus
+from melfa.vocab.robot_log import NoteKind
 
 
 def utc_now() -> dt.datetime:
@@ -215,6 +216,17 @@ class AuditEvent(Event):
     detail: str = ""
     result: str = "accepted"
     moves: bool = True
+
+
+@dataclass(frozen=True, kw_only=True)
+class RobotNote(Event):
+    """Something that happened to the robot that no command asked for (control changed
+    hands, an alarm came or went, the link went down or up), for the audit log and so the
+    robot's log (`melfa.vocab.robot_log`). Its facts are codes and names, never words."""
+
+    NAME: ClassVar[str] = "note"
+    kind: NoteKind
+    facts: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, kw_only=True)

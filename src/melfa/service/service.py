@@ -55,6 +55,7 @@ from melfa.service.events import (
 from melfa.service.jogging import JogSession
 from melfa.service.lease import Lease, LeaseChange, LeaseInfo
 from melfa.service.lifecycle import Life, Lifecycle
+from melfa.service.notes import LinkNotes, alarm_notes, control_note
 from melfa.service.policy import Gate, Policy
 from melfa.service.polling import JointsRead, StateRead
 from melfa.service.posts import (
@@ -123,6 +124,7 @@ class RobotService(RobotCommands):
             jogging=lambda: self._jog.active,
         )
         self._snapshots = Snapshots(self._bus, self._lease, lambda: self._jog.label())
+        self._link_notes = LinkNotes()
         self._jog = JogSession(
             config=self.config,
             clock=self.clock,
@@ -489,6 +491,7 @@ class RobotService(RobotCommands):
             self._jog.end(
                 JogEnd.LEASE_ENDED, change.actor, detail=change.reason.words(), send_stop=True
             )
+        self._dispatch.note(control_note(change))
         info = self._lease.info()
         self._bus.publish(
             LeaseChanged(
@@ -525,8 +528,11 @@ class RobotService(RobotCommands):
             case Polled(result):
                 if isinstance(result, JointsRead):
                     self._dispatch.moved = False
+                alarm = self._snapshots.latest.alarm
                 self._snapshots.update(result.apply, state_read=isinstance(result, StateRead))
                 snapshot = self._snapshots.latest
+                for note in alarm_notes(alarm, snapshot.alarm, self._lease.holder):
+                    self._dispatch.note(note)
                 if self.recorder is not None:
                     self.recorder.polled(result, snapshot)
                 # Motion keeps the holder's lease; a STATE read showing a still, idle arm
@@ -541,6 +547,9 @@ class RobotService(RobotCommands):
                 if status is not LinkStatus.CONNECTED and self._jog.active:
                     self._jog.end(JogEnd.LINK_DOWN, SERVICE_ACTOR, detail=status.value)
                 self._bus.publish(LinkStatusChanged(status=status, detail=detail))
+                noted = self._link_notes.changed(status)
+                if noted is not None:
+                    self._dispatch.note(noted)
                 if self.recorder is not None:
                     self.recorder.link_changed(status)
                 if status is LinkStatus.CONNECTED:

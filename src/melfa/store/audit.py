@@ -74,10 +74,12 @@ class AuditLog:
         until: datetime | None = None,
         actor: str | None = None,
         action: str | None = None,
+        robot: str | None = None,
         limit: int = 50,
         before: int | None = None,
     ) -> AuditPage:
-        """Entries newest first, filtered by time range [since, until), actor and action.
+        """Entries newest first, filtered by time range [since, until), actor, action and
+        robot (``details.robot``: one robot's log, `melfa.vocab.robot_log`).
 
         Pass the page's `next_before` as `before` for the next (older) page.
         """
@@ -96,6 +98,9 @@ class AuditLog:
         if action is not None:
             clauses.append("action = ?")
             params.append(action)
+        if robot is not None:
+            clauses.append("json_extract(details, '$.robot') = ?")
+            params.append(robot)
         if before is not None:
             clauses.append("id < ?")
             params.append(before)

@@ -336,6 +336,13 @@ as one update (``state``), which revision it was last saved as, and an ``epoch``
 it was made. A browser that was offline merges its edits into the same document on
 reconnect only while the epoch is the same (a new document would duplicate the text)."""
 
+_AUDIT_ROBOT = Migration(
+    "0014_audit_robot",
+    ("CREATE INDEX audit_robot ON audit (json_extract(details, '$.robot'), id)",),
+)
+"""Each robot's entries of the audit log (``details.robot``: ``lab`` or ``sim:<user>``),
+newest first: the desk's robot log of one robot (`melfa.vocab.robot_log`)."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -350,5 +357,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _QUEUES,
     _SUBMISSION_FINGERPRINTS,
     _LIVE_DOCS,
+    _AUDIT_ROBOT,
 )
 """Every migration, in the order they apply. Append only."""

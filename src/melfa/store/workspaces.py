@@ -279,15 +279,19 @@ class Workspaces:
         return mine
 
     @staticmethod
-    def can_access(user: User, workspace: Workspace) -> bool:
-        """Owners, members of the owning group, and staff may read and write."""
-        if user.disabled:
-            return False
-        if user.role.is_staff:
-            return True
+    def is_member(user: User, workspace: Workspace) -> bool:
+        """The workspace is the user's own, or their group's (staff may open others' too,
+        but only read them until they ask to edit: `melfa.web.staff_edits`)."""
         if workspace.kind is WorkspaceKind.PERSONAL:
             return workspace.owner_id == user.id
         return user.group is not None and user.group.lower() == workspace.owner.lower()
+
+    @classmethod
+    def can_access(cls, user: User, workspace: Workspace) -> bool:
+        """Owners, members of the owning group, and staff may open it."""
+        if user.disabled:
+            return False
+        return user.role.is_staff or cls.is_member(user, workspace)
 
     def check_access(self, user: User, workspace: Workspace) -> None:
         """`AccessDenied` unless `can_access`."""

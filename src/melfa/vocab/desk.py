@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["ACTION_WORDS", "DESK_WORDS", "DeskAction"]
+__all__ = ["ACTION_WORDS", "DESK_WORDS", "VISIT_WORDS", "DeskAction", "visit_refusal"]
 
 
 class DeskAction(enum.StrEnum):
@@ -24,6 +24,9 @@ class DeskAction(enum.StrEnum):
     GATE = "gate.set"
     HOLD = "desk.hold"
     RELEASE = "desk.release"
+    EDIT_AS_STAFF = "workspace.edit-as-staff"
+    READ_ONLY = "workspace.read-only"
+    CELL = "cell.edit"
 
 
 ACTION_WORDS: dict[DeskAction, str] = {
@@ -35,9 +38,14 @@ ACTION_WORDS: dict[DeskAction, str] = {
     DeskAction.GATE: "turned the simulation gate {state}",
     DeskAction.HOLD: "stopped the lab robot and held it",
     DeskAction.RELEASE: "released the lab robot",
+    DeskAction.EDIT_AS_STAFF: "began editing {who}'s work ({workspace}) as instructor",
+    DeskAction.READ_ONLY: "went back to reading {who}'s work ({workspace})",
+    DeskAction.CELL: "edited the lab's cell ({obstacles} obstacles, {parts} parts)",
 }
 """The audit view's sentence for each action (after the user's name); ``{who}`` is the
-account, ``{count}`` how many were created, ``{state}`` on or off."""
+account, ``{count}`` how many were created, ``{state}`` on or off; a student's work
+opened to edit names ``{who}`` and ``{workspace}``; a cell edit counts ``{obstacles}`` and
+``{parts}``."""
 
 DESK_WORDS: dict[str, str] = {
     "title": "Instructor's desk",
@@ -81,3 +89,27 @@ DESK_WORDS: dict[str, str] = {
     "audit-columns": "When,Who,What,Result",
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name)."""
+
+VISIT_WORDS: dict[str, str] = {
+    "reading": "You are reading {who}'s work ({workspace}): it is read-only.",
+    "reading-help": (
+        "Nothing you type here reaches their work. To change it, choose Edit as "
+        "instructor: they see each edit as you make it, and the audit log records it."
+    ),
+    "edit": "Edit as instructor",
+    "editing": "You are editing {who}'s work ({workspace}) as instructor.",
+    "editing-help": "They see each edit as you make it; the audit log records that you edit.",
+    "stop-editing": "Back to read-only",
+    "open-in-editor": "Open in the editor",
+    "refused": (
+        "This is {who}'s work, open read-only: choose Edit as instructor first "
+        "(the audit log records it)."
+    ),
+}
+"""The banner over a student's workspace opened by staff, and the server's refusal of a
+write before *Edit as instructor* (``{who}``: whose work, ``{workspace}``: its name)."""
+
+
+def visit_refusal(who: str) -> str:
+    """The refusal of a write by staff who have not chosen to edit ``who``'s work."""
+    return VISIT_WORDS["refused"].format(who=who)

@@ -20,6 +20,7 @@ from melfa.ros.rosapi import ParamBudget
 from melfa.service import RobotService
 from melfa.service.clock import Clock
 from melfa.store import Store
+from melfa.vocab.robot_log import simulator_of
 from melfa.web import errors
 from melfa.web.audit_sink import ServiceAuditSink
 from melfa.web.coedit import CoeditHub
@@ -121,7 +122,7 @@ def create_app(
             registry = TargetRegistry(
                 the_service,
                 idle_s=config.private_idle_s,
-                audit=ServiceAuditSink(the_store.audit),
+                audit=lambda user: ServiceAuditSink(the_store.audit, simulator_of(user)),
             )
             limits = config.limits
             context = WebContext(
@@ -129,7 +130,7 @@ def create_app(
                 the_store,
                 the_service,
                 registry,
-                PreflightState(config.data_dir),
+                PreflightState(config.data_dir, the_store.audit),
                 pools=Pools(config.pools),
                 guard=SocketGuard(
                     limits.max_sockets_per_user, limits.max_sockets, limits.max_sockets_signing_in

@@ -17,6 +17,7 @@ from melfa.web.config import WebSettings
 from melfa.web.guard import SocketGuard
 from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight
+from melfa.web.staff_edits import StaffEdits
 from melfa.web.targets import Targets
 
 P = ParamSpec("P")
@@ -64,6 +65,8 @@ class WebContext:
     """The rosapi parameters every /rosbridge socket holds, against one total."""
     queues: dict[str, QueueKeeper] = field(default_factory=dict)
     """The queue of each shared robot, by target id (``lab``)."""
+    staff_edits: StaffEdits = field(default_factory=StaffEdits)
+    """Which staff sign-ins chose to edit which of others' workspaces (else read-only)."""
     coedit: CoeditHub = field(init=False)
     """Live co-editing: the open workspaces' shared documents (set by `create_app`)."""
 

@@ -172,6 +172,14 @@ class SaveOut(BaseModel):
     created: bool = Field(description="False when the content was already stored.")
 
 
+class StaffEditOut(BaseModel):
+    writable: bool = Field(description="This sign-in may change the workspace now.")
+    visiting: bool = Field(
+        description="Staff looking at someone else's workspace (read-only unless they chose "
+        "to edit it)."
+    )
+
+
 class RevisionList(BaseModel):
     revisions: list[RevisionInfoOut]
     next_before: int | None

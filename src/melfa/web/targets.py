@@ -78,7 +78,7 @@ class Targets:
         *,
         lab_label: str = "Lab RV-6S",
         idle_s: float = 1800.0,
-        audit: AuditSink | None = None,
+        audit: Callable[[str], AuditSink] | None = None,
         clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.lab = Target(LAB, TargetKind.LAB, lab_label, lab)
@@ -108,7 +108,8 @@ class Targets:
             async with lock:
                 target = self._private.get(user)
                 if target is None:
-                    simulator = PrivateSimulator(user, audit=self._audit, clock=self._clock)
+                    audit = self._audit(user) if self._audit is not None else None
+                    simulator = PrivateSimulator(user, audit=audit, clock=self._clock)
                     await simulator.start()
                     target = Target(
                         MINE,

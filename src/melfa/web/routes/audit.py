@@ -1,21 +1,18 @@
-"""The audit log for instructors and admins: JSON with paging and filters, and a plain
-server-rendered page (`/audit`) for reading it in a browser."""
+"""The audit log for instructors and admins: JSON with paging and filters (by time, user,
+action and robot: one robot's log is its entries). People read it on the instructor's desk
+(``/desk#audit``, in local time and plain words); ``/audit`` leads there."""
 
 from __future__ import annotations
 
 import datetime as dt
-import html
-import json
 from typing import Annotated
-from urllib.parse import urlencode
 
-from fastapi import APIRouter, Query, Request
-from fastapi.responses import HTMLResponse, RedirectResponse, Response
+from fastapi import APIRouter, Query
+from fastapi.responses import RedirectResponse, Response
 
-from melfa.store import AuditPage, Role
-from melfa.web.config import SESSION_COOKIE
+from melfa.store import AuditPage
 from melfa.web.context import WebContext
-from melfa.web.deps import ContextDep, StaffDep, find_session
+from melfa.web.deps import ContextDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import AuditEntryOut, AuditPageOut
 
@@ -46,6 +43,7 @@ async def query(
     action: str | None,
     limit: int,
     before: int | None,
+    robot: str | None = None,
 ) -> AuditPage:
     return await context.db(
         context.store.audit.query,
@@ -53,6 +51,7 @@ async def query(
         until=_aware(until, "until"),
         actor=actor,
         action=action,
+        robot=robot,
         limit=limit,
         before=before,
     )
@@ -66,17 +65,22 @@ async def list_audit(
     until: dt.datetime | None = None,
     actor: Annotated[str | None, Query(max_length=200)] = None,
     action: Annotated[str | None, Query(max_length=200)] = None,
+    robot: Annotated[str | None, Query(max_length=200)] = None,
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     before: Annotated[int | None, Query(ge=1, le=2**62)] = None,
 ) -> AuditPageOut:
-    """Filter by time range [since, until), user (``actor``) and ``action`` (robot commands
-    are ``robot.<command>``); page with ``before`` = the previous page's ``next_before``."""
+    """Filter by time range [since, until), user (``actor``), ``action`` (robot commands
+    are ``robot.<command>``; control changes, alarms and the link ``control.changed``,
+    ``alarm.raised``, ``alarm.cleared``, ``link.changed``) and ``robot`` (``lab``, or
+    ``sim:<user>``: that robot's log); page with ``before`` = the previous page's
+    ``next_before``."""
     page = await query(
         context,
         since=since,
         until=until,
         actor=actor,
         action=action,
+        robot=robot,
         limit=limit,
         before=before,
     )
@@ -86,61 +90,10 @@ async def list_audit(
     )
 
 
-_PAGE = """<!doctype html>
-<html lang="en"><head><meta charset="utf-8"><title>melfa · audit log</title>
-<style>body{{font:14px system-ui,sans-serif;margin:1.5em}}table{{border-collapse:collapse}}
-td,th{{border-bottom:1px solid #ddd;padding:.25em .6em;text-align:left;vertical-align:top}}
-code{{font-size:12px}}</style></head><body>
-<h1>Audit log</h1>
-<form method="get">user <input name="actor" value="{actor}"> action
-<input name="action" value="{action}"> <button>filter</button></form>
-<table><thead><tr><th>#</th><th>time (UTC)</th><th>user</th><th>role</th><th>action</th>
-<th>result</th><th>details</th></tr></thead><tbody>
-{rows}
-</tbody></table>
-<p>{more}</p>
-</body></html>
-"""
-
-
 @pages.get("/audit", response_model=None)
-async def audit_page(
-    request: Request,
-    actor: Annotated[str | None, Query(max_length=200)] = None,
-    action: Annotated[str | None, Query(max_length=200)] = None,
-    before: Annotated[int | None, Query(ge=1, le=2**62)] = None,
-) -> Response:
-    context: WebContext = request.app.state.web
-    session = await find_session(context, request.cookies.get(SESSION_COOKIE))
-    if session is None:
-        return RedirectResponse("/login?next=/audit", status_code=303)
-    if session.user.role is Role.STUDENT:
-        return HTMLResponse("<p>Only instructors and admins may read the audit log.</p>", 403)
-    request.state.user = session.user.username
-    page = await query(
-        context,
-        since=None,
-        until=None,
-        actor=actor or None,
-        action=action or None,
-        limit=100,
-        before=before,
-    )
-    e = html.escape
-    rows = "\n".join(
-        f"<tr><td>{x.id}</td><td>{e(x.at.strftime('%Y-%m-%d %H:%M:%S'))}</td>"
-        f"<td>{e(x.actor or '—')}</td><td>{e(x.role or '')}</td><td>{e(x.action)}</td>"
-        f"<td>{e(x.result)}</td><td><code>{e(json.dumps(x.details, sort_keys=True))}</code></td>"
-        "</tr>"
-        for x in page.entries
-    )
-    more = ""
-    if page.next_before is not None:
-        params = {k: v for k, v in (("actor", actor), ("action", action)) if v}
-        params["before"] = str(page.next_before)
-        more = f'<a href="/audit?{e(urlencode(params))}">older entries</a>'
-    body = _PAGE.format(actor=e(actor or ""), action=e(action or ""), rows=rows, more=more)
-    return HTMLResponse(body)
+async def audit_page() -> Response:
+    """The audit log is read on the instructor's desk, in local time and plain words."""
+    return RedirectResponse("/desk#audit", status_code=308)
 
 
 __all__ = ["pages", "router"]

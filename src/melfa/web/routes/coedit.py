@@ -1,10 +1,11 @@
 """`/api/workspaces/{id}/live`: the co-editing socket of one workspace (`web.coedit`).
 
 Who may join: the workspace's owner, the members of its group, and staff. Staff join
-read-only unless they ask to edit (``?edit=1``: an instructor looking at a student's work
-never types into it by accident). Signed in by the session cookie like ``/api/ws``, from
-this site only; the socket closes when the session is revoked. Every message is a model of
-`melfa.live.coedit` (docs/coedit-schema.json).
+read-only unless this sign-in chose *Edit as instructor* for it (``PUT
+/api/workspaces/{id}/staff-edit``, audited; `web.staff_edits`): an instructor looking at a
+student's work never types into it by accident. Signed in by the session cookie like
+``/api/ws``, from this site only; the socket closes when the session is revoked. Every
+message is a model of `melfa.live.coedit` (docs/coedit-schema.json).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ from melfa.live.coedit import (
     UpdateIn,
     WelcomeOut,
 )
-from melfa.store import AccessDenied, NotFound, User, Workspace, WorkspaceKind
+from melfa.store import AccessDenied, NotFound
 from melfa.web.coedit import CoeditHub, PeerConn, Room
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
@@ -37,21 +38,13 @@ from melfa.web.deps import find_session
 from melfa.web.guard import TooManySockets
 from melfa.web.ws import GOING_AWAY, POLICY_VIOLATION, origin_allowed
 
-__all__ = ["member_of", "router"]
+__all__ = ["router"]
 
 router = APIRouter()
 _log = logging.getLogger("melfa.web.coedit")
 
 MAX_MESSAGE_CHARS = 4_000_000
 """One message: a whole document's first sync may be large (texts up to 1 M characters)."""
-
-
-def member_of(user: User, workspace: Workspace) -> bool:
-    """The workspace is the user's own, or their group's (staff see others' too, but are
-    not members of them)."""
-    if workspace.kind is WorkspaceKind.PERSONAL:
-        return workspace.owner_id == user.id
-    return user.group is not None and user.group.lower() == workspace.owner.lower()
 
 
 @router.websocket("/api/workspaces/{workspace_id}/live")
@@ -72,9 +65,8 @@ async def live_document(websocket: WebSocket, workspace_id: int) -> None:
     except (NotFound, AccessDenied):
         await websocket.close(code=POLICY_VIOLATION, reason="not a workspace you may open")
         return
-    writable = member_of(user, workspace) or (
-        user.role.is_staff and websocket.query_params.get("edit") == "1"
-    )
+    edits = context.staff_edits
+    writable = edits.may_write(session, workspace)
     ended: list[str] = []
     done = asyncio.Event()
 
@@ -103,6 +95,8 @@ async def live_document(websocket: WebSocket, workspace_id: int) -> None:
                 peer=peer.peer,
                 user=user.username,
                 writable=writable,
+                visiting=edits.visiting(session, workspace),
+                owner=workspace.owner,
                 epoch=room.epoch,
                 revision=room.revision,
                 update=b64encode(room.doc.missing(vector)).decode(),

@@ -130,7 +130,7 @@ async def put_cell(body: CellIn, session: StaffDep, context: ContextDep) -> Pref
         cell = Cell.from_json(body.model_dump())
     except CellError as exc:
         raise ApiError(422, "invalid-cell", str(exc), where={"field": "cell"}) from None
-    await asyncio.to_thread(context.preflight.save_cell, cell)
+    await asyncio.to_thread(context.preflight.save_cell, cell, session.user)
     return settings_out(context)
 
 

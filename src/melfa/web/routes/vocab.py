@@ -22,7 +22,7 @@ from melfa.vocab.classroom import (
     STUCK_AFTER_MIN,
 )
 from melfa.vocab.commands import Command
-from melfa.vocab.desk import ACTION_WORDS, DESK_WORDS
+from melfa.vocab.desk import ACTION_WORDS, DESK_WORDS, VISIT_WORDS
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
@@ -66,6 +66,7 @@ def vocabulary() -> dict[str, Any]:
         "CLASS_VIEW_WORDS": CLASS_VIEW_WORDS,
         "STUCK_AFTER_MIN": STUCK_AFTER_MIN,
         "DESK_WORDS": DESK_WORDS,
+        "VISIT_WORDS": VISIT_WORDS,
         "AUDIT_ACTIONS": {action.value: words for action, words in ACTION_WORDS.items()},
         "START_WORDS": START_WORDS,
         "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},

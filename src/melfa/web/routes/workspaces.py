@@ -1,7 +1,9 @@
 """The signed-in user's workspaces: list, create (named, optionally from an opened file),
 rename and archive; read, save with a base revision (merged line by line with what was
 saved since, and into the live document while the workspace is open: `web.coedit`),
-history and restore, `.MB4`/`.POS` import and export."""
+history and restore, `.MB4`/`.POS` import and export. Staff open others' workspaces
+read-only: every write here is refused until they choose *Edit as instructor*
+(`PUT /{id}/staff-edit`, audited; `web.staff_edits`)."""
 
 from __future__ import annotations
 
@@ -10,10 +12,12 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, File, Form, Path, Query, UploadFile
 from fastapi.responses import PlainTextResponse
 
-from melfa.store import FileKind, SaveReason, User, Workspace
+from melfa.store import FileKind, SaveReason, Session, User, Workspace
+from melfa.vocab.desk import DeskAction, visit_refusal
 from melfa.web.context import WebContext
 from melfa.web.convert import revision_info_out, revision_out, workspace_info, workspace_out
 from melfa.web.deps import ContextDep, SessionDep
+from melfa.web.desk_audit import audit_desk
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import (
     RestoreIn,
@@ -21,6 +25,7 @@ from melfa.web.models import (
     RevisionOut,
     SaveIn,
     SaveOut,
+    StaffEditOut,
     WorkspaceCreateIn,
     WorkspaceInfo,
     WorkspaceList,
@@ -45,6 +50,15 @@ async def open_workspace(context: WebContext, user: User, workspace_id: int) -> 
     store = context.store
     workspace = await context.db(store.workspaces.get, workspace_id)
     store.workspaces.check_access(user, workspace)
+    return workspace
+
+
+async def writable_workspace(context: WebContext, session: Session, workspace_id: int) -> Workspace:
+    """The workspace if this sign-in may change it: its members, or staff who chose *Edit
+    as instructor* for it (`web.staff_edits`); 403 ``read-only`` otherwise."""
+    workspace = await open_workspace(context, session.user, workspace_id)
+    if not context.staff_edits.may_write(session, workspace):
+        raise ApiError(403, "read-only", visit_refusal(workspace.owner))
     return workspace
 
 
@@ -98,7 +112,7 @@ async def patch_workspace(
 ) -> WorkspaceInfo:
     """Rename (409 ``already-exists`` if the owner has one of that name) and/or archive:
     hidden from the switcher, never deleted; the default and shared ones stay."""
-    ws = await open_workspace(context, session.user, workspace_id)
+    ws = await writable_workspace(context, session, workspace_id)
     if body.name is not None:
         ws = await context.db(context.store.workspaces.rename, ws.id, body.name)
     if body.archived is not None:
@@ -123,7 +137,7 @@ async def save_workspace(
     either is dropped, and the merged text is the revision returned. 409 ``save-conflict``
     (the current revision in ``error.detail.current``) only when revision ``base`` is no
     longer kept."""
-    ws = await open_workspace(context, session.user, workspace_id)
+    ws = await writable_workspace(context, session, workspace_id)
     result = await context.coedit.rest_write(
         ws.id,
         lambda: context.db(
@@ -139,6 +153,48 @@ async def save_workspace(
     for queue in context.queues.values():  # a queued text that changed is marked stale
         queue.workspace_saved(ws.id, result.revision.program, result.revision.points)
     return SaveOut(revision=revision_out(result.revision), created=result.created)
+
+
+@router.put("/{workspace_id}/staff-edit", response_model=StaffEditOut, summary="Edit as instructor")
+async def edit_as_staff(
+    workspace_id: WorkspaceId, session: SessionDep, context: ContextDep
+) -> StaffEditOut:
+    """Staff: change this workspace of someone else from now on, in this sign-in (it opens
+    read-only). Audited; its owners see each edit live. A no-op for its own members."""
+    ws = await open_workspace(context, session.user, workspace_id)
+    if context.staff_edits.visiting(session, ws):
+        context.staff_edits.grant(session, ws.id)
+        await audit_desk(
+            context,
+            session,
+            DeskAction.EDIT_AS_STAFF,
+            who=ws.owner,
+            workspace=ws.name,
+            workspace_id=ws.id,
+        )
+    return StaffEditOut(writable=True, visiting=context.staff_edits.visiting(session, ws))
+
+
+@router.delete(
+    "/{workspace_id}/staff-edit", response_model=StaffEditOut, summary="Back to read-only"
+)
+async def stop_editing_as_staff(
+    workspace_id: WorkspaceId, session: SessionDep, context: ContextDep
+) -> StaffEditOut:
+    """Staff: read this workspace of someone else only, again (audited)."""
+    ws = await open_workspace(context, session.user, workspace_id)
+    visiting = context.staff_edits.visiting(session, ws)
+    if visiting and context.staff_edits.editing(session, ws):
+        context.staff_edits.revoke(session, ws.id)
+        await audit_desk(
+            context,
+            session,
+            DeskAction.READ_ONLY,
+            who=ws.owner,
+            workspace=ws.name,
+            workspace_id=ws.id,
+        )
+    return StaffEditOut(writable=not visiting, visiting=visiting)
 
 
 @router.get("/{workspace_id}/revisions", response_model=RevisionList, summary="History")
@@ -183,7 +239,7 @@ async def restore_revision(
     session: SessionDep,
     context: ContextDep,
 ) -> SaveOut:
-    ws = await open_workspace(context, session.user, workspace_id)
+    ws = await writable_workspace(context, session, workspace_id)
     result = await context.coedit.rest_write(
         ws.id,
         lambda: context.db(
@@ -203,7 +259,7 @@ async def import_file(
 ) -> SaveOut:
     """Replaces the program (`.MB4`, step numbers stripped) or the points (`.POS`); the
     other half stays. A wrong extension is 422 ``wrong-extension``."""
-    ws = await open_workspace(context, session.user, workspace_id)
+    ws = await writable_workspace(context, session, workspace_id)
     filename = file.filename or ""
     data = await file.read(MAX_UPLOAD_BYTES + 1)
     if len(data) > MAX_UPLOAD_BYTES:
@@ -243,4 +299,4 @@ async def export_file(
     )
 
 
-__all__ = ["default_workspace", "open_workspace", "router"]
+__all__ = ["default_workspace", "open_workspace", "router", "writable_workspace"]

@@ -9,7 +9,7 @@
 import { api, setCsrf } from "./api.js";
 import { lineDiff } from "./opener.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
-import { CLASS_COLUMNS, CLASS_FILTERS, CLASS_VIEW_WORDS as W, GRADE_WORDS, PANE_WORDS, RESULT_WORDS } from "/vocab.js"; // melfa.vocab.classroom
+import { CLASS_COLUMNS, CLASS_FILTERS, CLASS_VIEW_WORDS as W, GRADE_WORDS, PANE_WORDS, RESULT_WORDS, VISIT_WORDS } from "/vocab.js"; // melfa.vocab.classroom, .desk
 import { dueWords, fill } from "./assign.js";
 
 const REFRESH_MS = 10_000;
@@ -134,6 +134,8 @@ async function openStudent(r) {
   $("cv-student").hidden = false;
   document.querySelector(".cv-layout").classList.add("reading");
   $("cv-student-name").textContent = `${r.display_name || r.student} · ${state.view.assignment.title}`;
+  $("cv-open-editor").textContent = VISIT_WORDS["open-in-editor"];
+  $("cv-open-editor").href = `/?workspace=${r.workspace_id}`; // read-only there too
   try {
     const [revs, grades] = await Promise.all([
       api("GET", `/api/workspaces/${r.workspace_id}/revisions?limit=200`),

@@ -1,9 +1,13 @@
 // Presence in the editor: who has this workspace open (a chip each, in their colour) and
 // where their cursor is (a caret with their name, drawn over Ace and kept on its character
 // while anyone types: positions are Yjs relative positions). Staff looking at someone
-// else's workspace see it read-only, with a button to edit it anyway.
+// else's workspace read it only, under a banner saying whose work it is, with an
+// audited "Edit as instructor" (the server refuses their writes until then).
 
 import { $, el } from "./ui.js";
+import { VISIT_WORDS as V } from "/vocab.js";
+
+const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
 
 const CURSOR_SEND_MS = 80;
 const FLAG_MS = 4000; // a partner's name flag shows this long after their cursor moved
@@ -66,13 +70,8 @@ export class PresenceView {
         }, el("span", { class: "peer-dot", "aria-hidden": "true" }), p.user));
       }
     }
-    if (live && live.synced && !live.writable) {
-      chips.push(el("span", { class: "peer-readonly" }, "Read-only"));
-      chips.push(el("button", {
-        type: "button", class: "btn btn-sm", title: "Type into this workspace; its owners see your edits as you make them",
-        onclick: () => this.workspace.editHere(),
-      }, "Edit anyway"));
-    }
+    if (live && live.synced && !live.writable) chips.push(el("span", { class: "peer-readonly" }, "Read-only"));
+    this.banner(live);
     this.bar.replaceChildren(...chips);
     this.bar.hidden = !chips.length;
     const now = Date.now();
@@ -83,6 +82,32 @@ export class PresenceView {
     clearTimeout(this.quietTimer);
     this.quietTimer = setTimeout(() => this.drawCursors(), FLAG_MS + 50);
     this.drawCursors();
+  }
+
+  /** Staff in someone else's workspace: whose work it is, read-only or edited as
+   * instructor, and the one button that switches (the server decides and audits). */
+  banner(live) {
+    const node = $("visit-banner");
+    const visiting = Boolean(live && live.synced && live.visiting);
+    node.hidden = !visiting;
+    if (!visiting) return node.replaceChildren();
+    const facts = { who: live.owner, workspace: this.workspace.name || live.owner };
+    const editing = live.writable;
+    const act = async () => {
+      try {
+        await (editing ? this.workspace.readOnlyAgain() : this.workspace.editHere());
+      } catch (err) {
+        node.querySelector(".visit-error")?.remove();
+        node.append(el("span", { class: "visit-error", role: "alert" }, err.message));
+      }
+    };
+    node.className = "visit-banner" + (editing ? " editing" : "");
+    node.replaceChildren(
+      el("div", { class: "visit-text" },
+        el("strong", {}, fill(V[editing ? "editing" : "reading"], facts)),
+        el("span", {}, " " + V[editing ? "editing-help" : "reading-help"])),
+      el("button", { type: "button", class: editing ? "btn btn-sm" : "btn btn-sm btn-primary", id: "visit-edit", onclick: act },
+        V[editing ? "stop-editing" : "edit"]));
   }
 
   /** Each partner's caret where their cursor is now. */

@@ -32,17 +32,18 @@ export function fromBase64(text) {
 /** The socket and document of one workspace; events: "status" {state}, "welcome",
  * "saved" {revision, authors, flushed}, "presence" {peers}, "change" {field, delta, local}. */
 export class CoeditSession extends EventTarget {
-  constructor(workspaceId, user, { edit = false } = {}) {
+  constructor(workspaceId, user) {
     super();
     this.id = workspaceId;
     this.user = user;
-    this.edit = edit; // staff asking to edit another's workspace
     this.doc = new Y.Doc();
     this.program = this.doc.getText("program");
     this.points = this.doc.getText("points");
     this.epoch = null;
     this.peer = null;
-    this.writable = false;
+    this.writable = false; // the server decides: members, or staff who chose to edit
+    this.visiting = false; // staff reading someone else's workspace
+    this.owner = "";
     this.synced = false; // the first welcome has arrived
     this.revision = 0;
     this.peers = [];
@@ -115,7 +116,6 @@ export class CoeditSession extends EventTarget {
     if (this.closed) return;
     const url = new URL(`/api/workspaces/${this.id}/live`, location.href);
     url.protocol = url.protocol === "https:" ? "wss:" : "ws:";
-    if (this.edit) url.searchParams.set("edit", "1");
     const socket = new WebSocket(url);
     this.socket = socket;
     this.setState("connecting");
@@ -173,6 +173,8 @@ export class CoeditSession extends EventTarget {
         this.epoch = message.epoch;
         this.peer = message.peer;
         this.writable = message.writable;
+        this.visiting = message.visiting;
+        this.owner = message.owner;
         this.revision = message.revision;
         Y.applyUpdate(this.doc, fromBase64(message.update), REMOTE);
         // What the server lacks (typed offline, or before this socket opened).

@@ -29,7 +29,6 @@ export class Workspace extends EventTarget {
     this.live = null; // the CoeditSession of the current workspace
     this.pending = false; // edits since the last revision
     this.offlineEdits = false; // edits the server has not had yet (typed offline)
-    this.editAnyway = new Set(); // staff: workspaces of others they chose to edit
   }
 
   /** The workspace's name as a file name stem (downloads are named after it). */
@@ -86,13 +85,16 @@ export class Workspace extends EventTarget {
     return this.list;
   }
 
-  /** Open the workspace opened last in this browser (else the default one); edits this
-   * browser kept (typed offline) merge into it. */
+  /** Open the workspace the address names (`/?workspace=12`: the class view's "Open in
+   * the editor"), else the one opened last in this browser, else the default one; edits
+   * this browser kept (typed offline) merge into it. */
   async open() {
     await this.refreshList();
+    const asked = Number(new URLSearchParams(location.search).get("workspace"));
     let last = null;
     try { last = Number(localStorage.getItem(this.lastKey)); } catch { /* no storage */ }
-    await this.load(this.list.some((w) => w.id === last && !w.archived) ? last : this.defaultId);
+    const known = (id) => this.list.some((w) => w.id === id && !w.archived);
+    await this.load(known(asked) ? asked : known(last) ? last : this.defaultId);
   }
 
   /** Load workspace `id` into this object (nothing of the previous one is kept here) and
@@ -111,7 +113,7 @@ export class Workspace extends EventTarget {
     this.points = ws.points;
     this.pending = false;
     this.offlineEdits = false;
-    const live = new CoeditSession(ws.id, this.user, { edit: this.editAnyway.has(ws.id) });
+    const live = new CoeditSession(ws.id, this.user);
     this.live = live;
     const mine = (fn) => (detail) => { if (this.live === live) fn(detail); };
     const synced = mine(() => {
@@ -153,9 +155,16 @@ export class Workspace extends EventTarget {
     await this.whenSynced(5000); // typing starts on the live document
   }
 
-  /** Staff: edit this workspace of someone else (it opens read-only). */
+  /** Staff: edit this workspace of someone else (it opens read-only); the server grants
+   * it to this sign-in and audits it. */
   async editHere() {
-    this.editAnyway.add(this.id);
+    await api("PUT", `/api/workspaces/${this.id}/staff-edit`);
+    await this.load(this.id);
+  }
+
+  /** Staff: back to reading this workspace of someone else only. */
+  async readOnlyAgain() {
+    await api("DELETE", `/api/workspaces/${this.id}/staff-edit`);
     await this.load(this.id);
   }
 
