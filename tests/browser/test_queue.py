@@ -200,7 +200,8 @@ def test_a_claim_from_my_simulator_turns_the_ide_to_the_lab_robot_and_stop_reach
     """A student debugs on My simulator and queues from there (the queue's button sits in
     the simulator's side panel too): claiming runs their program on the lab robot, so the
     IDE shows the lab robot, and the big STOP pressed back on My simulator during the turn
-    still stops the lab robot (it used to stop the private simulator only)."""
+    still stops the lab robot (it used to stop the private simulator only). The chip says
+    the program in the slot is the editor's (it said the editor had changed since)."""
     server = lab.start()
     amy = ide(browser, server, "amy")
     try:
@@ -213,6 +214,8 @@ def test_a_claim_from_my_simulator_turns_the_ide_to_the_lab_robot_and_stop_reach
         expect(amy.page.locator(".view-head h2")).to_have_text("Lab RV-6S")
         expect(amy.page.locator("#lease-text")).to_contain_text("you")
         wait_until(lambda: runs(lab) == ["amy"], what="amy's program run")
+        # The claim loaded her editor's text, not this page: still, it is hers, unchanged
+        expect(amy.page.locator("#slot-info")).to_have_attribute("data-owner", "mine")
 
         amy.page.click("#target-switch [data-target=mine]")
         amy.wait_ready()

@@ -83,3 +83,22 @@ def test_idle_simulators_are_freed_and_made_again() -> None:
             return out
 
     assert asyncio.run(scenario()) == [[], ["ann"], True, True, 1]
+
+
+def test_slot_match_says_whether_a_text_is_the_loaded_program_with_its_step_map(web: Web) -> None:
+    """A page that did not load the program itself (the queue's claim, another tab) asks
+    whether its editor holds it, and gets the step map to mark the running line."""
+    ann = web.ann
+    match = "/api/robot/slot/match"
+    body = {"program": PROGRAM, "points": POINTS}
+    assert ok(ann.post(match, json=body, params=MINE_Q))["same"] is False  # nothing loaded
+    loaded = ok(ann.post("/api/robot/project", json=body, params=MINE_Q))
+    same = ok(ann.post(match, json=body, params=MINE_Q))
+    assert same["same"] is True and same["fingerprint"] == loaded["fingerprint"]
+    assert same["step_lines"] == loaded["step_lines"]
+    changed = {"program": PROGRAM.replace("DLY 30", "DLY 31"), "points": POINTS}
+    assert ok(ann.post(match, json=changed, params=MINE_Q)) == {
+        "same": False,
+        "fingerprint": None,
+        "step_lines": None,
+    }

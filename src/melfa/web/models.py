@@ -271,6 +271,25 @@ class UploadOut(BaseModel):
     )
 
 
+class SlotMatchIn(Input):
+    """A program and its points, as an editor holds them."""
+
+    program: LongText
+    points: LongText = ""
+
+
+class SlotMatchOut(BaseModel):
+    """Whether a text is the one in the controller's slot."""
+
+    same: bool = Field(
+        description="The program and points are exactly what the slot holds (one fingerprint)."
+    )
+    fingerprint: str | None = Field(None, description="The slot's, when the same.")
+    step_lines: dict[int, int] | None = Field(
+        None, description="The slot's step number -> line of this text, when the same."
+    )
+
+
 SERVO_ON_FIELD = Field(
     False,
     description="The operator asked to move: switch the servo on first if it is off "

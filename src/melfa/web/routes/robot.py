@@ -37,6 +37,8 @@ from melfa.web.models import (
     OverrideOut,
     RunIn,
     ServoIn,
+    SlotMatchIn,
+    SlotMatchOut,
     SourceIn,
     StateOut,
     UploadOut,
@@ -178,6 +180,21 @@ async def upload_points(
     service = drive.service
     report = await operate(actor, Command.UPLOAD_POINTS, lambda: service.upload_points(actor, plan))
     return _upload_out(report)
+
+
+@router.post("/slot/match", response_model=SlotMatchOut, summary="Is this text in the slot?")
+async def slot_match(body: SlotMatchIn, drive: DriveDep, context: ContextDep) -> SlotMatchOut:
+    """Whether the program and points given are the ones in the controller's slot, and if
+    so its step -> line map: a page that did not load them itself (the queue's claim, a
+    second tab, signing in again) still marks the running line and says the program is
+    the editor's. Reads nothing but the state and sends nothing to the robot."""
+    slot = drive.service.state.slot
+    if slot is None:
+        return SlotMatchOut(same=False, fingerprint=None, step_lines=None)
+    plan = await planned(context, body.program, body.points)
+    if plan.fingerprint != slot.fingerprint:
+        return SlotMatchOut(same=False, fingerprint=None, step_lines=None)
+    return SlotMatchOut(same=True, fingerprint=slot.fingerprint, step_lines=dict(slot.step_lines))
 
 
 @router.delete("/program", response_model=Ok, summary="Delete the program")

@@ -25,7 +25,7 @@ import { TargetSwitch } from "./targets.js";
 import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
-import { SlotChip, askBeforeRun, programErrorText, slotOwner, stoppedWhenLeftText } from "./slot.js";
+import { SlotChip, adoptSlot, askBeforeRun, programErrorText, slotOwner, stoppedWhenLeftText } from "./slot.js";
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
 import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
@@ -255,6 +255,7 @@ function onState({ state: m }, previous) {
   // A run-time error of the program this editor loaded: its line, marked as the error.
   const errorLine = m.alarm?.step ? app.lineOf(m.alarm.step) : null;
   if (!app.replaying) app.editor.markErrorLine(errorLine ? errorLine - 1 : null);
+  if (app.workspace) adoptSlot(m.slot ?? null, app.user, app.workspace.program, app.workspace.points);
   app.slotChip.render(m.slot ?? null, app.slotOwner);
   renderReadouts(m);
   renderActivity();

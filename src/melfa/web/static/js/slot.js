@@ -6,6 +6,8 @@
 // the editor marks lines only for a program this browser loaded from the text it holds.
 
 import { SLOT_WORDS } from "/vocab.js";
+import { api } from "./api.js";
+import { loaded } from "./stores.js";
 import { $, el } from "./ui.js";
 
 export function fill(template, values) {
@@ -117,4 +119,25 @@ export function programErrorText(alarm, slot, owner, line) {
 /** The words for a run stopped because every page of this user had closed. */
 export function stoppedWhenLeftText(iso) {
   return fill(SLOT_WORDS.stopped_when_left, { time: clock(iso) });
+}
+
+let asked = "";
+
+/**
+ * The user's own program is in the slot but this page did not load it (the queue's claim
+ * loaded it, another tab did, or a sign-in since): asks the server whether the editor's
+ * text is that program and, if so, takes its step map, so the running line is marked and
+ * the chip does not say the editor changed. Asked once per slot and text.
+ */
+export async function adoptSlot(slot, me, program, points) {
+  if (!slot || slot.user !== me || loaded.get().fingerprint === slot.fingerprint) return;
+  const key = `${slot.fingerprint}\u0000${program}\u0000${points}`;
+  if (key === asked) return;
+  asked = key;
+  try {
+    const out = await api("POST", "/api/robot/slot/match", { program, points });
+    if (out.same) loaded.remember(program, out.step_lines, out.fingerprint);
+  } catch {
+    /* the chip keeps saying what this page knows */
+  }
 }
