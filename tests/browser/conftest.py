@@ -157,7 +157,17 @@ class Session:
     def pose(self) -> list[float]:
         return list(self.eval("() => window.melfa.state.pose"))
 
-    def screenshot(self, name: str) -> None:
+    def open_page(self, path: str) -> Page:
+        """A page other than the IDE (``/desk``, ``/classroom``), once its script is ready."""
+        self.page.goto(self.server.url + path)
+        self.page.wait_for_selector("body[data-ready=true]")
+        return self.page
+
+    def screenshot(self, name: str, *, toasts: bool = True) -> None:
+        """For the docs; ``toasts=False``: what the test is about, earlier steps' toasts put
+        away."""
+        if not toasts:
+            self.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
         SCREENSHOTS.mkdir(parents=True, exist_ok=True)
         self.page.mouse.move(0, 0)
         self.page.screenshot(path=str(SCREENSHOTS / f"{name}.png"))

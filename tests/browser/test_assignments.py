@@ -38,18 +38,6 @@ def _axe_mine(page: Page) -> list[str]:
     return [p for p in axe_serious(page) if any(k in p for k in ("assign", "cv-", "pub-"))]
 
 
-def _classroom(s: Session) -> Page:
-    page = s.page
-    page.goto(s.server.url + "/classroom")
-    page.wait_for_selector("body[data-ready=true]")
-    return page
-
-
-def _shot(s: Session, name: str) -> None:
-    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    s.screenshot(name)
-
-
 def _student_works(s: Session, title: str) -> str:
     """Open the assignment, check (fails on line 3: a click there moves the cursor), fix,
     check (passes), submit. Returns the student's points (their variant)."""
@@ -78,7 +66,7 @@ def _student_works(s: Session, title: str) -> str:
     failed.locator("button.line").click()
     assert s.eval("() => window.melfa.editor.editor.getCursorPosition().row") == 2  # line 3
     if s.user == "alice":
-        _shot(s, "assignment-check-failed")
+        s.screenshot("assignment-check-failed", toasts=False)
 
     s.set_program(str(s.eval("() => window.melfa.editor.text")).replace("END", FIX))
     page.click("#assign-check")
@@ -92,7 +80,7 @@ def _student_works(s: Session, title: str) -> str:
         "2 of 3 submissions left", timeout=GRADING
     )
     if s.user == "alice":
-        _shot(s, "assignment-passed")
+        s.screenshot("assignment-passed", toasts=False)
         assert _axe_mine(page) == []
     return points
 
@@ -102,14 +90,14 @@ def test_publish_work_submit_and_the_class_view(
 ) -> None:
     server.add_user("teach", role="instructor")
     teacher: Session = open_session("teach")
-    page = _classroom(teacher)
+    page = teacher.open_page("/classroom")
     page.click("#cv-publish")
     expect(page.locator("#publish-dialog")).to_be_visible()
     page.set_input_files("#pub-zip", str(_zip(tmp_path)))
     expect(page.locator("#pub-title")).to_have_text("Reach the block")
     expect(page.locator("#pub-variants")).to_be_checked()
     expect(page.locator("#pub-attempts")).to_have_value("3")
-    _shot(teacher, "classroom-publish")
+    teacher.screenshot("classroom-publish", toasts=False)
     assert _axe_mine(page) == []
     page.click("#pub-ok")
     expect(page.locator("#publish-dialog")).to_be_hidden()
@@ -153,5 +141,5 @@ def test_publish_work_submit_and_the_class_view(
     expect(page.locator("#cv-report li.fail")).to_contain_text("line 3")
     expect(page.locator("#cv-diff-note")).to_have_text("Revision 1, the first.")
     expect(page.locator("#cv-program .add")).to_have_count(0)
-    _shot(teacher, "classroom-class-view")
+    teacher.screenshot("classroom-class-view", toasts=False)
     assert _axe_mine(page) == []

@@ -80,8 +80,7 @@ def test_two_partners_typing_at_once_and_one_offline_lose_nothing(
     bob.eval("() => window.melfa.editor.editor.gotoLine(4, 5)")
     cursor = alice.page.locator(".peer-cursor[data-user=pair1b]:not(.quiet)")
     expect(cursor).to_have_attribute("data-line", "4")
-    alice.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    alice.screenshot("ide-coedit")
+    alice.screenshot("ide-coedit", toasts=False)
 
     # bob goes offline for 30 s and keeps typing; alice types meanwhile.
     went = time.monotonic()

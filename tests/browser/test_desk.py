@@ -21,18 +21,6 @@ CLASS_LIST = "username,name,group\ndorothy,Dora Diaz,G3\nelias,Eli Ek,G3\nfayola
 # Names no other browser test module gives an account: they share one server.
 
 
-def _desk(s: Session) -> Page:
-    page = s.page
-    page.goto(s.server.url + "/desk")
-    page.wait_for_selector("body[data-ready=true]")
-    return page
-
-
-def _shot(s: Session, name: str) -> None:
-    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    s.screenshot(name)
-
-
 def _signs_in(page: Page, server: Server, user: str, password: str) -> bool:
     other = page.context.browser.new_context()  # type: ignore[union-attr]
     try:
@@ -53,7 +41,7 @@ def test_an_instructor_manages_accounts_from_the_desk(
 ) -> None:
     server.add_user("mia", role="instructor")
     mia: Session = open_session("mia")
-    page = _desk(mia)
+    page = mia.open_page("/desk")
     rows = page.locator("#acc-rows tr")
     expect(page.locator("#acc-rows tr[data-user=alice]")).to_be_visible()
     expect(page.locator("#acc-rows tr[data-user=admin]")).to_have_count(0)  # staff: admins'
@@ -68,7 +56,7 @@ def test_an_instructor_manages_accounts_from_the_desk(
     expect(once).to_be_visible(timeout=HASHING)
     expect(once.locator("tbody tr")).to_have_count(3)
     dora_first = once.locator("tbody tr", has_text="dorothy").locator("td").nth(1).inner_text()
-    _shot(mia, "desk-imported")
+    mia.screenshot("desk-imported", toasts=False)
     assert _desk_axe(page) == []
     once.get_by_role("button", name="Done").click()
     expect(page.locator("#acc-rows tr[data-user=fayola]")).to_contain_text("G4")
@@ -94,13 +82,13 @@ def test_an_instructor_manages_accounts_from_the_desk(
     page.fill("#acc-find", "G3")
     expect(rows).to_have_count(2)
     page.fill("#acc-find", "")
-    _shot(mia, "desk-accounts")
+    mia.screenshot("desk-accounts", toasts=False)
 
 
 def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) -> None:
     server.add_user("noa", role="instructor")
     noa: Session = open_session("noa")
-    page = _desk(noa)
+    page = noa.open_page("/desk")
     alice: Session = open_session("alice")
 
     def required() -> bool:
@@ -114,7 +102,7 @@ def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) 
     expect(toggle).to_have_attribute("aria-pressed", "true")
     expect(page.locator("#gate-state")).to_contain_text("must pass pre-flight")
     assert required() is True
-    _shot(noa, "desk-gate-on")
+    noa.screenshot("desk-gate-on", toasts=False)
     toggle.click()
     expect(toggle).to_have_attribute("aria-pressed", "false")
     assert required() is False
@@ -123,14 +111,14 @@ def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) 
 def test_an_instructors_stop_holds_until_released(open_session: Any, server: Server) -> None:
     server.add_user("ola", role="instructor")
     ola: Session = open_session("ola")
-    page = _desk(ola)
+    page = ola.open_page("/desk")
     alice: Session = open_session("alice")
     hold = page.locator("#hold-toggle")
     expect(hold).to_have_attribute("aria-pressed", "false")
     hold.click()
     expect(hold).to_have_attribute("aria-pressed", "true")
     expect(page.locator("#hold-state")).to_contain_text("Held by ola")
-    _shot(ola, "desk-held")
+    ola.screenshot("desk-held", toasts=False)
     try:
         alice.page.click("#act-load")  # the student is told who stopped it
         expect(alice.page.locator(".toast").last).to_contain_text(
@@ -153,7 +141,7 @@ def test_an_instructors_stop_holds_until_released(open_session: Any, server: Ser
 def test_an_instructor_reads_the_audit_log(open_session: Any, server: Server) -> None:
     server.add_user("pia", role="instructor")
     pia: Session = open_session("pia")
-    page = _desk(pia)
+    page = pia.open_page("/desk")
     alice: Session = open_session("alice")
     page.click("#gate-toggle")
     expect(page.locator("#gate-toggle")).to_have_attribute("aria-pressed", "true")
@@ -192,4 +180,4 @@ def test_an_instructor_reads_the_audit_log(open_session: Any, server: Server) ->
     page.fill("#audit-who", "")
     page.press("#audit-who", "Enter")
     expect(page.locator("#audit-rows tr", has_text="pia").first).to_be_visible()
-    _shot(pia, "desk-audit")
+    pia.screenshot("desk-audit", toasts=False)

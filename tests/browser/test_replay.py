@@ -50,8 +50,7 @@ def test_a_recorded_run_replays_with_its_line_and_deviation(
     page.click("#runs-button")
     item = page.locator(f"#runs-list li[data-run='{run['id']}']")
     expect(item).to_contain_text("finished")
-    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    s.screenshot("runs-list")
+    s.screenshot("runs-list", toasts=False)
     item.get_by_role("button", name="Replay").click()
     replay = page.locator("#replay")
     expect(replay).to_be_visible()
@@ -91,8 +90,7 @@ def test_a_recorded_run_replays_with_its_line_and_deviation(
     wait_until(lambda: s.eval("() => window.melfa.state.seq") > seq + 3, what="live states")
     assert s.joints() == shown
     assert page.get_attribute("#editor", "data-run-line") == str(line)
-    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    s.screenshot("replay")
+    s.screenshot("replay", toasts=False)
 
     page.click("#replay-close")
     expect(replay).to_be_hidden()

@@ -31,12 +31,6 @@ def _fresh(open_session: Any, server: Server, name: str, group: str | None = Non
     return session
 
 
-def _shot(s: Session, name: str) -> None:
-    """A screenshot of what this test is about: the toasts of earlier steps put away."""
-    s.eval("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
-    s.screenshot(name)
-
-
 def _expect_menu(s: Session, names: list[str]) -> None:
     """Open the switcher's menu: it lists exactly `names` (the list may still be arriving)."""
     s.page.click("#ws-switch")
@@ -62,7 +56,7 @@ def test_open_beside_over_unsaved_work_makes_a_new_workspace(
     expect(dialog).to_contain_text("“My programs” already holds a program of 3 lines")
     expect(page.locator("#open-beside")).to_contain_text("A new workspace “PYRAMID”")
     expect(page.locator("#open-beside")).to_be_focused()  # the choice that changes nothing
-    _shot(s, "open-dialog")
+    s.screenshot("open-dialog", toasts=False)
     page.click("#open-beside")
 
     expect(page.locator("#ws-current-name")).to_have_text("PYRAMID")
@@ -79,7 +73,7 @@ def test_open_beside_over_unsaved_work_makes_a_new_workspace(
     _expect_menu(s, ["My programs", "PYRAMID"])
     assert "null" not in s.page.inner_text("#ws-menu")
     expect(page.locator('#ws-menu [aria-checked="true"]')).to_contain_text("PYRAMID")
-    _shot(s, "workspaces")
+    s.screenshot("workspaces", toasts=False)
     page.locator("#ws-menu .ws-item", has_text="My programs").click()
     expect(page.locator("#ws-current-name")).to_have_text("My programs")
     assert s.eval("() => window.melfa.editor.text") == MINE
@@ -210,7 +204,7 @@ def test_group_workspace_is_labelled_shared(open_session: Any, server: Server) -
     group_item = page.locator("#ws-menu .ws-item", has_text="Lab-B")
     expect(group_item).to_contain_text("shared with group Lab-B")
     expect(page.locator("#ws-menu .ws-item", has_text="My programs")).to_be_visible()
-    _shot(s, "workspaces-shared")
+    s.screenshot("workspaces-shared", toasts=False)
     page.keyboard.press("Escape")
 
 
