@@ -12,28 +12,16 @@ import pytest
 from typer.testing import CliRunner
 
 from melfa.cli import app
+from tests.grade import sample
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "assignments"
 SOLUTIONS = EXAMPLES / "pyramid-solutions"
 
-PROGRAM = """SERVO ON
-MOV P1
-HOPEN 1
-MVS P2
-HCLOSE 1
-M_OUT(10) = M_IN(8)
-GOSUB *UP
-END
-*UP
-MVS P2, -50
-MVS P3
-HOPEN 1
-RETURN
-"""
-POINTS = """DEF POS P1=(400,0,450,180,0,180)(7,0)
-DEF POS P2=(400,100,400,180,0,180)(7,0)
-DEF POS P3=(400,-100,400,180,0,180)(7,0)
-"""
+# The grading tests' program (tests.grade.sample), setting the puck down at P3 on the
+# other stand.
+PROGRAM = sample.PROGRAM.replace("RETURN\n", "MVS P3\nHOPEN 1\nRETURN\n")
+POINTS = sample.POINTS + "DEF POS P3=(400,-100,400,180,0,180)(7,0)\n"
+
 # One check of every kind; the program above passes each.
 EVERY_KIND = """title = "Every kind"
 statement = "statement.md"

@@ -10,22 +10,7 @@ from hypothesis import strategies as st
 
 from melfa.grade import Report, Submission, grade, load_assignment
 from melfa.grade.model import CheckKind
-
-PROGRAM = """SERVO ON
-MOV P1
-HOPEN 1
-MVS P2
-HCLOSE 1
-M_OUT(10) = M_IN(8)
-GOSUB *UP
-END
-*UP
-MVS P2, -50
-RETURN
-"""
-POINTS = """DEF POS P1=(400,0,450,180,0,180)(7,0)
-DEF POS P2=(400,100,400,180,0,180)(7,0)
-"""
+from tests.grade.sample import POINTS, PROGRAM
 
 
 def assignment(checks: str, cell: dict[str, object] | None = None, extra: str = "") -> object:
