@@ -65,6 +65,7 @@ from melfa.store.models import (
     WorkspaceState,
 )
 from melfa.store.passwords import Passwords, generate_password
+from melfa.store.revisions import MAX_TEXT_CHARS, RetentionPolicy, SaveResult
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions, check_csrf
 from melfa.store.store import (
     DATA_ENV,
@@ -85,7 +86,7 @@ from melfa.store.transfer import (
     program_to_file,
 )
 from melfa.store.workspace_names import DEFAULT_PERSONAL_NAME, MAX_NAME_CHARS, clean_name
-from melfa.store.workspaces import MAX_TEXT_CHARS, RetentionPolicy, SaveResult, Workspaces
+from melfa.store.workspaces import Workspaces
 
 __all__ = [
     "ADMIN_PASSWORD_ENV",

@@ -1,5 +1,5 @@
 """Which recorded runs keep their samples: old runs are thinned as workspace autosaves are
-(`melfa.store.workspaces.RetentionPolicy`).
+(`melfa.store.revisions.RetentionPolicy`).
 
 Per user, the newest `RunRetention.keep_recent` runs keep everything; older runs younger
 than `RunRetention.hourly_for` keep their samples for the newest run of each hour, older

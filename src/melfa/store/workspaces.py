@@ -1,7 +1,9 @@
 """Workspaces: each user's or group's program and points, with every save kept.
 
 Thesis chapter 8 asked for stored programs per group and autosave, so that "changes are
-not lost if the web page is refreshed". Rules (docs/store.md):
+not lost if the web page is refreshed". This module says which workspaces there are and who
+opens them; their content is a log of revisions written by `melfa.store.revisions`.
+Rules (docs/store.md):
 
 * A workspace's content is its newest revision. Saving never rewrites a revision; restoring
   an old one adds a new revision with the old content.
@@ -22,14 +24,12 @@ from __future__ import annotations
 
 import sqlite3
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from datetime import datetime, timedelta
+from dataclasses import replace
 
 from melfa.store.accounts import Accounts
 from melfa.store.db import Database
-from melfa.store.errors import AccessDenied, AlreadyExists, InvalidValue, NotFound, SaveConflict
+from melfa.store.errors import AccessDenied, AlreadyExists, InvalidValue, NotFound
 from melfa.store.live_docs import LiveDoc, keep_live_doc, read_live_doc
-from melfa.store.merge import merge3
 from melfa.store.models import (
     Revision,
     RevisionInfo,
@@ -38,6 +38,16 @@ from melfa.store.models import (
     Workspace,
     WorkspaceKind,
     WorkspaceState,
+)
+from melfa.store.revisions import (
+    MAX_TEXT_CHARS,
+    RetentionPolicy,
+    SaveResult,
+    add_revision,
+    check_size,
+    head_revision,
+    list_revisions,
+    read_revision,
 )
 from melfa.store.timeutil import from_text, to_text
 from melfa.store.transfer import (
@@ -52,29 +62,6 @@ from melfa.store.transfer import (
 from melfa.store.workspace_names import DEFAULT_PERSONAL_NAME, clean_name
 
 __all__ = ["MAX_TEXT_CHARS", "RetentionPolicy", "SaveResult", "Workspaces"]
-
-MAX_TEXT_CHARS = 1_000_000
-"""Per program or points text: far above any real program, low enough to bound the disk."""
-
-
-@dataclass(frozen=True, slots=True)
-class RetentionPolicy:
-    """How autosaves are thinned (explicit saves, imports and restores are never pruned)."""
-
-    keep_recent: int = 50
-    """The newest autosaves of a workspace, all kept: undo for the last stretch of typing."""
-    hourly_for: timedelta = timedelta(days=7)
-    """Older autosaves younger than this keep one per hour (the newest of each hour)."""
-    # Older still: one per day, forever.
-
-
-@dataclass(frozen=True, slots=True)
-class SaveResult:
-    """The workspace's newest revision after a save, and whether the save added it."""
-
-    revision: Revision
-    created: bool
-
 
 _WS_SELECT = """
     SELECT w.id, w.user_id, w.group_id, w.created, w.head, w.name, w.archived, u.username,
@@ -96,24 +83,6 @@ def _workspace(row: sqlite3.Row) -> Workspace:
         row["name"],
         bool(row["archived"]),
     )
-
-
-def _revision(row: sqlite3.Row) -> Revision:
-    return Revision(
-        workspace_id=row["workspace_id"],
-        number=row["number"],
-        author=row["author"],
-        created=from_text(row["created"]),
-        reason=SaveReason(row["reason"]),
-        program=row["program"],
-        points=row["points"],
-        restored_from=row["restored_from"],
-    )
-
-
-def _check_size(field: str, text: str) -> None:
-    if len(text) > MAX_TEXT_CHARS:
-        raise InvalidValue(field, f"is {len(text)} characters; at most {MAX_TEXT_CHARS} are kept")
 
 
 class Workspaces:
@@ -174,8 +143,8 @@ class Workspaces:
         """A new personal workspace of `user` named `name`, empty or holding `program` and
         `points` as its first revision. `AlreadyExists` when the user has one so named."""
         cleaned = clean_name(name)
-        _check_size("program", program)
-        _check_size("points", points)
+        check_size("program", program)
+        check_size("points", points)
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> Workspace:
@@ -197,7 +166,9 @@ class Workspaces:
             )
             workspace_id = int(cursor.lastrowid or 0)
             if program or points:
-                self._save(conn, workspace_id, program, points, 0, user, reason, now, None)
+                add_revision(
+                    conn, self.retention, workspace_id, program, points, 0, user, reason, now, None
+                )
             return _by_id(conn, workspace_id)
 
         return self.db.write(write)
@@ -313,7 +284,7 @@ class Workspaces:
         ws = conn.execute(_WS_SELECT + " WHERE w.id = ?", (workspace_id,)).fetchone()
         if ws is None:
             raise NotFound(f"no workspace {workspace_id}")
-        head = _head(conn, workspace_id, ws["head"])
+        head = head_revision(conn, workspace_id, ws["head"])
         if head is None:
             return WorkspaceState(_workspace(ws), 0, "", "")
         return WorkspaceState(_workspace(ws), head.number, head.program, head.points)
@@ -334,93 +305,16 @@ class Workspaces:
         merged with what was saved since (`merge3`); `SaveConflict` only when revision
         `base` is no longer kept.
         """
-        _check_size("program", program)
-        _check_size("points", points)
+        check_size("program", program)
+        check_size("points", points)
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> SaveResult:
-            return self._save(conn, workspace_id, program, points, base, author, reason, now, None)
+            return add_revision(
+                conn, self.retention, workspace_id, program, points, base, author, reason, now, None
+            )
 
         return self.db.write(write)
-
-    def _save(
-        self,
-        conn: sqlite3.Connection,
-        workspace_id: int,
-        program: str,
-        points: str,
-        base: int | None,
-        author: User | None,
-        reason: SaveReason,
-        now: datetime,
-        restored_from: int | None,
-    ) -> SaveResult:
-        ws = conn.execute("SELECT head, created FROM workspaces WHERE id = ?", (workspace_id,))
-        row = ws.fetchone()
-        if row is None:
-            raise NotFound(f"no workspace {workspace_id}")
-        head_number: int = row["head"]
-        head = _head(conn, workspace_id, head_number)
-        current = head if head is not None else _empty(workspace_id, from_text(row["created"]))
-        if current.program == program and current.points == points:
-            return SaveResult(current, created=False)
-        if base is not None and base != current.number:
-            old = _head(conn, workspace_id, base) if 0 < base < current.number else None
-            if old is None and base != 0:
-                raise SaveConflict(base, current)
-            old_program, old_points = (old.program, old.points) if old else ("", "")
-            program = merge3(old_program, current.program, program)
-            points = merge3(old_points, current.points, points)
-            if current.program == program and current.points == points:
-                return SaveResult(current, created=False)
-        number = head_number + 1
-        conn.execute(
-            "INSERT INTO revisions (workspace_id, number, author_id, author, created, reason,"
-            " program, points, restored_from) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
-            (
-                workspace_id,
-                number,
-                None if author is None else author.id,
-                None if author is None else author.username,
-                to_text(now),
-                reason.value,
-                program,
-                points,
-                restored_from,
-            ),
-        )
-        conn.execute("UPDATE workspaces SET head = ? WHERE id = ?", (number, workspace_id))
-        if reason is SaveReason.AUTOSAVE:
-            self._prune(conn, workspace_id, number, now)
-        revision = Revision(
-            workspace_id,
-            number,
-            None if author is None else author.username,
-            now,
-            reason,
-            program,
-            points,
-            restored_from,
-        )
-        return SaveResult(revision, created=True)
-
-    def _prune(self, conn: sqlite3.Connection, workspace_id: int, head: int, now: datetime) -> None:
-        rows = conn.execute(
-            "SELECT id, number, created FROM revisions WHERE workspace_id = ?"
-            " AND reason = 'autosave' AND kept = 0 ORDER BY number DESC",
-            (workspace_id,),
-        ).fetchall()
-        seen: set[str] = set()
-        doomed: list[tuple[int]] = []
-        for row in rows[self.retention.keep_recent :]:
-            created = from_text(row["created"])
-            hourly = now - created < self.retention.hourly_for
-            bucket = created.strftime("%Y-%m-%dT%H" if hourly else "%Y-%m-%d")
-            if bucket in seen and row["number"] != head:
-                doomed.append((row["id"],))
-            else:
-                seen.add(bucket)
-        conn.executemany("DELETE FROM revisions WHERE id = ?", doomed)
 
     def save_live(
         self,
@@ -436,14 +330,23 @@ class Workspaces:
         it since the last one (its author reads "alice, bob"), with its CRDT state. The live
         document is the workspace while it is open, so no base is checked: saves from
         elsewhere were merged into it first (`web.coedit`)."""
-        _check_size("program", program)
-        _check_size("points", points)
+        check_size("program", program)
+        check_size("points", points)
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> SaveResult:
             author = authors[0] if authors else None
-            result = self._save(
-                conn, workspace_id, program, points, None, author, SaveReason.AUTOSAVE, now, None
+            result = add_revision(
+                conn,
+                self.retention,
+                workspace_id,
+                program,
+                points,
+                None,
+                author,
+                SaveReason.AUTOSAVE,
+                now,
+                None,
             )
             names = ", ".join(dict.fromkeys(a.username for a in authors))
             if result.created and len(authors) > 1:
@@ -488,10 +391,10 @@ class Workspaces:
         points: str | None = None
         if kind is FileKind.PROGRAM:
             program = program_from_file(filename, data)
-            _check_size("program", program)
+            check_size("program", program)
         else:
             points = points_from_file(filename, data)
-            _check_size("points", points)
+            check_size("points", points)
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> SaveResult:
@@ -499,11 +402,12 @@ class Workspaces:
             row = ws.fetchone()
             if row is None:
                 raise NotFound(f"no workspace {workspace_id}")
-            head = _head(conn, workspace_id, row["head"])
+            head = head_revision(conn, workspace_id, row["head"])
             new_program = program if program is not None else (head.program if head else "")
             new_points = points if points is not None else (head.points if head else "")
-            return self._save(
+            return add_revision(
                 conn,
+                self.retention,
                 workspace_id,
                 new_program,
                 new_points,
@@ -530,41 +434,11 @@ class Workspaces:
         self, workspace_id: int, *, limit: int = 100, before: int | None = None
     ) -> list[RevisionInfo]:
         """History, newest first; `before` a revision number to page further back."""
-        limit = max(1, min(limit, 1000))
-        upper = before if before is not None else 2**62
-        rows = self.db.read(
-            lambda c: c.execute(
-                "SELECT workspace_id, number, author, created, reason, restored_from,"
-                " length(program) AS pc, length(points) AS qc FROM revisions"
-                " WHERE workspace_id = ? AND number < ? ORDER BY number DESC LIMIT ?",
-                (workspace_id, upper, limit),
-            ).fetchall()
-        )
-        return [
-            RevisionInfo(
-                r["workspace_id"],
-                r["number"],
-                r["author"],
-                from_text(r["created"]),
-                SaveReason(r["reason"]),
-                r["restored_from"],
-                r["pc"],
-                r["qc"],
-            )
-            for r in rows
-        ]
+        return self.db.read(lambda c: list_revisions(c, workspace_id, limit, before))
 
     def revision(self, workspace_id: int, number: int) -> Revision:
         """One revision with its texts; `NotFound` if it never existed or was thinned."""
-        row = self.db.read(
-            lambda c: c.execute(
-                "SELECT * FROM revisions WHERE workspace_id = ? AND number = ?",
-                (workspace_id, number),
-            ).fetchone()
-        )
-        if row is None:
-            raise NotFound(f"workspace {workspace_id} has no revision {number}")
-        return _revision(row)
+        return self.db.read(lambda c: read_revision(c, workspace_id, number))
 
     def restore(
         self,
@@ -582,13 +456,7 @@ class Workspaces:
         now = self.db.clock()
 
         def write(conn: sqlite3.Connection) -> SaveResult:
-            row = conn.execute(
-                "SELECT * FROM revisions WHERE workspace_id = ? AND number = ?",
-                (workspace_id, number),
-            ).fetchone()
-            if row is None:
-                raise NotFound(f"workspace {workspace_id} has no revision {number}")
-            old = _revision(row)
+            old = read_revision(conn, workspace_id, number)
             # The text being replaced stays, whatever thinning comes later: a restore must
             # never be the reason a student's work disappears.
             conn.execute(
@@ -596,8 +464,9 @@ class Workspaces:
                 " AND number = (SELECT head FROM workspaces WHERE id = ?)",
                 (workspace_id, workspace_id),
             )
-            return self._save(
+            return add_revision(
                 conn,
+                self.retention,
                 workspace_id,
                 old.program,
                 old.points,
@@ -624,17 +493,3 @@ def _check_free(conn: sqlite3.Connection, user_id: int, name: str, keep: int | N
     for row in rows.fetchall():
         if row["id"] != keep and row["name"].casefold() == name.casefold():
             raise AlreadyExists(f"you already have a workspace called \u201c{row['name']}\u201d")
-
-
-def _head(conn: sqlite3.Connection, workspace_id: int, number: int) -> Revision | None:
-    if number == 0:
-        return None
-    row = conn.execute(
-        "SELECT * FROM revisions WHERE workspace_id = ? AND number = ?", (workspace_id, number)
-    ).fetchone()
-    return None if row is None else _revision(row)
-
-
-def _empty(workspace_id: int, created: datetime) -> Revision:
-    """The content of a never-saved workspace, as revision 0."""
-    return Revision(workspace_id, 0, None, created, SaveReason.SAVE, "", "")
