@@ -176,7 +176,7 @@ def test_an_instructor_reads_the_audit_log(open_session: Any, server: Server) ->
     with page.expect_download() as download:
         page.click("#audit-csv")
     text = Path(download.value.path()).read_text(encoding="utf-8")
-    assert text.startswith("When,Who,What,Result\n") and "alice" in text
+    assert text.startswith("When,Who,Robot,What,Result\n") and "alice" in text
     page.fill("#audit-who", "")
     page.press("#audit-who", "Enter")
     expect(page.locator("#audit-rows tr", has_text="pia").first).to_be_visible()

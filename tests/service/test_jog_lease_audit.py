@@ -241,7 +241,8 @@ def test_audit_entries_for_moving_commands() -> None:
             ("ann", "exec", "ok"),
         ]
         assert rows[4][:2] == ("ann", "exec") and rows[4][2] == "accepted"
-        assert rows[5][2].startswith("failed: ControllerError")
+        assert rows[5][2].startswith("failed: L")  # the controller's code and its advice
+        assert "Error" not in rows[5][2]
         assert rows[6][:2] == ("bob", "run") and rows[6][2].startswith("refused: ")
         assert rows[7:] == [("olga", "stop", "accepted"), ("olga", "stop", "ok")]
         ids = [e.command_id for e in sink.entries]

@@ -18,7 +18,9 @@ from collections.abc import Callable
 from typing import Any
 
 from melfa.lang.plan import UploadPlan
-from melfa.robot import Robot, UploadReport
+from melfa.protocol.advice import advice_for
+from melfa.protocol.error_table import error_code
+from melfa.robot import ControllerError, Robot, UploadReport
 from melfa.service.audit import AuditSink
 from melfa.service.bus import EventBus
 from melfa.service.errors import JogBusy, Refused, ServiceError
@@ -49,6 +51,15 @@ def describe_error(exc: BaseException) -> str:
         return str(exc)
     text = str(exc) or type(exc).__name__
     return f"{type(exc).__name__}: {text}"
+
+
+def outcome_words(exc: BaseException) -> str:
+    """How a command failed, as the audit log keeps it for people to read: a controller's
+    refusal by its code and its advice (``L2000: The servo is off…``), the student's own
+    words; anything else as `describe_error`."""
+    if isinstance(exc, ControllerError):
+        return f"{error_code(exc.number)}: {advice_for(exc.number).message}"
+    return describe_error(exc)
 
 
 class Dispatcher:
@@ -298,7 +309,7 @@ class Dispatcher:
             )
             return
         text = describe_error(error)
-        self.audit(actor, command_id, command, detail, f"failed: {text}")
+        self.audit(actor, command_id, command, detail, f"failed: {outcome_words(error)}")
         self._bus.publish(
             CommandResult(
                 actor=actor,

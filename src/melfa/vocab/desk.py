@@ -82,11 +82,17 @@ DESK_WORDS: dict[str, str] = {
     "audit": "Audit log",
     "audit-all": "everything",
     "audit-robot": "robot commands",
+    "audit-control": "control changes",
+    "audit-alarm": "alarms and the robot's link",
     "audit-refused": "refusals",
-    "audit-desk": "accounts, gate and hold",
+    "audit-queue": "the queue",
+    "audit-desk": "accounts, gate, hold, cell and students' work",
     "audit-sign-in": "sign-ins",
+    "audit-since": "Since",
     "audit-csv": "Export CSV",
-    "audit-columns": "When,Who,What,Result",
+    "audit-columns": "When,Who,Robot,What,Result",
+    "result-ok": "done",
+    "result-accepted": "asked (no answer yet)",
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name)."""
 

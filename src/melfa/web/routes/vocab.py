@@ -27,6 +27,7 @@ from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import EntryState, QueueStep
+from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
 from melfa.vocab.runs import RunOutcome
 from melfa.vocab.slot import SLOT_WORDS
 from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
@@ -67,6 +68,8 @@ def vocabulary() -> dict[str, Any]:
         "STUCK_AFTER_MIN": STUCK_AFTER_MIN,
         "DESK_WORDS": DESK_WORDS,
         "VISIT_WORDS": VISIT_WORDS,
+        "NOTE_WORDS": NOTE_WORDS,
+        "ROBOT_LOG_WORDS": ROBOT_LOG_WORDS,
         "AUDIT_ACTIONS": {action.value: words for action, words in ACTION_WORDS.items()},
         "START_WORDS": START_WORDS,
         "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},

@@ -3,11 +3,13 @@
 // shows what it was given), adding one, importing a class list (the CSV `melfa users
 // import` reads), a new password shown once, removing; and the lab robot's simulation
 // gate switched live, Stop and hold (students' commands refused, naming who holds it, until
-// released), and resetting an alarm without taking over. Every word comes from /vocab.js (melfa.vocab.desk).
+// released), and resetting an alarm without taking over; the audit log and each robot's
+// log in their own tabs (desk-audit.js). Every word comes from /vocab.js (melfa.vocab.desk).
 
 import { api, downloadText, setCsrf } from "./api.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
-import { AUDIT_ACTIONS, COMMANDS, DESK_WORDS as W } from "/vocab.js";
+import { listRobots, loadAudit, loadRobotLog, wireAudit, wireRobotLog } from "./desk-audit.js";
+import { DESK_WORDS as W, ROBOT_LOG_WORDS as RL } from "/vocab.js";
 
 const state = { me: null, users: [], gate: false, heldBy: null };
 const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
@@ -47,12 +49,15 @@ async function main() {
   $("reset-alarm").addEventListener("click", () => resetAlarm());
   wireAudit();
   await Promise.all([loadUsers(), loadDesk()]);
+  wireRobotLog(state.users);
+  wireTabs();
   document.body.dataset.ready = "true";
 }
 
 async function loadUsers() {
   state.users = (await api("GET", "/api/users")).users;
   drawUsers();
+  if (document.body.dataset.ready) listRobots(state.users);
 }
 
 function drawUsers() {
@@ -208,69 +213,31 @@ async function setGate(on) {
   }
 }
 
-// --- the audit log, in plain words and local time --------------------------------------
+// --- the tabs: accounts, the audit log, a robot's log ------------------------------------
 
-const KINDS = {
-  all: () => true,
-  robot: (e) => e.action.startsWith("robot."),
-  refused: (e) => e.result.startsWith("refused"),
-  desk: (e) => e.action in AUDIT_ACTIONS && e.action !== "session.sign-in",
-  "sign-in": (e) => e.action === "session.sign-in",
-};
+const TABS = [
+  ["tab-accounts", "acc-pane", "", null],
+  ["tab-audit", "audit-pane", "#audit", loadAudit],
+  ["tab-robots", "robots-pane", "#robots", loadRobotLog],
+];
 
-function wireAudit() {
-  for (const [tab, pane] of [["tab-accounts", "acc-pane"], ["tab-audit", "audit-pane"]]) {
-    $(tab).addEventListener("click", () => {
-      for (const [t, p] of [["tab-accounts", "acc-pane"], ["tab-audit", "audit-pane"]]) {
-        $(t).setAttribute("aria-selected", String(t === tab));
-        $(p).hidden = p !== pane;
-      }
-      if (pane === "audit-pane") loadAudit();
-    });
+function showTab(tab) {
+  for (const [t, pane, hash, load] of TABS) {
+    const on = t === tab;
+    $(t).setAttribute("aria-selected", String(on));
+    $(pane).hidden = !on;
+    if (on) {
+      history.replaceState(null, "", hash || location.pathname);
+      load?.();
+    }
   }
-  $("audit-title").textContent = W.audit;
-  $("audit-csv").textContent = W["audit-csv"];
-  $("audit-columns").replaceChildren(...W["audit-columns"].split(",").map((c) => el("th", { scope: "col" }, c)));
-  $("audit-kind").replaceChildren(...Object.keys(KINDS).map((k) => el("option", { value: k }, W[`audit-${k}`])));
-  $("audit-kind").addEventListener("change", () => drawAudit());
-  $("audit-who").addEventListener("change", () => loadAudit());
-  $("audit-csv").addEventListener("click", () => {
-    const quote = (v) => `"${String(v).replaceAll('"', '""')}"`;
-    const lines = [W["audit-columns"], ...state.shown.map((r) => r.map(quote).join(","))];
-    downloadText(lines.join("\n") + "\n", "audit.csv", "text/csv");
-  });
 }
 
-/** One row per event: a robot command's "accepted" entry is dropped when its outcome (same
- * command id) is on the page, so each command reads once, with how it ended. */
-export function oneRowEach(entries) {
-  const ended = new Set(entries.filter((e) => e.action.startsWith("robot.") && e.result !== "accepted").map((e) => e.details.command_id));
-  return entries.filter((e) => !(e.result === "accepted" && ended.has(e.details.command_id)));
-}
-
-export function said(e) {
-  if (e.action.startsWith("robot.")) {
-    const command = COMMANDS[e.action.slice(6)];
-    return command ? command.label : e.action.slice(6);
-  }
-  const words = AUDIT_ACTIONS[e.action];
-  return words ? fill(words, e.details) : e.action;
-}
-
-async function loadAudit() {
-  const who = $("audit-who").value.trim();
-  const query = new URLSearchParams({ limit: "500" });
-  if (who) query.set("actor", who.toLowerCase());
-  state.audit = oneRowEach((await api("GET", `/api/audit?${query}`)).entries);
-  drawAudit();
-}
-
-function drawAudit() {
-  const keep = KINDS[$("audit-kind").value] || KINDS.all;
-  const entries = (state.audit || []).filter(keep);
-  state.shown = entries.map((e) => [new Date(e.at).toLocaleString(), e.actor || "melfa", said(e), e.result]);
-  $("audit-rows").replaceChildren(...entries.map((e, i) => el("tr", { class: e.result.startsWith("refused") ? "refused" : "", "data-action": e.action },
-    ...state.shown[i].map((cell) => el("td", {}, cell)))));
+function wireTabs() {
+  for (const [tab] of TABS) $(tab).addEventListener("click", () => showTab(tab));
+  $("tab-robots").textContent = RL.title;
+  const asked = TABS.find(([, , hash]) => hash && hash === location.hash);
+  if (asked) showTab(asked[0]); // /desk#audit: where the old /audit page leads
 }
 
 main();

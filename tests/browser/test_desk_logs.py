@@ -1,0 +1,74 @@
+"""The instructor's desk reads what happened to each robot from the server (issue 26), in
+Debian's Chromium: the lab robot's log (who took control, what they did, who gave it back)
+and a student's own simulator's, apart; the audit log with control changes in plain words
+and a Robot column; the old /audit page leads to it."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from tests.browser.conftest import Server, Session, free_the_robot
+
+pytestmark = pytest.mark.timeout(300)
+
+
+def _as(page: Page, server: Server, user: str) -> Any:
+    """A second browser context signed in as ``user``: its request API and CSRF header."""
+    other = page.context.browser.new_context()  # type: ignore[union-attr]
+    reply = other.request.post(
+        server.url + "/api/session", data={"username": user, "password": server.passwords[user]}
+    )
+    return other, {"X-CSRF-Token": reply.json()["csrf_token"]}
+
+
+def test_each_robot_s_log_and_the_audit_log_on_the_desk(
+    open_session: Any, server: Server, tmp_path: Path
+) -> None:
+    server.add_user("sven", role="instructor")
+    server.add_user("tove")
+    sven: Session = open_session("sven", login=False)
+    sven.login_api()
+    page = sven.page
+    free_the_robot(page, server)
+    tove, csrf = _as(page, server, "tove")
+    try:
+        assert tove.request.post(server.url + "/api/lease", headers=csrf).ok
+        assert tove.request.post(server.url + "/api/robot/stop", headers=csrf).ok
+        assert tove.request.delete(server.url + "/api/lease", headers=csrf).ok
+        mine = tove.request.post(server.url + "/api/robot/stop?target=mine", headers=csrf)
+        assert mine.ok
+    finally:
+        tove.close()
+
+    page.goto(server.url + "/audit")  # the old page leads to the desk's audit log
+    page.wait_for_selector("body[data-ready=true]")
+    expect(page.locator("#audit-pane")).to_be_visible()
+    page.select_option("#audit-kind", "control")
+    took = page.locator("#audit-rows tr", has_text="tove took control")
+    expect(took.first).to_be_visible()
+    expect(took.first).to_contain_text("Lab robot")
+    expect(page.locator("#audit-rows tr", has_text="tove gave control back").first).to_be_visible()
+    assert "control.changed" not in page.locator("#audit-rows").inner_text()
+    page.select_option("#audit-kind", "all")
+    with page.expect_download() as download:
+        page.click("#audit-csv")
+    text = Path(download.value.path()).read_text(encoding="utf-8")
+    assert text.startswith("When,Who,Robot,What,Result\n") and "tove took control" in text
+
+    page.click("#tab-robots")
+    rows = page.locator("#robots-rows tr")
+    expect(page.locator("#robots-pick")).to_have_value("lab")
+    expect(rows.filter(has_text="tove took control").first).to_be_visible()
+    stops = rows.filter(has_text="tove").filter(has_text="Stop")
+    expect(stops.first).to_be_visible()
+    assert "{" not in page.locator("#robots-rows").inner_text()  # words, never JSON
+    sven.screenshot("desk-robot-log")
+
+    page.select_option("#robots-pick", "sim:tove")  # her own simulator's log, apart
+    expect(rows.filter(has_text="tove").first).to_be_visible()
+    expect(rows.filter(has_text="took control")).to_have_count(0)
+    assert all(r.split("\t")[1] in ("tove", "melfa") for r in rows.all_inner_texts())
