@@ -259,6 +259,7 @@ def test_stop_answers_during_a_login_flood_held_open(tmp_path: Path) -> None:
     store.close()
 
 
+@pytest.mark.timeout(900)  # four 1 MB checks at niceness +10 crawl on a loaded machine
 def test_stop_answers_during_the_largest_checks(tmp_path: Path) -> None:
     store = make_store(tmp_path / "data")
     sizes = PoolSizes(cpu_workers=2, cpu_queue=2, cpu_processes=True)  # as `melfa serve`
@@ -274,6 +275,7 @@ def test_stop_answers_during_the_largest_checks(tmp_path: Path) -> None:
                     "/api/check",
                     json={"program": program, "points": ""},
                     headers=auth(ann, ann_csrf),
+                    timeout=600,  # queued behind the others on a busy machine
                 )
                 return reply.status_code
 
@@ -281,16 +283,19 @@ def test_stop_answers_during_the_largest_checks(tmp_path: Path) -> None:
         with ThreadPoolExecutor(6) as pool:
             checks = [pool.submit(check) for _ in range(6)]
             while cpu.pending < sizes.cpu_workers:  # the big checks are running
+                assert not [c.exception() for c in checks if c.done() and c.exception()]
                 threading.Event().wait(0.01)
             with live.client() as c:
                 stop = c.post(
                     "/api/robot/stop",
                     headers=auth(token, csrf),
                 )
-            finished = [c.result() for c in checks if c.done()]
+            still_checking = cpu.pending
             codes = [c.result() for c in checks]
         assert stop.status_code == 200
-        assert set(finished) <= {503}  # no check had finished when STOP was answered
+        # STOP did not wait for the pool: checks were still queued or running when it was
+        # answered (on a loaded machine one of the first two may have finished by then).
+        assert still_checking > 0
         assert codes.count(200) <= sizes.cpu_workers + sizes.cpu_queue
     store.close()
 
