@@ -16,6 +16,14 @@ SRC = Path(__file__).resolve().parents[2] / "src"
 
 ACYCLIC = ("melfa.sim", "melfa.sim.interp", "melfa.sim.debug")
 
+NO_CYCLE = (
+    *ACYCLIC, "melfa.lang", "melfa.kin", "melfa.protocol", "melfa.vocab", "melfa.live",
+    "melfa.link", "melfa.robot", "melfa.sim.handlers", "melfa.grade", "melfa.store",
+    "melfa.service", "melfa.ros", "melfa.web", "melfa.web.routes", "melfa.desktop", "melfa.cli",
+)  # fmt: skip
+"""Every package: no cycle among its modules (imports inside functions are allowed outside
+`ACYCLIC`, for start-up time, but still count)."""
+
 
 def _modules(package: str) -> dict[str, Path]:
     base = SRC / package.replace(".", "/")
@@ -57,7 +65,7 @@ def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
     return None
 
 
-@pytest.mark.parametrize("package", ACYCLIC)
+@pytest.mark.parametrize("package", NO_CYCLE)
 def test_package_has_no_import_cycle(package: str) -> None:
     modules = _modules(package)
     assert modules, f"{package} has no modules"

@@ -4,13 +4,11 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from melfa.link import LinkError
+from melfa.service.actors import Actor
 from melfa.vocab.refusals import Refusal
-
-if TYPE_CHECKING:
-    from melfa.service.events import Actor
 
 
 class ServiceError(Exception):

@@ -1,5 +1,5 @@
-"""Values and events of the service: who asks (`Actor`), what the robot is doing
-(`StateSnapshot`) and what happened (the event dataclasses).
+"""Values and events of the service: who asks (`Actor`, defined in `melfa.service.actors`),
+what the robot is doing (`StateSnapshot`) and what happened (the event dataclasses).
 
 Every event is a frozen dataclass with a ``name``, the ``actor`` it concerns (None for the
 service itself) and a UTC timestamp ``at`` (datasette's ``events.py`` habit). The web layer
@@ -13,6 +13,7 @@ import enum
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
+from melfa.service.actors import SERVICE_ACTOR, Actor, Role
 from melfa.service.slot import Slot
 from melfa.vocab.activity import Activity
 from melfa.vocab.commands import Command
@@ -25,33 +26,6 @@ from melfa.vocab.robot_log import NoteKind
 def utc_now() -> dt.datetime:
     """Now, timezone-aware UTC."""
     return dt.datetime.now(dt.UTC)
-
-
-class Role(enum.Enum):
-    """What a signed-in person may do."""
-
-    OBSERVER = "observer"
-    """Watches; may stop; never holds the lease."""
-    STUDENT = "student"
-    """May hold the lease when it is free."""
-    INSTRUCTOR = "instructor"
-    """May hold the lease and take it over from anyone."""
-
-
-@dataclass(frozen=True)
-class Actor:
-    """Who asks: passed with every call (the web layer fills it from the login)."""
-
-    user: str
-    role: Role
-    session_id: str
-
-    def __str__(self) -> str:
-        return f"{self.user} ({self.role.value}, session {self.session_id})"
-
-
-SERVICE_ACTOR = Actor("melfa-service", Role.INSTRUCTOR, "service")
-"""The service acting on its own (closing, heartbeat loss)."""
 
 
 class JogFrame(enum.Enum):
