@@ -29,6 +29,10 @@
     if (st.display === 'inline' && r.height > lh * 1.6) problems.push(`${name(n)} is ${r.height} px high (line ${lh})`);
     if (r.right > vw + 1 || r.left < -1) problems.push(`${name(n)} outside the window (${r.left}..${r.right})`);
   }
+  // No bar whose row spills past its own edge (its controls drawn over the panel's border).
+  for (const bar of document.querySelectorAll('.toolbar, .debug-bar, .panel:not([hidden]) .subbar, .view-head')) {
+    if (shown(bar) && bar.scrollWidth > bar.clientWidth + 1) problems.push(`${name(bar)} spills (${bar.scrollWidth} px in ${bar.clientWidth})`);
+  }
   // No two controls overlap (a control and what it contains are one).
   const boxes = nodes.filter((n) => n.matches('button, select, input, label, .lease-text, .robot-badge, #activity, #save-state, #jog-state, #run-state, h2'));
   for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {

@@ -160,3 +160,24 @@ def test_the_3d_view_keeps_a_usable_size_while_debugging(open_session: Any) -> N
         s.screenshot(f"debugging-{width}")
     page.set_viewport_size({"width": 1366, "height": 768})
     page.click("#target-switch [data-target=lab]")
+
+
+def test_the_editors_bar_holds_a_groups_pill_and_the_problems_count(
+    open_session: Any, server: Server
+) -> None:
+    """A student of a group (the switcher's "shared with group …" pill) with a program full
+    of mistakes: the count "1 error, 11 warnings" stays inside the editor's panel at 1366
+    and 1024 px (it ran past the panel's edge, and was cut at 1024)."""
+    if "gwen" not in server.passwords:
+        server.add_user("gwen", group="layout-group")
+    s: Session = open_session("gwen")
+    page = s.page
+    s.set_program("MOV PHOM\nWIHLE M1\nGOTO *X\n" + "".join(f"MOV P{i}\n" for i in range(9)))
+    expect(page.locator("#diag-summary")).to_contain_text("1 error, 11 warnings")
+    for width, height in ((1366, 768), (1024, 700)):
+        page.set_viewport_size({"width": width, "height": height})
+        settle(page)
+        found = page.evaluate(CHECK, ".panel:not([hidden]) .subbar > *")
+        assert not found, (width, found)
+        s.screenshot(f"editor-bar-{width}")
+    page.set_viewport_size({"width": 1366, "height": 768})
