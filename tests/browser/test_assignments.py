@@ -63,6 +63,7 @@ def _student_works(s: Session, title: str) -> str:
     expect(failed).to_contain_text("50.0 mm from")
     expect(page.locator("#assign-checks li.pass")).to_have_count(2)
     expect(page.locator("#assign-summary")).to_have_attribute("data-passed", "false")
+    expect(page.locator("#assign-summary")).to_have_text("Checked: 2 of 3 checks passed.")
     failed.locator("button.line").click()
     assert s.eval("() => window.melfa.editor.editor.getCursorPosition().row") == 2  # line 3
     if s.user == "alice":
@@ -79,6 +80,8 @@ def _student_works(s: Session, title: str) -> str:
     expect(page.locator("#assign-attempts")).to_have_text(
         "2 of 3 submissions left", timeout=GRADING
     )
+    # What was graded, in words that never read as a failed submission ("Submit: failed")
+    expect(page.locator("#assign-summary")).to_have_text("Submitted: every check passed.")
     if s.user == "alice":
         s.screenshot("assignment-passed", toasts=False)
         assert _axe_mine(page) == []

@@ -25,6 +25,13 @@ GRADE_WORDS: dict[GradeKind, str] = {
 }
 """The buttons, and what a grading of each kind is called in a history."""
 
+GRADED_WORDS: dict[GradeKind, str] = {
+    GradeKind.CHECK: "Checked: {verdict}",
+    GradeKind.SUBMIT: "Submitted: {verdict}",
+}
+"""What a grading's result says (``{verdict}``: ``every-check``, ``not-every-check`` or the
+score): a submission that did not pass was still recorded, so it never reads "Submit: failed"."""
+
 
 class ClassColumn(enum.StrEnum):
     """The class view's columns, in order (the CSV export has the same, same order)."""
@@ -88,6 +95,8 @@ FILTER_WORDS: dict[ClassFilter, FilterWords] = {
 RESULT_WORDS: dict[str, str] = {
     "passed": "passed",
     "failed": "failed",
+    "every-check": "every check passed",
+    "not-every-check": "not every check passed",
     "none": "not checked yet",
     "not-opened": "not opened",
     "preflight-ok": "passed",
@@ -172,6 +181,7 @@ __all__ = [
     "CLASS_VIEW_WORDS",
     "COLUMN_WORDS",
     "FILTER_WORDS",
+    "GRADED_WORDS",
     "GRADE_WORDS",
     "PANE_WORDS",
     "RESULT_WORDS",

@@ -17,6 +17,7 @@ from melfa.vocab.classroom import (
     COLUMN_WORDS,
     FILTER_WORDS,
     GRADE_WORDS,
+    GRADED_WORDS,
     PANE_WORDS,
     RESULT_WORDS,
     STUCK_AFTER_MIN,
@@ -58,6 +59,7 @@ def vocabulary() -> dict[str, Any]:
         "QUEUE_STEPS": {q.value: {"words": q.template} for q in QueueStep},
         "QUEUE_STATES": {e.value: {"words": e.words} for e in EntryState},
         "GRADE_WORDS": {kind.value: words for kind, words in GRADE_WORDS.items()},
+        "GRADED_WORDS": {kind.value: words for kind, words in GRADED_WORDS.items()},
         "CLASS_COLUMNS": {column.value: words for column, words in COLUMN_WORDS.items()},
         "CLASS_FILTERS": {
             f.value: {"label": words.label, "hint": words.hint} for f, words in FILTER_WORDS.items()

@@ -8,7 +8,7 @@
 
 import { api } from "./api.js";
 import { $, el, showError, toast } from "./ui.js";
-import { GRADE_WORDS, PANE_WORDS as W, RESULT_WORDS } from "/vocab.js"; // generated from melfa.vocab.classroom
+import { GRADED_WORDS, GRADE_WORDS, PANE_WORDS as W, RESULT_WORDS } from "/vocab.js"; // generated from melfa.vocab.classroom
 
 export const fill = (template, values) => template.replace(/\{(\w+)\}/g, (_, k) => String(values[k] ?? ""));
 
@@ -23,6 +23,18 @@ export function attemptsWords(left, total) {
   if (total == null) return RESULT_WORDS["attempts-unlimited"];
   if (left === 0) return RESULT_WORDS.closed;
   return fill(RESULT_WORDS["attempts-left"], { left: left ?? total, total });
+}
+
+/**
+ * What a grading says: "Submitted: 5 of 14 checks passed", "Checked: every check passed".
+ * `result` is a report (its checks give the score) or a grading's summary ({passed}).
+ */
+export function graded(kind, result) {
+  const checks = result.checks;
+  const verdict = result.passed ? RESULT_WORDS["every-check"]
+    : checks ? fill(RESULT_WORDS.score, { passed: checks.filter((c) => c.passed).length, total: checks.length })
+      : RESULT_WORDS["not-every-check"];
+  return fill(GRADED_WORDS[kind], { verdict });
 }
 
 export class AssignmentsPanel {
@@ -132,12 +144,10 @@ export class AssignmentsPanel {
     }));
     const latest = result?.grading || a.mine?.latest;
     if (result) {
-      const passed = result.report.checks.filter((c) => c.passed).length;
-      const verdict = RESULT_WORDS[result.report.passed ? "passed" : "failed"];
-      this.summary.textContent = `${GRADE_WORDS[result.grading.kind]}: ${verdict}. ${fill(RESULT_WORDS.score, { passed, total: result.report.checks.length })}.`;
+      this.summary.textContent = `${graded(result.grading.kind, result.report)}.`;
       this.summary.dataset.passed = String(result.report.passed);
     } else {
-      this.summary.textContent = latest ? `${GRADE_WORDS[latest.kind]}: ${RESULT_WORDS[latest.passed ? "passed" : "failed"]}` : RESULT_WORDS.none;
+      this.summary.textContent = latest ? graded(latest.kind, latest) : RESULT_WORDS.none;
       this.summary.dataset.passed = latest ? String(latest.passed) : "";
     }
     const left = result ? result.attempts_left : a.mine?.attempts_left;
@@ -166,7 +176,7 @@ export class AssignmentsPanel {
       }
       const out = await api("POST", `/api/assignments/${this.current.id}/${kind}`);
       this.render(out);
-      this.app.idle(`${GRADE_WORDS[kind]}: ${RESULT_WORDS[out.report.passed ? "passed" : "failed"]}`, !out.report.passed);
+      this.app.idle(graded(kind, out.report), !out.report.passed);
       if (kind === "submit") toast(W["submitted-title"], { kind: out.report.passed ? "ok" : "info", text: fill(W.submitted, { revision: out.grading.revision, left: attemptsWords(out.attempts_left, this.current.attempts) }) });
       await this.refreshQuietly();
     } catch (err) {
@@ -216,8 +226,8 @@ export class AssignmentsPanel {
     const rows = this.list.map((a) => {
       const mine = a.mine;
       const state = !mine ? RESULT_WORDS["not-opened"]
-        : mine.best ? `${GRADE_WORDS.submit}: ${RESULT_WORDS[mine.best.passed ? "passed" : "failed"]}`
-          : mine.latest ? `${GRADE_WORDS.check}: ${RESULT_WORDS[mine.latest.passed ? "passed" : "failed"]}` : RESULT_WORDS.none;
+        : mine.best ? graded("submit", mine.best)
+          : mine.latest ? graded("check", mine.latest) : RESULT_WORDS.none;
       const open = el("button", { type: "button", class: "btn btn-sm btn-primary", "data-id": String(a.id) }, mine ? W.continue : W.open);
       open.addEventListener("click", () => { dialog.close(); this.open(a.id); });
       return el("li", { class: "assign-row", "data-id": String(a.id) },
