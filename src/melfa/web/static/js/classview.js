@@ -6,7 +6,8 @@
 // one before, and their reports. The words it fills in come from /vocab.js
 // (melfa.vocab.classroom); the page's fixed labels are in static/classroom.html.
 
-import { api, setCsrf } from "./api.js";
+import { api } from "./api.js";
+import { signedIn } from "./page.js";
 import { lineDiff } from "./opener.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
 import { CLASS_COLUMNS, CLASS_FILTERS, CLASS_VIEW_WORDS as W, GRADE_WORDS, PANE_WORDS, RESULT_WORDS, VISIT_WORDS } from "/vocab.js"; // melfa.vocab.classroom, .desk
@@ -37,15 +38,8 @@ function flight(g) {
 }
 
 async function main() {
-  let session;
-  try {
-    session = await api("GET", "/api/session");
-  } catch (err) {
-    if (err.status !== 401) showError("Could not reach the server", err);
-    return;
-  }
-  setCsrf(session.csrf_token);
-  $("cv-user").textContent = session.user.display_name || session.user.username;
+  const session = await signedIn("cv-user");
+  if (!session) return;
   $("cv-filter").replaceChildren(...Object.entries(CLASS_FILTERS).map(([value, w]) => el("option", { value, title: w.hint }, w.label)));
   $("cv-filter").addEventListener("change", () => loadView());
   $("cv-columns").replaceChildren(...Object.values(CLASS_COLUMNS).map((w) => el("th", { scope: "col" }, w)), el("th", { scope: "col" }, el("span", { class: "sr-only" }, "Open")));

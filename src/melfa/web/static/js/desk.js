@@ -6,7 +6,8 @@
 // released), and resetting an alarm without taking over; the audit log and each robot's
 // log in their own tabs (desk-audit.js). Every word comes from /vocab.js (melfa.vocab.desk).
 
-import { api, downloadText, setCsrf } from "./api.js";
+import { api, downloadText } from "./api.js";
+import { signedIn } from "./page.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
 import { listRobots, loadAudit, loadRobotLog, wireAudit, wireRobotLog } from "./desk-audit.js";
 import { DESK_WORDS as W, ROBOT_LOG_WORDS as RL } from "/vocab.js";
@@ -16,16 +17,9 @@ const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[
 const when = (iso) => (iso ? new Date(iso).toLocaleString([], { dateStyle: "medium", timeStyle: "short" }) : "never");
 
 async function main() {
-  let session;
-  try {
-    session = await api("GET", "/api/session");
-  } catch (err) {
-    if (err.status !== 401) showError("Could not reach the server", err);
-    return;
-  }
-  setCsrf(session.csrf_token);
+  const session = await signedIn("desk-user");
+  if (!session) return;
   state.me = session.user;
-  $("desk-user").textContent = session.user.display_name || session.user.username;
   $("desk-title").textContent = W.title;
   $("acc-title").textContent = W.accounts;
   $("acc-note").textContent = state.me.role === "admin" ? "" : W["only-students"];

@@ -2,7 +2,8 @@
 // socket, and wires the header (connections, lease, STOP, user menu), the main buttons
 // (load, run, stop, save, check, clear) and the tabs.
 
-import { api, setCsrf } from "./api.js";
+import { api } from "./api.js";
+import { signedIn } from "./page.js";
 import { ProgramEditor } from "./editor.js";
 import { PresenceView } from "./coedit-view.js";
 import { ActionLog } from "./actionlog.js";
@@ -59,17 +60,10 @@ window.melfa = new Proxy(app, {
 });
 
 async function main() {
-  let session;
-  try {
-    session = await api("GET", "/api/session");
-  } catch (err) {
-    if (err.status !== 401) showError("Could not reach the server", err);
-    return;
-  }
-  setCsrf(session.csrf_token);
+  const session = await signedIn("user-name");
+  if (!session) return;
   sessionStore.set({ user: session.user.username, role: session.user.role });
   loaded.restore(app.user);
-  $("user-name").textContent = session.user.display_name || app.user;
   $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
   $("audit-link").hidden = app.role === "student";
   $("classroom-link").hidden = app.role === "student";
