@@ -18,6 +18,7 @@ from datetime import datetime, timedelta
 from melfa.store.errors import InvalidValue, NotFound, SaveConflict
 from melfa.store.merge import merge3
 from melfa.store.models import Revision, RevisionInfo, SaveReason, User
+from melfa.store.thinning import thinned
 from melfa.store.timeutil import from_text, to_text
 
 __all__ = [
@@ -137,7 +138,7 @@ def add_revision(
     )
     conn.execute("UPDATE workspaces SET head = ? WHERE id = ?", (number, workspace_id))
     if reason is SaveReason.AUTOSAVE:
-        _prune(conn, retention, workspace_id, number, now)
+        _prune(conn, retention, workspace_id, now)
     revision = Revision(
         workspace_id,
         number,
@@ -152,28 +153,17 @@ def add_revision(
 
 
 def _prune(
-    conn: sqlite3.Connection,
-    retention: RetentionPolicy,
-    workspace_id: int,
-    head: int,
-    now: datetime,
+    conn: sqlite3.Connection, retention: RetentionPolicy, workspace_id: int, now: datetime
 ) -> None:
     rows = conn.execute(
         "SELECT id, number, created FROM revisions WHERE workspace_id = ?"
         " AND reason = 'autosave' AND kept = 0 ORDER BY number DESC",
         (workspace_id,),
     ).fetchall()
-    seen: set[str] = set()
-    doomed: list[tuple[int]] = []
-    for row in rows[retention.keep_recent :]:
-        created = from_text(row["created"])
-        hourly = now - created < retention.hourly_for
-        bucket = created.strftime("%Y-%m-%dT%H" if hourly else "%Y-%m-%d")
-        if bucket in seen and row["number"] != head:
-            doomed.append((row["id"],))
-        else:
-            seen.add(bucket)
-    conn.executemany("DELETE FROM revisions WHERE id = ?", doomed)
+    # The save just made is the newest row: first in its hour, it always stays.
+    older = ((row["id"], from_text(row["created"])) for row in rows[retention.keep_recent :])
+    doomed = thinned(older, now, retention.hourly_for)
+    conn.executemany("DELETE FROM revisions WHERE id = ?", [(i,) for i in doomed])
 
 
 def list_revisions(

@@ -1,5 +1,5 @@
 """Which recorded runs keep their samples: old runs are thinned as workspace autosaves are
-(`melfa.store.revisions.RetentionPolicy`).
+(`melfa.store.revisions.RetentionPolicy`; one rule, `melfa.store.thinning`).
 
 Per user, the newest `RunRetention.keep_recent` runs keep everything; older runs younger
 than `RunRetention.hourly_for` keep their samples for the newest run of each hour, older
@@ -16,6 +16,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import datetime, timedelta
+
+from melfa.store.thinning import thinned
 
 
 @dataclass(frozen=True, slots=True)
@@ -46,18 +48,8 @@ def to_thin(runs: Sequence[RunAge], now: datetime, policy: RunRetention) -> list
     [4, 3, 2, 1, 0]
     """
     newest_first = sorted(runs, key=lambda r: (r.started, r.id), reverse=True)
-    seen: set[str] = set()
-    doomed: list[int] = []
-    for run in newest_first[policy.keep_recent :]:
-        if run.kept:
-            continue
-        hourly = now - run.started < policy.hourly_for
-        bucket = run.started.strftime("%Y-%m-%dT%H" if hourly else "%Y-%m-%d")
-        if bucket in seen:
-            doomed.append(run.id)
-        else:
-            seen.add(bucket)
-    return doomed
+    older = ((r.id, r.started) for r in newest_first[policy.keep_recent :] if not r.kept)
+    return thinned(older, now, policy.hourly_for)
 
 
 __all__ = ["RunAge", "RunRetention", "to_thin"]
