@@ -58,3 +58,41 @@ def test_spaces_at_the_end_of_a_file_are_no_statement() -> None:
     EOFs, and the last line read as a statement that was missing."""
     assert check("10 MOV P1\n   ", ["P1"]) == []
     assert [t.kind.name for t in tokenize("  ")] == ["EOF"]
+
+
+def test_moved_trees_are_the_parse_to_the_last_field() -> None:
+    """A repeated line, one shifted by a line inserted above, a step number of the same width:
+    the moved copy is the parser's tree, with every span and the name as written (fields
+    `==` leaves out) the same, over the golden corpus read one after another by one cache."""
+    from tests.lang.test_golden import corpus
+
+    cache = LineCache()
+    for text in corpus().values():
+        for variant in (text, "' inserted\n" + text, text + text):
+            assert repr(cache.parse(variant)) == repr(parse(variant))
+
+
+def test_a_step_number_of_the_same_width_is_moved_with_its_value() -> None:
+    cache = LineCache()
+    text = "10 HOPEN 1\n20 HOPEN 1\n100 HOPEN 1\n30 HOPEN 1\n  40 HOPEN 1\n50HOPEN 1\n60HOPEN 1\n"
+    program = cache.parse(text)
+    assert repr(program) == repr(parse(text))
+    assert [line.number for line in program.lines] == [10, 20, 100, 30, 40, 50, 60, None]
+
+
+def test_skipping_repeated_lines_changes_no_finding() -> None:
+    """`check` skips the analysis of a line written exactly like an earlier one that got no
+    finding; every finding is still the one of the whole analysis (`check_ast` without the
+    repeats), on the golden corpus, each text doubled and its lines shuffled together."""
+    import random
+
+    from melfa.lang.check import check_ast
+    from tests.lang.test_golden import POINTS, corpus
+
+    rng = random.Random(25)
+    texts = list(corpus().values())
+    for text in texts:
+        lines = text.splitlines(keepends=True) + rng.choice(texts).splitlines(keepends=True)
+        rng.shuffle(lines)
+        for variant in (text, text + text, "".join(lines)):
+            assert check(variant, POINTS) == check_ast(parse(variant), POINTS)

@@ -832,8 +832,8 @@ def constant_number(expr: Expr | None) -> int | float | None:
 
 
 # Node classes of the tree, and for each the names of its fields that hold nodes (a node,
-# a tuple of nodes, or None), read from the annotations: `walk` then never looks at strings,
-# numbers, flags or enums.
+# a tuple of nodes, or None), read from the annotations: `walk` (and `melfa.lang.relocate`)
+# then never looks at strings, numbers, flags or enums.
 _NODE_TYPES: frozenset[type[Record]] = frozenset(  # built once, after every class above
     obj
     for obj in list(globals().values())
@@ -845,7 +845,7 @@ _NODE_NAMES = {cls.__name__ for cls in _NODE_TYPES} | {
     "JumpTarget",
     "AssignTarget",
 }
-_CHILD_FIELDS: dict[type, tuple[str, ...]] = {
+CHILD_FIELDS: dict[type, tuple[str, ...]] = {
     cls: tuple(
         name
         for name in cls.__record_fields__
@@ -858,7 +858,7 @@ _CHILD_FIELDS: dict[type, tuple[str, ...]] = {
 def walk(node: object) -> Iterator[object]:
     """Every node under `node` (itself included), depth first."""
     stack = [node]
-    children = _CHILD_FIELDS
+    children = CHILD_FIELDS
     pop, push = stack.pop, stack.append
     while stack:
         item = pop()

@@ -28,7 +28,7 @@ of WIHLE.").
 from __future__ import annotations
 
 import gc
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence, Set
 from typing import Any
 
 from melfa.lang import ast as A  # noqa: N812
@@ -102,8 +102,11 @@ _RULE_FAMILY = {
 
 
 class _Analyzer(NameChecks, RoutineChecks, VChecks):
-    def __init__(self, program: A.Program, points: Iterable[str]) -> None:
+    def __init__(
+        self, program: A.Program, points: Iterable[str], repeats: Sequence[int] | None = None
+    ) -> None:
         self.program = program
+        self.repeats = repeats
         self.points = {p.upper() for p in points}
         self.out: list[Diagnostic] = []
         self.symbols = Symbols.collect(program, self.points)
@@ -269,19 +272,56 @@ class _Analyzer(NameChecks, RoutineChecks, VChecks):
         numbers = {line.number for line in self.program.lines if line.number is not None}
         numbered = bool(numbers)
         long_names: set[str] = set()
-        for line in self.program.lines:
+        # Names `name` has nothing to say about: defined, short, no suffix # and not a
+        # system variable (most uses of most names, skipped without a call).
+        quiet = {
+            name
+            for name in self.defined
+            if name
+            and len(name.rstrip("$%!#")) <= MAX_NAME_LENGTH
+            and name[-1:] != "#"
+            and not (len(name) > 1 and name[1] == "_")
+        }
+        children = A.CHILD_FIELDS
+        no_counters: frozenset[str] = frozenset()
+        # A line written exactly like an earlier one that got no finding and changed no
+        # "once per name" set gets none either: those sets only grow, and only keep findings
+        # out. Such a line's walk is skipped (real programs repeat lines: HOPEN 1, RETURN).
+        repeats = self.repeats
+        quiet_lines: set[int] = set()
+        said = self.out, long_names, self.undefined, self.unknown_external, self.v_named
+        for index, line in enumerate(self.program.lines):
             stmt = line.statement
-            if stmt is None or isinstance(stmt, A.InvalidStatement):
+            if stmt is None or type(stmt) is A.InvalidStatement:
                 continue
+            if repeats is not None:
+                first = repeats[index]
+                if first != index and first in quiet_lines:
+                    continue
+                before = sum(map(len, said))
             # NEXT's counters are not uses: FOR already defined them (or blocks reports it).
-            warned_here: set[str] = (
-                {c.name for c in stmt.counters} if isinstance(stmt, A.Next) else set()
+            warned_here: Set[str] = (
+                {c.name for c in stmt.counters} if type(stmt) is A.Next else no_counters
             )
-            for node in A.walk(stmt):
+            # `A.walk(stmt)`, inline: the nodes in the same order (the first use of a name
+            # is the one reported), without a generator's cost per node.
+            stack: list[Any] = [stmt]
+            pop, push = stack.pop, stack.append
+            while stack:
+                node = pop()
                 cls = type(node)
+                fields = children.get(cls)
+                if fields is None:
+                    if cls is tuple:
+                        stack.extend(node)
+                    continue
+                for field in fields:
+                    value = getattr(node, field)
+                    if value is not None:
+                        push(value)
                 if cls is A.Name:
-                    assert isinstance(node, A.Name)
-                    self.name(node, long_names, warned_here)
+                    if node.name not in quiet:
+                        self.name(node, long_names, warned_here)
                 elif cls is A.LabelRef:
                     assert isinstance(node, A.LabelRef)
                     if node.name not in labels:
@@ -300,6 +340,8 @@ class _Analyzer(NameChecks, RoutineChecks, VChecks):
                         )
                 elif cls in _SPECIFIC:
                     _SPECIFIC[cls](self, node)
+            if repeats is not None and sum(map(len, said)) == before:
+                quiet_lines.add(index)
 
     def undefined_label(self, node: A.LabelRef, labels: set[str]) -> None:
         guess = suggest(node.name, labels) if labels else None
@@ -333,7 +375,7 @@ class _Analyzer(NameChecks, RoutineChecks, VChecks):
                 f"{MAX_ON_TARGETS}).",
             )
 
-    def name(self, node: A.Name, long_names: set[str], warned_here: set[str]) -> None:
+    def name(self, node: A.Name, long_names: set[str], warned_here: Set[str]) -> None:
         name = node.name
         if len(name.rstrip("$%!#")) > MAX_NAME_LENGTH and name not in long_names:
             long_names.add(name)
@@ -610,9 +652,13 @@ _SPECIFIC: dict[type, _Check] = {
 }
 
 
-def check_ast(program: A.Program, points: Iterable[str] = ()) -> list[Diagnostic]:
-    """Diagnostics for an already parsed program, sorted by position."""
-    found = _Analyzer(program, points).run()
+def check_ast(
+    program: A.Program, points: Iterable[str] = (), repeats: Sequence[int] | None = None
+) -> list[Diagnostic]:
+    """Diagnostics for an already parsed program, sorted by position. `repeats` (from
+    `melfa.lang.reparse.LineCache.read`) names the lines written exactly like an earlier
+    one, which lets the checker skip what it already said nothing about."""
+    found = _Analyzer(program, points, repeats).run()
     found.sort(key=lambda d: (d.line, d.column, d.end_line, d.end_column, d.rule))
     return found
 
@@ -629,7 +675,8 @@ def check(text: str, points: Iterable[str] = ()) -> list[Diagnostic]:
     # is built would only walk it again (about an eighth of a check, bench/bench_check.py).
     gc.disable()
     try:
-        return check_ast(EDITOR.parse(text), points)
+        program, repeats = EDITOR.read(text)
+        return check_ast(program, points, repeats)
     except Exception as exc:  # a bug of ours must not take the editor down
         return [internal_error(exc)]
     finally:

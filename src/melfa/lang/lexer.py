@@ -12,6 +12,8 @@ taken while the matches stream past:
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
+from itertools import count
 
 from melfa.lang.tokens import KEYWORDS, Token, TokenKind
 
@@ -100,9 +102,13 @@ def _second_look(marker: int, tok: str) -> TokenKind:
     return TokenKind.LABEL if len(tok) > 1 else TokenKind.OP  # _STAR
 
 
-def tokenize(text: str, first_line: int = 1) -> list[Token]:
+def tokenize(
+    text: str, first_line: int = 1, line_numbers: Iterable[int] | None = None
+) -> list[Token]:
     """Split `text` into tokens; the last one is EOF. Never raises. `first_line` is the
-    number of the text's first line (a line lexed on its own, `melfa.lang.reparse`).
+    number of the text's first line (a line lexed on its own, `melfa.lang.reparse`);
+    `line_numbers`, when given, the numbers of the text's lines after the first (lines of a
+    program gathered into one text, `melfa.lang.reparse`; the next number after the last).
 
     >>> [(t.kind.name, t.text) for t in tokenize("10 MOV P1*P2\\n")][:5]
     [('LINE_NUMBER', '10'), ('KEYWORD', 'MOV'), ('IDENT', 'P1'), ('OP', '*'), ('IDENT', 'P2')]
@@ -121,6 +127,7 @@ def tokenize(text: str, first_line: int = 1) -> list[Token]:
     t_ident = TokenKind.IDENT
     t_error = TokenKind.ERROR
     line = first_line
+    next_line = (iter(line_numbers) if line_numbers is not None else count(first_line + 1)).__next__
     line_start = 0  # offset of the current line's first character
     pos = 0  # offset of the end of the previous token
     prev = t_newline  # the kind of the previous token; start of text = new line
@@ -159,7 +166,7 @@ def tokenize(text: str, first_line: int = 1) -> list[Token]:
             kind = found
             if kind is t_newline:
                 append(new(Token, (kind, tok, line, col, line + 1, 1, ws)))
-                line += 1
+                line = next_line()
                 line_start = pos
                 prev = kind
                 continue

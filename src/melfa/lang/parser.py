@@ -182,6 +182,11 @@ def _to_int(text: str, base: int = 10) -> int:
     return int(text, base) if len(text) <= 40 else 10**40
 
 
+def step_number(digits: str) -> int:
+    """The value of a step number's digits, as `parse` reads it (`melfa.lang.reparse`)."""
+    return _to_int(digits)
+
+
 def _describe(tok: Token) -> str:
     if tok.kind in _END_KINDS:
         return "the end of the line"

@@ -1,15 +1,23 @@
-"""Reparse only the lines that changed: the editor's check on every keystroke.
+"""Read each distinct line once: the check of a whole program, and again on every keystroke.
 
 The editor sends the whole program after each edit and `check` reads all of it, but a
-keystroke changes one line. MELFA BASIC IV has one statement a line, and both the lexer and
-the parser read each line on its own (a line's tokens and tree depend on its text and its
-number, nothing else), so a line's tree can be kept and given back when the same text comes
-again on the same line. `LineCache.parse` lexes and parses only the lines it has not seen;
-the checker's whole-program analysis still runs on every call.
+keystroke changes one line, and a program repeats lines (``HOPEN 1``, ``RETURN``, ``DLY
+0.5``, ``MVS PTMP``). MELFA BASIC IV has one statement a line, and both the lexer and the
+parser read each line on its own (a line's tokens and tree depend on its text and its line
+number, nothing else), so `LineCache.parse` keeps each line's tree and
+
+* gives it back when the same text comes again on the same line (the editor's next check);
+* moves it (`melfa.lang.relocate`) when the same text comes on another line: a repeated
+  line, a line shifted by one inserted above it, or ``20 HOPEN 1`` after ``10 HOPEN 1``
+  (a step number is read as its digits' width, its value put in the copy);
+* lexes and parses the other lines, only those, in one lexer pass over them.
+
+The checker's whole-program analysis still runs on every call.
 
 The one exception: a line with a bare word that might be a label without its ``*`` asks the
 file's labels for its message (`melfa.lang.parser.Labels`); such a line is parsed again
-every time. A cache holds at most `LineCache.limit` lines (the oldest half goes first).
+every time. Lines with parse issues are read again wherever they recur (`relocate`). A
+cache holds at most `LineCache.limit` lines (the oldest half goes first).
 
 >>> cache = LineCache()
 >>> text = "10 MOV P1\\n20 HOPEN 1\\n"
@@ -26,69 +34,130 @@ from operator import itemgetter
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.lexer import tokenize
-from melfa.lang.parser import Labels, parse, parse_line
+from melfa.lang.parser import Labels, parse, parse_line, step_number
+from melfa.lang.relocate import moved
 from melfa.lang.tokens import TokenKind
 
 # A line and the line end the lexer reads as one NEWLINE (CR LF, CR or LF).
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
+# A step number the lexer reads as one: digits, then a blank or the line's end (not `10E3`,
+# `10.5` or `10#`, numbers whose value the digits alone do not give).
+_STEP = re.compile(r"[ \t]*(\d+)(?=[ \t\r\n]|\Z)")
+_ZEROS = str.maketrans("123456789", "000000000")
 
-MOSTLY_NEW = 4
-"""More than one line in this many not seen before: lex the whole text in one pass."""
 LINE_LIMIT = 50_000
 """Lines kept by the default cache: a class of 40 with programs of ~1,000 lines."""
 
 
+def _key(piece: str) -> tuple[str, int | None]:
+    """The text a line's tree is kept by (its step number's digits as zeros: the tree of
+    ``10 HOPEN 1`` is that of ``20 HOPEN 1`` with another value), and that value (None
+    when the key is the text itself)."""
+    step = _STEP.match(piece)
+    if step is None:
+        return piece, None
+    digits = step.group(1)
+    at = step.start(1)
+    return piece[:at] + digits.translate(_ZEROS) + piece[step.end(1) :], step_number(digits)
+
+
 class LineCache:
-    """Trees of lines by (line number, text), for `parse`."""
+    """Trees of lines by line number and text, and one tree of each text, for `parse`."""
 
     def __init__(self, limit: int = LINE_LIMIT) -> None:
         self.limit = limit
-        self._lines: dict[tuple[int, str], A.Line] = {}
+        self._lines: dict[tuple[int, str], A.Line] = {}  # (line number, text) -> tree
+        self._texts: dict[str, A.Line] = {}  # `_key` text -> a tree of it, on some line
 
     def __len__(self) -> int:
         return len(self._lines)
 
     def parse(self, text: str) -> A.Program:
         """The tree of `text`, equal to `melfa.lang.parser.parse(text)`."""
+        return self.read(text)[0]
+
+    def read(self, text: str) -> tuple[A.Program, list[int]]:
+        """The tree of `text`, and for each line the index of the first line written exactly
+        like it (its own when it is the first): the checker says nothing twice about one
+        text (`melfa.lang.check.check_ast`)."""
         pieces = _LINES.findall(text)
         pieces.append(text[sum(map(len, pieces)) :])  # the last line, without a line end
+        first: dict[str, int] = {}
+        repeats = list(map(first.setdefault, pieces, range(len(pieces))))
         keys = list(enumerate(pieces, 1))
-        kept = self._lines
-        lines = list(map(kept.get, keys))
-        missing = lines.count(None)
-        if missing > len(lines) // MOSTLY_NEW:
-            # Mostly new (a file just opened): one lexer pass over the whole text is
-            # cheaper than one a line, and its tokens carry the right line numbers.
-            tokens = tokenize(text)
-            labels = Labels(tokens)
-            kinds = list(map(itemgetter(0), tokens))
-            start, last = 0, len(tokens) - 1
-            for n, line in enumerate(lines):
-                try:
-                    end = kinds.index(TokenKind.NEWLINE, start)
-                except ValueError:
-                    end = last
-                if line is None:
-                    labels.asked = False
-                    lines[n] = line = parse_line(tokens, labels, start, end)
-                    if not labels.asked:
-                        kept[keys[n]] = line
-                start = end + 1
-        elif missing:
-            labels = Labels(lambda: tokenize(text))
-            for n, line in enumerate(lines):
-                if line is None:
-                    number, piece = keys[n]
-                    labels.asked = False
-                    lines[n] = line = parse_line(tokenize(piece, number), labels)
-                    if not labels.asked:
-                        kept[keys[n]] = line
-        if len(kept) > self.limit:
-            self._lines = dict(list(kept.items())[len(kept) // 2 :])
-        return A.Program(tuple(lines))  # type: ignore[arg-type]  # every None was parsed
+        lines = list(map(self._lines.get, keys))
+        if None in lines:
+            self._read(text, keys, lines)
+        if len(self._lines) > self.limit:
+            self._lines = dict(list(self._lines.items())[len(self._lines) // 2 :])
+        if len(self._texts) > self.limit:
+            self._texts = dict(list(self._texts.items())[len(self._texts) // 2 :])
+        return A.Program(tuple(lines)), repeats  # type: ignore[arg-type]  # no None left
+
+    def _read(self, text: str, keys: list[tuple[int, str]], lines: list[A.Line | None]) -> None:
+        """Fill the Nones of `lines`: move the trees of texts seen, read the others."""
+        kept, texts = self._lines, self._texts
+        labels = Labels(lambda: tokenize(text))  # the file's, only if a line asks
+        fresh: dict[str, int] = {}  # key text -> index of its first line not seen before
+        again: list[tuple[int, str, int | None]] = []  # lines whose text is in `fresh`
+        for n, line in enumerate(lines):
+            if line is not None:
+                continue
+            lineno, piece = keys[n]
+            key, number = _key(piece)
+            model = texts.get(key)
+            if model is not None:
+                lines[n] = kept[keys[n]] = moved(model, lineno, number, model.number)
+            elif key in fresh:
+                again.append((n, key, number))
+            else:
+                fresh[key] = n
+        if fresh:
+            self._read_fresh(list(fresh.items()), keys, lines, labels)
+        for n, key, number in again:
+            model = texts.get(key)
+            lineno, piece = keys[n]
+            if model is not None:
+                lines[n] = kept[keys[n]] = moved(model, lineno, number, model.number)
+            else:  # asks the file's labels, or has a parse issue: read again
+                labels.asked = False
+                lines[n] = line = parse_line(tokenize(piece, lineno), labels)
+                if not labels.asked:
+                    kept[keys[n]] = line
+
+    def _read_fresh(
+        self,
+        fresh: list[tuple[str, int]],
+        keys: list[tuple[int, str]],
+        lines: list[A.Line | None],
+        labels: Labels,
+    ) -> None:
+        """Lex the lines `fresh` names (key text, index) in one pass (the lexer is cheapest
+        over many lines at once), each with its own line number, and parse them."""
+        kept, texts = self._lines, self._texts
+        indices = [n for _, n in fresh]
+        numbers = [keys[n][0] for n in indices]
+        numbers.append(numbers[-1] + 1)  # after the last line end: an empty line, not read
+        tokens = tokenize("".join(keys[n][1] for n in indices), numbers[0], numbers[1:])
+        kinds = list(map(itemgetter(0), tokens))
+        start, last = 0, len(tokens) - 1
+        newline = TokenKind.NEWLINE
+        for key, n in fresh:
+            try:
+                end = kinds.index(newline, start)
+            except ValueError:
+                end = last
+            labels.asked = False
+            lines[n] = line = parse_line(tokens, labels, start, end)
+            if not labels.asked:
+                kept[keys[n]] = line
+                if not line.issues:
+                    texts[key] = line
+            start = end + 1
 
     def clear(self) -> None:
         self._lines = {}
+        self._texts = {}
 
 
 EDITOR = LineCache()
