@@ -351,7 +351,15 @@ def match_statements(statements: Sequence[A.Statement | None]) -> BlockStructure
     """The same pairing over a list of statements (the interpreter's steps, in run order);
     indices are positions in `statements`."""
     matcher = _Matcher()
+    structural = _STRUCTURAL
     for index, stmt in enumerate(statements):
-        if stmt is not None:
-            matcher.line(index, stmt)
+        if stmt.__class__ in structural:  # most lines (moves, commands) open or close nothing
+            matcher.line(index, stmt)  # type: ignore[arg-type]  # None is not structural
     return matcher.finish()
+
+
+# The statements `_Matcher.line` reads (an IF only for its block or its BREAK).
+_STRUCTURAL = frozenset(
+    {A.For, A.Next, A.While, A.Wend, A.If, A.Else, A.EndIf, A.Select, A.Case, A.Default}
+    | {A.EndSelect, A.Break}
+)

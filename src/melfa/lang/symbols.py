@@ -54,10 +54,11 @@ class Symbols(Record, frozen=False):
     @classmethod
     def collect(cls, program: A.Program, points: Iterable[str]) -> Symbols:
         table = cls(defined={p.upper() for p in points})
+        defining = _DEFINING
         for index, line in enumerate(program.lines):
             stmt = line.statement
-            if stmt is not None:
-                table.statement(index, stmt)
+            if stmt.__class__ in defining:  # most lines (moves, commands) define nothing
+                table.statement(index, stmt)  # type: ignore[arg-type]  # None defines nothing
         return table
 
     def statement(self, index: int, stmt: A.Statement) -> None:
@@ -182,6 +183,13 @@ class Symbols(Record, frozen=False):
             if left is Kind.STR and right is Kind.STR and expr.op is A.BinaryOp.ADD:
                 return Kind.STR
         return None
+
+
+# The statements `Symbols.statement` reads.
+_DEFINING = frozenset(
+    {A.Assign, A.DefVar, A.DefIO, A.Dim, A.DefFn, A.DefAct, A.Return, A.For, A.Input, A.Fprm}
+    | {A.If}
+)
 
 
 def target_name(target: A.AssignTarget) -> A.Name:
