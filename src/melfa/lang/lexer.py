@@ -83,6 +83,20 @@ _OPERAND_END = frozenset(
 )
 
 
+# Tokens whose kind their text alone gives (words, operators, punctuation) -> that kind: a
+# program uses few words many times, and one look-up is the cheapest way to a token's kind.
+# Not numbers (a LINE_NUMBER only first on a line), `*` words (labels or products), line ends.
+_KNOWN: dict[str, TokenKind] = {
+    **dict.fromkeys(("<>", "><", "<=", "=<", ">=", "=>", "<<", ">>", "*"), TokenKind.OP),
+    **{
+        tok: kind
+        for tok, kind in _FIRST.items()
+        if isinstance(kind, TokenKind) and kind is not TokenKind.NEWLINE
+    },
+}
+_KNOWN_LIMIT = 20_000  # words kept (then the others are looked at each time)
+
+
 def _word_kind(word: str) -> TokenKind:
     return TokenKind.KEYWORD if word.upper() in KEYWORDS else TokenKind.IDENT
 
@@ -131,18 +145,25 @@ def tokenize(
     line_start = 0  # offset of the current line's first character
     pos = 0  # offset of the end of the previous token
     prev = t_newline  # the kind of the previous token; start of text = new line
+    known = _KNOWN
     for ws, tok in _MASTER.findall(text):
         start = pos + len(ws)
         pos = start + len(tok)
         col = start - line_start + 1
+        kind: TokenKind | None = known.get(tok)
+        if kind is not None:  # a word or an operator seen before: most tokens
+            append(new(Token, (kind, tok, line, col, line, col + len(tok), ws)))
+            prev = kind
+            continue
         found = first.get(tok[:1], t_error)
-        kind: TokenKind
         if isinstance(found, int):
             if found == _WORD or (
                 found == _REM
                 and not (tok[:3].upper() == "REM" and (len(tok) == 3 or tok[3] not in word_chars))
             ):
                 kind = t_keyword if tok.upper() in keywords else t_ident
+                if len(known) < _KNOWN_LIMIT:
+                    known[tok] = kind
             elif found == _REM:
                 kind = TokenKind.COMMENT
             elif found == _DIGIT:
