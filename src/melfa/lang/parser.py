@@ -13,7 +13,7 @@ first: ``^``, unary ``+ -``, ``* /``, ``\\``, ``MOD``, binary ``+ -``, ``<< >>``
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from operator import itemgetter
 from typing import Final
 
@@ -1461,10 +1461,15 @@ def parse_line(tokens: list[Token], labels: Labels, start: int = 0, end: int = -
 
 def parse_tokens(tokens: list[Token]) -> A.Program:
     """Build the tree from `tokenize` output (so callers that already lexed need not relex)."""
-    parser = _LineParser([], Labels(tokens))  # one for every line: see `_LineParser.reset`
+    return A.Program(tuple(line for line, _ in parse_lines(tokens, Labels(tokens))))
+
+
+def parse_lines(tokens: list[Token], labels: Labels) -> Iterator[tuple[A.Line, bool]]:
+    """The tree of each text line of `tokens`, and whether its parse asked `labels` (the
+    file's: then the tree depends on more than the line, `melfa.lang.reparse`)."""
+    parser = _LineParser([], labels)  # one for every line: see `_LineParser.reset`
     kinds = list(map(itemgetter(0), tokens))
     newline = K.NEWLINE
-    lines: list[A.Line] = []
     i = 0
     last = len(tokens) - 1  # the EOF token
     while True:
@@ -1473,11 +1478,11 @@ def parse_tokens(tokens: list[Token]) -> A.Program:
             j = kinds.index(newline, i)
         except ValueError:
             j = last
-        lines.append(_parse_line(tokens, i, j, parser))
+        labels.asked = False
+        yield _parse_line(tokens, i, j, parser), labels.asked
         if j == last:
             break
         i = j + 1
-    return A.Program(tuple(lines))
 
 
 def _parse_line(tokens: list[Token], i: int, j: int, parser: _LineParser) -> A.Line:

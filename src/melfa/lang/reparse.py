@@ -30,19 +30,18 @@ True
 from __future__ import annotations
 
 import re
-from operator import itemgetter
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.lexer import tokenize
-from melfa.lang.parser import Labels, parse, parse_line, step_number
+from melfa.lang.parser import Labels, parse, parse_line, parse_lines, step_number
 from melfa.lang.relocate import moved
-from melfa.lang.tokens import TokenKind
 
 # A line and the line end the lexer reads as one NEWLINE (CR LF, CR or LF).
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
 # A step number the lexer reads as one: digits, then a blank or the line's end (not `10E3`,
 # `10.5` or `10#`, numbers whose value the digits alone do not give).
 _STEP = re.compile(r"[ \t]*(\d+)(?=[ \t\r\n]|\Z)")
+_STEP_START = " \t0123456789"
 _ZEROS = str.maketrans("123456789", "000000000")
 
 LINE_LIMIT = 50_000
@@ -104,7 +103,7 @@ class LineCache:
             if line is not None:
                 continue
             lineno, piece = keys[n]
-            key, number = _key(piece)
+            key, number = _key(piece) if piece[:1] in _STEP_START else (piece, None)
             model = texts.get(key)
             if model is not None:
                 lines[n] = kept[keys[n]] = moved(model, lineno, number, model.number)
@@ -139,21 +138,13 @@ class LineCache:
         numbers = [keys[n][0] for n in indices]
         numbers.append(numbers[-1] + 1)  # after the last line end: an empty line, not read
         tokens = tokenize("".join(keys[n][1] for n in indices), numbers[0], numbers[1:])
-        kinds = list(map(itemgetter(0), tokens))
-        start, last = 0, len(tokens) - 1
-        newline = TokenKind.NEWLINE
-        for key, n in fresh:
-            try:
-                end = kinds.index(newline, start)
-            except ValueError:
-                end = last
-            labels.asked = False
-            lines[n] = line = parse_line(tokens, labels, start, end)
-            if not labels.asked:
+        # One more line when the text read ends with a line end: zip leaves it out.
+        for (key, n), (line, asked) in zip(fresh, parse_lines(tokens, labels), strict=False):
+            lines[n] = line
+            if not asked:
                 kept[keys[n]] = line
                 if not line.issues:
                     texts[key] = line
-            start = end + 1
 
     def clear(self) -> None:
         self._lines = {}
