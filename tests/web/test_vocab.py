@@ -20,7 +20,7 @@ def test_the_browsers_vocabulary_is_melfa_vocab(web: Web) -> None:
     tables = {k: json.loads(v) for k, v in re.findall(r"export const (\w+) = (.*);", reply.text)}
     assert set(tables["ACTIVITY"]) == {a.value for a in Activity}
     assert tables["ACTIVITY"]["moving-to"]["said"] == ACTIVITY_WORDS[Activity.MOVING_TO].said
-    assert tables["COMMANDS"]["move_to"] == {"label": "Move to", "moves": True}
+    assert tables["COMMANDS"]["move_to"] == {"label": "Move to", "moves": True, "detail": False}
     assert set(tables["JOG_ENDS"]) == {e.value for e in JogEnd}
     assert tables["JOG_ENDS"]["stopped"]["words"] == JogEnd.STOPPED.template
     assert tables["LINK_WORDS"]["lost"] == LINK_WORDS[LinkStatus.LOST]

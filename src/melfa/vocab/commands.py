@@ -57,6 +57,13 @@ class Command(enum.StrEnum):
         """Whether the command moves the arm."""
         return _WORDS[self].moves
 
+    @property
+    def detail_in_words(self) -> bool:
+        """Whether its audit detail reads as words a person may be shown (``on``, ``30%``,
+        the student's own statement); else it is what melfa built for the controller (a
+        move's statements, a slot) and logs show the label alone."""
+        return self in _DETAIL_IN_WORDS
+
 
 @dataclass(frozen=True)
 class _Words:
@@ -86,6 +93,10 @@ _WORDS: dict[Command, _Words] = {
     Command.READ_POSE: _Words("Read position", False),
 }
 assert set(_WORDS) == set(Command), "every command has its words"
+
+_DETAIL_IN_WORDS = frozenset(
+    {Command.EXEC, Command.SERVO, Command.OVERRIDE, Command.HAND, Command.JOG, Command.JOG_END}
+)
 
 
 def command_label(value: str) -> str:

@@ -209,6 +209,7 @@ def create_app(
         queue.router,
         lease.router,
         audit.router,
+        audit.mine,
         users.router,
         desk.router,
         tokens.router,

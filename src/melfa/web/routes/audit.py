@@ -1,6 +1,7 @@
 """The audit log for instructors and admins: JSON with paging and filters (by time, user,
 action and robot: one robot's log is its entries). People read it on the instructor's desk
-(``/desk#audit``, in local time and plain words); ``/audit`` leads there."""
+(``/desk#audit``, in local time and plain words); ``/audit`` leads there. Everyone reads
+their own entries of a robot's log (``/api/robot/log``: the IDE's *Robot log*)."""
 
 from __future__ import annotations
 
@@ -11,12 +12,16 @@ from fastapi import APIRouter, Query
 from fastapi.responses import RedirectResponse, Response
 
 from melfa.store import AuditPage
+from melfa.vocab.robot_log import LAB_ROBOT, simulator_of
 from melfa.web.context import WebContext
-from melfa.web.deps import ContextDep, StaffDep
+from melfa.web.deps import ContextDep, SessionDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import AuditEntryOut, AuditPageOut
+from melfa.web.target_deps import TARGET_HELP
+from melfa.web.targets import LAB, MINE
 
 router = APIRouter(prefix="/api/audit", tags=["audit"], responses=ERROR_RESPONSES)
+mine = APIRouter(prefix="/api/robot", tags=["robot"], responses=ERROR_RESPONSES)
 pages = APIRouter(include_in_schema=False)
 
 
@@ -37,15 +42,16 @@ def _aware(moment: dt.datetime | None, name: str) -> dt.datetime | None:
 async def query(
     context: WebContext,
     *,
-    since: dt.datetime | None,
-    until: dt.datetime | None,
-    actor: str | None,
-    action: str | None,
     limit: int,
-    before: int | None,
+    since: dt.datetime | None = None,
+    until: dt.datetime | None = None,
+    actor: str | None = None,
+    action: str | None = None,
     robot: str | None = None,
-) -> AuditPage:
-    return await context.db(
+    before: int | None = None,
+) -> AuditPageOut:
+    """A page of the audit log, newest first, filtered (`melfa.store.audit.AuditLog.query`)."""
+    page: AuditPage = await context.db(
         context.store.audit.query,
         since=_aware(since, "since"),
         until=_aware(until, "until"),
@@ -54,6 +60,10 @@ async def query(
         robot=robot,
         limit=limit,
         before=before,
+    )
+    return AuditPageOut(
+        entries=[AuditEntryOut.model_validate(e, from_attributes=True) for e in page.entries],
+        next_before=page.next_before,
     )
 
 
@@ -74,7 +84,7 @@ async def list_audit(
     ``alarm.raised``, ``alarm.cleared``, ``link.changed``) and ``robot`` (``lab``, or
     ``sim:<user>``: that robot's log); page with ``before`` = the previous page's
     ``next_before``."""
-    page = await query(
+    return await query(
         context,
         since=since,
         until=until,
@@ -84,10 +94,24 @@ async def list_audit(
         limit=limit,
         before=before,
     )
-    return AuditPageOut(
-        entries=[AuditEntryOut.model_validate(e, from_attributes=True) for e in page.entries],
-        next_before=page.next_before,
-    )
+
+
+@mine.get("/log", response_model=AuditPageOut, summary="My robot log")
+async def my_robot_log(
+    session: SessionDep,
+    context: ContextDep,
+    target: Annotated[str, Query(description=TARGET_HELP)] = LAB,
+    limit: Annotated[int, Query(ge=1, le=500)] = 200,
+    before: Annotated[int | None, Query(ge=1, le=2**62)] = None,
+) -> AuditPageOut:
+    """What I asked this robot to do and what came of it, and control changes I caused,
+    newest first, kept on the server (the audit log's entries of mine on that robot): the
+    IDE's *Robot log*, the same in every tab and after a reload."""
+    user = session.user.username
+    if target not in (LAB, MINE):
+        raise ApiError(404, "unknown-target", f"no robot {target!r}", where={"field": "target"})
+    robot = LAB_ROBOT if target == LAB else simulator_of(user)
+    return await query(context, actor=user, robot=robot, limit=limit, before=before)
 
 
 @pages.get("/audit", response_model=None)
@@ -96,4 +120,4 @@ async def audit_page() -> Response:
     return RedirectResponse("/desk#audit", status_code=308)
 
 
-__all__ = ["pages", "router"]
+__all__ = ["mine", "pages", "router"]

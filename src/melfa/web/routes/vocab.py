@@ -52,7 +52,10 @@ def vocabulary() -> dict[str, Any]:
         "FRAME_WORDS": FRAME_WORDS,
         "WHERE_WORDS": WHERE_WORDS,
         "LINK_WORDS": {status.value: words for status, words in LINK_WORDS.items()},
-        "COMMANDS": {c.value: {"label": c.label, "moves": c.moves} for c in Command},
+        "COMMANDS": {
+            c.value: {"label": c.label, "moves": c.moves, "detail": c.detail_in_words}
+            for c in Command
+        },
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
         "LEASE_REASONS": {r.value: {"words": r.template} for r in LeaseReason},
         "RUN_OUTCOMES": {o.value: {"words": o.words} for o in RunOutcome},

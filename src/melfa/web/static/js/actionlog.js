@@ -1,46 +1,45 @@
-// The session's robot actions (time, action, result), kept for this browser tab and opened
-// from the toolbar's "Robot log": what the student did and what the robot answered, in
-// words (the server's `result` events carry the action's label and the student text, never
-// a wire request).
+// The toolbar's "Robot log": what this user asked the robot they drive (the lab robot or
+// their simulator) and what it answered, and the control changes they caused, in words and
+// local time. Kept on the server (GET /api/robot/log: their entries of that robot's log),
+// so it is the same in every tab, after a reload and on another PC; nothing is kept in
+// this browser. Words: melfa.vocab.robot_log (ROBOT_LOG_WORDS), the rows as the desk's.
 
-import { el } from "./ui.js";
-
-const KEY = "melfa.action-log";
+import { api } from "./api.js";
+import { oneRowEach, outcome, said } from "./desk-audit.js";
+import { el, showError } from "./ui.js";
+import { ROBOT_LOG_WORDS as RL } from "/vocab.js";
 
 export class ActionLog {
   constructor(app) {
     this.app = app;
-    try { this.entries = JSON.parse(sessionStorage.getItem(KEY) || "[]"); } catch { this.entries = []; }
-    app.live.on("result", (m) => {
-      if (m.actor?.user !== app.user) return;
-      this.add(m.label || "Robot command", m.ok ? "done" : m.error || "failed", m.ok);
-    });
     const button = el("button", { type: "button", class: "btn btn-sm", id: "action-log-button", "aria-haspopup": "dialog",
-      title: "What you asked the robot to do in this session, and what it answered", onclick: () => this.open() }, "Robot log");
+      title: RL["mine-help"], onclick: () => this.open() }, RL.title);
     document.getElementById("activity").after(button);
   }
 
-  add(action, result, ok) {
-    this.entries.push({ at: new Date().toISOString(), action, result, ok });
-    if (this.entries.length > 300) this.entries.splice(0, this.entries.length - 300);
-    try { sessionStorage.setItem(KEY, JSON.stringify(this.entries)); } catch { /* full */ }
-  }
-
-  open() {
+  async open() {
+    let entries;
+    try {
+      entries = oneRowEach((await api("GET", "/api/robot/log?limit=200")).entries);
+    } catch (err) {
+      showError(RL.title, err);
+      return;
+    }
     let dialog = document.getElementById("action-log");
     if (!dialog) {
-      dialog = el("dialog", { id: "action-log", "aria-labelledby": "action-log-title", class: "diff-dialog" });
+      dialog = el("dialog", { id: "action-log", "aria-labelledby": "action-log-title", class: "robot-log" });
       document.body.append(dialog);
     }
-    const rows = [...this.entries].reverse().map((e) => el("tr", { class: e.ok ? "" : "failed" },
-      el("td", {}, new Date(e.at).toLocaleTimeString()), el("td", {}, e.action), el("td", {}, e.result)));
+    const failed = (e) => e.result.startsWith("failed") || e.result.startsWith("refused");
+    const rows = entries.map((e) => el("tr", { class: failed(e) ? "failed" : "" },
+      el("td", {}, new Date(e.at).toLocaleString()), el("td", {}, said(e)), el("td", {}, outcome(e.result))));
     dialog.replaceChildren(
-      el("h2", { id: "action-log-title" }, "Robot log of this session"),
+      el("h2", { id: "action-log-title" }, RL["mine-title"]),
       rows.length
-        ? el("div", { class: "table-wrap log-wrap" }, el("table", { class: "points action-log" },
-          el("thead", {}, el("tr", {}, el("th", { scope: "col" }, "Time"), el("th", { scope: "col" }, "Action"), el("th", { scope: "col" }, "Result"))),
+        ? el("div", { class: "table-wrap log-wrap" }, el("table", { class: "points action-log" }, // points: the tables' look
+          el("thead", {}, el("tr", {}, ...RL["mine-columns"].split(",").map((c) => el("th", { scope: "col" }, c)))),
           el("tbody", {}, rows)))
-        : el("p", { class: "muted" }, "Nothing yet: load, run or move the robot and it is listed here."),
+        : el("p", { class: "muted" }, RL["mine-empty"]),
       el("div", { class: "dialog-actions" }, el("button", { type: "button", class: "btn", onclick: () => dialog.close() }, "Close")));
     dialog.showModal();
   }

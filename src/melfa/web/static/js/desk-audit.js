@@ -32,7 +32,7 @@ export function said(e) {
   if (e.action.startsWith("robot.")) {
     const command = COMMANDS[e.action.slice(6)];
     const label = command ? command.label : e.action.slice(6);
-    return d.detail ? `${label} · ${d.detail}` : label; // "Servo · on", "Move to · MOV P1"
+    return command?.detail && d.detail ? `${label} · ${d.detail}` : label; // "Servo · on", "Speed override · 30%"
   }
   if (e.action === "control.changed") {
     const reason = LEASE_REASONS[d.reason];
