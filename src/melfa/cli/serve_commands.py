@@ -120,6 +120,17 @@ def serve(
             "whichever door it comes through (web, rosbridge, the thesis's messages).",
         ),
     ] = False,
+    lab_networks: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--lab-network",
+            metavar="CIDR",
+            help="Where the lab robot may be driven from: a network such as 192.168.10.0/24 "
+            "(repeatable). Elsewhere students may watch and use their own simulator, and "
+            "STOP always works; staff are exempt. Default: anywhere. Switched live on the "
+            "instructor's desk.",
+        ),
+    ] = None,
     turn_minutes: Annotated[
         float,
         typer.Option(
@@ -173,6 +184,7 @@ def serve(
     # Lazily (start-up): `melfa --help` imports this module; the web stack loads to serve only.
     import uvicorn
 
+    from melfa.service.lab_network import NetworkError, parse_networks
     from melfa.service.queue import QueueSettings
     from melfa.web import WebSettings, create_app
     from melfa.web.logs import configure
@@ -185,6 +197,11 @@ def serve(
         _err.print(f"[bold red]error:[/] {escape(str(exc))}")
         raise typer.Exit(EXIT_USAGE) from None
     spec = parsed.text
+    try:
+        networks = parse_networks(lab_networks or ())
+    except NetworkError as exc:
+        _err.print(f"[bold red]error:[/] --lab-network: {escape(str(exc))}")
+        raise typer.Exit(EXIT_USAGE) from None
     data_dir = data or Path(os.environ.get(DATA_ENV) or "data")
     configure()
     try:
@@ -220,6 +237,7 @@ def serve(
         robot_trace=trace,
         allowed_origins=tuple(allowed_origins or ()),
         require_simulation=require_simulation,
+        lab_networks=networks,
         queue=QueueSettings(claim_s=claim_seconds, turn_s=turn_minutes * 60, at_turn_end=turn_end),
         private_idle_s=private_idle,
         allowed_hosts=hosts,

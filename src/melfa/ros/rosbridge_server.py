@@ -45,6 +45,7 @@ from melfa.ros.messages import BASE_FRAME
 from melfa.ros.rosapi import ParamBudget
 from melfa.ros.rosbridge import RosbridgeSession
 from melfa.service import Actor, RobotService
+from melfa.service.lab_network import peer_address
 from melfa.service.thesis import MELFA, Dialect, dialect_named
 
 log = logging.getLogger(__name__)
@@ -233,7 +234,12 @@ class _Endpoint(Generic[S]):
             )
             return None
         number = next(self._numbers)
-        actor = dataclasses.replace(actor, session_id=f"{actor.session_id}/rosbridge-{number}")
+        client = websocket.client
+        actor = dataclasses.replace(
+            actor,
+            session_id=f"{actor.session_id}/rosbridge-{number}",
+            address=peer_address(client.host if client is not None else None),
+        )
         return actor, token, mode
 
     async def _refuse(self, websocket: WebSocket, text: str) -> None:

@@ -8,7 +8,9 @@ import the other (`melfa.service.events` re-exports all three).
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from melfa.service.lab_network import Address
 
 
 class Role(enum.Enum):
@@ -29,6 +31,10 @@ class Actor:
     user: str
     role: Role
     session_id: str
+    address: Address | None = field(default=None, compare=False)
+    """Where they ask from (the connection's peer; None: not over the network, as the ROS
+    node or the service itself): the lab's networks are asked about it
+    (`melfa.service.lab_network`). Never sent to other clients."""
 
     def __str__(self) -> str:
         return f"{self.user} ({self.role.value}, session {self.session_id})"

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from melfa.protocol.jog import JOG_WATCHDOG_S
 from melfa.protocol.limits import OVERRIDE_PERCENT, span_text
+from melfa.service.lab_network import Network
 from melfa.service.servo import ServoPolicy
 
 
@@ -79,6 +80,9 @@ class ServiceConfig:
     require_simulation: bool = False
     """The instructor's gate (``melfa serve --require-simulation``): the robot loads and
     runs only a program and points that passed pre-flight (`melfa.service.policy.Gate`)."""
+    lab_networks: tuple[Network, ...] = ()
+    """Where the robot may be driven from (``melfa serve --lab-network``; empty: anywhere):
+    `melfa.service.lab_network.LabNetwork`, asked by the policy."""
     when_holder_leaves: WhenHolderLeaves = WhenHolderLeaves.STOP
     """A move or program when its owner's last connection closes (their jog always stops)."""
 

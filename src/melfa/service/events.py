@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import datetime as dt
 import enum
+import ipaddress
 from dataclasses import asdict, dataclass, field, fields
 from typing import Any, ClassVar
 
@@ -221,6 +222,8 @@ def event_to_dict(event: Event) -> dict[str, Any]:
             return value.value
         if isinstance(value, dt.datetime):
             return value.isoformat()
+        if isinstance(value, ipaddress.IPv4Address | ipaddress.IPv6Address):
+            return str(value)
         if isinstance(value, dict):
             return {k: plain(v) for k, v in value.items()}
         if isinstance(value, list | tuple):

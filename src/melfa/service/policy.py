@@ -10,6 +10,12 @@ send the words).
 
 What it holds, in the order it asks:
 
+0. **The lab's networks** (`melfa.service.lab_network.LabNetwork`, on the lab robot with
+   ``--lab-network``, switched live on the instructor's desk): from anywhere else a student's
+   command is refused (`Refusal.OUTSIDE_LAB`), and so are taking control, joining the queue
+   and claiming a turn (`Policy.from_where`, asked by the lease and the queue). Staff
+   (instructors and admins) are exempt: they switch the setting from anywhere anyway. STOP
+   never passes here; reading the state and a private simulator are never restricted.
 1. **Check-before-upload.** A load carries its `melfa.lang.plan.UploadPlan`; a plan with an
    error (the checker's, the points', or one that cannot be sent) is refused, so a program
    with errors never reaches the controller.
@@ -51,6 +57,7 @@ from typing import Protocol
 from melfa.lang.plan import Part, UploadPlan, digest
 from melfa.service.errors import Refused
 from melfa.service.events import Actor, Role
+from melfa.service.lab_network import LabNetwork
 from melfa.service.lease import Lease, LeaseChange
 from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
@@ -171,9 +178,13 @@ class Turns(Protocol):
 class Policy:
     """One check for every command before it is queued (see the module doc)."""
 
-    def __init__(self, lease: Lease, gate: Gate | None = None) -> None:
+    def __init__(
+        self, lease: Lease, gate: Gate | None = None, lab: LabNetwork | None = None
+    ) -> None:
         self.lease = lease
         self.gate = gate
+        self.lab = lab
+        """The lab's networks (the lab robot's; None: a private simulator, anywhere)."""
         self.turns: Turns | None = None
         """The queue of a shared robot (set by its keeper)."""
         self.held_by: str | None = None
@@ -188,6 +199,7 @@ class Policy:
     ) -> LeaseChange | None:
         """Let ``command`` through or raise `Refused` (nothing queued, nothing changed).
         Returns the lease change when it took a free lease (the service publishes it)."""
+        self.from_where(actor)
         if plan is not None:
             refused = plan_refusal(plan)
             if refused is not None:
@@ -205,6 +217,15 @@ class Policy:
             if refused is not None:
                 raise refused
         return change
+
+    def from_where(self, actor: Actor) -> None:
+        """Whether ``actor`` may drive this robot from where they are (the lab's networks;
+        staff anywhere): raises `Refused` (`Refusal.OUTSIDE_LAB`)."""
+        lab = self.lab
+        if lab is None or actor.role is Role.INSTRUCTOR:
+            return
+        if not lab.allows(actor.address):
+            raise Refused(Refusal.OUTSIDE_LAB)
 
     def attend(self, actor: Actor, command: Command) -> Awaitable[None] | None:
         """What an admitted command waits for before it is queued (None: nothing)."""

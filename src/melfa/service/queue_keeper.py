@@ -232,11 +232,13 @@ class QueueKeeper:
         points: str,
         workspace_id: int | None = None,
     ) -> None:
-        """Enter the queue (or replace the queued text) with a text the policy lets in
-        (`Policy.may_queue`: checked, and pre-flight passed when the gate is on)."""
+        """Enter the queue (or replace the queued text) from where the policy lets one
+        drive (`Policy.from_where`) with a text it lets in (`Policy.may_queue`: checked, and
+        pre-flight passed when the gate is on)."""
         if actor.role is Role.OBSERVER:
             raise Refused(Refusal.OBSERVER, user=actor.user)
         policy = self.service.policy
+        policy.from_where(actor)
         policy.may_queue(plan)
         entry = Entry(
             user=actor.user,
@@ -257,6 +259,7 @@ class QueueKeeper:
     def claim(self, actor: Actor, *, start: bool = True) -> None:
         """The offered student takes the arm: the lease is theirs; with ``start`` their
         queued text is loaded and run (in attended mode the run waits for *Arm ready*)."""
+        self.service.policy.from_where(actor)  # the lab's networks, before the lease moves
         self._do(lambda q: q.claim(actor.user, self.clock.now()), actor)
         turn = self.queue.turn
         if start and turn is not None and turn.entry is not None:

@@ -53,6 +53,7 @@ from melfa.service.events import (
     StateSnapshot,
 )
 from melfa.service.jogging import JogSession
+from melfa.service.lab_network import LabNetwork
 from melfa.service.lease import Lease, LeaseChange, LeaseInfo
 from melfa.service.lifecycle import Life, Lifecycle
 from melfa.service.notes import LinkNotes, alarm_notes, control_note
@@ -97,7 +98,8 @@ class RobotService(RobotCommands):
         gated: bool = True,
     ) -> None:
         """``gated``: the policy has the instructor's gate (`melfa.service.policy.Gate`,
-        on when `ServiceConfig.require_simulation`); a private simulator has none."""
+        on when `ServiceConfig.require_simulation`) and the lab's networks
+        (`ServiceConfig.lab_networks`); a private simulator has neither."""
         self.config = config or ServiceConfig()
         self.robot_settings = robot_settings or RobotSettings()
         if not isinstance(clock, Clock):
@@ -112,7 +114,11 @@ class RobotService(RobotCommands):
             auto=self.config.auto_lease,
             clock=self.clock.now,
         )
-        self.policy = Policy(self._lease, Gate(self.config.require_simulation) if gated else None)
+        self.policy = Policy(
+            self._lease,
+            Gate(self.config.require_simulation) if gated else None,
+            LabNetwork(self.config.lab_networks) if gated else None,
+        )
         """Whether a command may be queued: every command passes `Policy.admit`."""
         self._dispatch = Dispatcher(
             life=self._life,
@@ -337,8 +343,10 @@ class RobotService(RobotCommands):
 
     def acquire_lease(self, actor: Actor) -> None:
         """Take the free operator lease (`LeaseRequired` naming the holder if taken,
-        `NotAllowed` for observers). Every session of the holder's user shares it."""
+        `NotAllowed` for observers, `Refused` from outside the lab's networks). Every
+        session of the holder's user shares it."""
         self._life.check_open()
+        self.policy.from_where(actor)
         self._lease_changed(self._lease.acquire(actor))
 
     def release_lease(self, actor: Actor) -> None:

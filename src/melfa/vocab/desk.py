@@ -27,6 +27,7 @@ class DeskAction(enum.StrEnum):
     EDIT_AS_STAFF = "workspace.edit-as-staff"
     READ_ONLY = "workspace.read-only"
     CELL = "cell.edit"
+    LAB_NETWORK = "lab-network.set"
 
 
 ACTION_WORDS: dict[DeskAction, str] = {
@@ -41,11 +42,12 @@ ACTION_WORDS: dict[DeskAction, str] = {
     DeskAction.EDIT_AS_STAFF: "began editing {who}'s work ({workspace}) as instructor",
     DeskAction.READ_ONLY: "went back to reading {who}'s work ({workspace})",
     DeskAction.CELL: "edited the lab's cell ({obstacles} obstacles, {parts} parts)",
+    DeskAction.LAB_NETWORK: "let students drive the lab robot from {networks}",
 }
 """The audit view's sentence for each action (after the user's name); ``{who}`` is the
 account, ``{count}`` how many were created, ``{state}`` on or off; a student's work
 opened to edit names ``{who}`` and ``{workspace}``; a cell edit counts ``{obstacles}`` and
-``{parts}``."""
+``{parts}``; ``{networks}`` the lab's networks (or "anywhere")."""
 
 DESK_WORDS: dict[str, str] = {
     "title": "Instructor's desk",
@@ -79,6 +81,18 @@ DESK_WORDS: dict[str, str] = {
     "release": "Release",
     "reset-alarm": "Reset alarm",
     "alarm-reset": "The alarm was reset.",
+    "lab-network": "Where students drive from",
+    "lab-network-anywhere": "Anywhere: a student may drive the lab robot from any computer "
+    "that reaches this server.",
+    "lab-network-only": "Only from {networks}: elsewhere students watch and use My "
+    "simulator. STOP works from everywhere; staff are not restricted.",
+    "lab-network-field": "The lab's networks",
+    "lab-network-help": "Address and prefix, commas between (192.168.10.0/24).",
+    "lab-network-you": "This computer: {address}",
+    "lab-network-save": "Only from these",
+    "lab-network-clear": "Allow anywhere",
+    "lab-network-saved": "Saved: {networks}.",
+    "anywhere": "anywhere",
     "audit": "Audit log",
     "audit-all": "everything",
     "audit-robot": "robot commands",

@@ -53,6 +53,9 @@ class Refusal(enum.StrEnum):
     HELD = "held"
     """A member of staff stopped the lab robot and holds it: nothing a student sends starts
     until they release it (`melfa.service.policy.Policy.hold`)."""
+    OUTSIDE_LAB = "outside-lab"
+    """The lab robot is driven only from the lab's networks (`melfa serve --lab-network`,
+    the instructor's desk), and this came from elsewhere (`melfa.service.lab_network`)."""
 
     def words(self, **facts: object) -> tuple[str, str]:
         """(what happened, the fix), with ``facts`` filled in."""
@@ -131,6 +134,11 @@ _WORDS: dict[Refusal, _Words] = {
     Refusal.HELD: _Words(
         "{who} stopped the robot and is holding it.",
         "Wait until they release it; ask them if you are not sure why.",
+    ),
+    Refusal.OUTSIDE_LAB: _Words(
+        "The lab robot can be driven only from the lab's computers.",
+        "From here, use My simulator (Pre-flight and the debugger work there too); "
+        "come to the lab to run it on the arm.",
     ),
 }
 assert set(_WORDS) == set(Refusal), "every refusal has its words"

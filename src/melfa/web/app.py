@@ -112,13 +112,17 @@ def create_app(
                     config.robot,
                     trace_sink=trace_file_sink(config.robot_trace) if config.robot_trace else None,
                     config=dataclasses.replace(
-                        config.service_config, require_simulation=config.require_simulation
+                        config.service_config,
+                        require_simulation=config.require_simulation,
+                        lab_networks=config.lab_networks,
                     ),
                     audit=ServiceAuditSink(the_store.audit),
                 )
                 await the_service.start()
             elif config.require_simulation and the_service.policy.gate is not None:
                 the_service.policy.gate.required = True  # a service given by the caller
+            if service is not None and config.lab_networks and the_service.policy.lab:
+                the_service.policy.lab.networks = config.lab_networks  # the same
             registry = TargetRegistry(
                 the_service,
                 idle_s=config.private_idle_s,

@@ -30,19 +30,23 @@ _log = logging.getLogger("melfa.store")
 
 
 def from_service_event(entry: ServiceAuditEvent, robot: str = LAB_ROBOT) -> AuditEvent:
-    """One service audit entry as a stored event: action ``robot.<command>``."""
+    """One service audit entry as a stored event: action ``robot.<command>``, with the
+    address it came from when it came over the network."""
     actor = entry.actor
+    details: dict[str, object] = {
+        "command_id": entry.command_id,
+        "detail": entry.detail,
+        "moves": entry.moves,
+        "session": None if actor is None else actor.session_id,
+        "robot": robot,
+    }
+    if actor is not None and actor.address is not None:
+        details["address"] = str(actor.address)  # where from (the lab's networks ask it)
     return AuditEvent(
         action=f"robot.{entry.command}",
         actor=None if actor is None else actor.user,
         role=None if actor is None else actor.role.value,
-        details={
-            "command_id": entry.command_id,
-            "detail": entry.detail,
-            "moves": entry.moves,
-            "session": None if actor is None else actor.session_id,
-            "robot": robot,
-        },
+        details=details,
         result=entry.result,
         at=entry.at,
     )

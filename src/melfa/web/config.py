@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from melfa.service import ServiceConfig
+from melfa.service.lab_network import Network
 from melfa.service.queue import QueueSettings
 from melfa.web.coedit import CoeditSettings
 from melfa.web.limits import Limits
@@ -55,6 +56,9 @@ class WebSettings:
     require_simulation: bool = False
     """The instructor's gate: the lab robot loads and runs a program only after the same
     text passed a simulated run without pre-flight errors (docs/ide.md)."""
+    lab_networks: tuple[Network, ...] = ()
+    """Where the lab robot may be driven from (``--lab-network``; empty: anywhere); staff
+    switch it live on the instructor's desk (`melfa.service.lab_network`)."""
     queue: QueueSettings = field(default_factory=QueueSettings)
     """The lab robot's queue: claim window, turn length, grace time, a turn's end."""
 

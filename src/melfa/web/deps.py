@@ -8,9 +8,11 @@ from collections.abc import Awaitable, Callable
 from typing import Annotated
 
 from fastapi import Depends, Request, WebSocket
+from starlette.requests import HTTPConnection
 
 from melfa.service import Actor
 from melfa.service import Role as ServiceRole
+from melfa.service.lab_network import Address, peer_address
 from melfa.store import Role, Session, check_csrf, is_access_token
 from melfa.web.config import CSRF_HEADER, SAFE_METHODS, SESSION_COOKIE
 from melfa.web.context import WebContext
@@ -103,13 +105,21 @@ def service_role(role: Role) -> ServiceRole:
     return ServiceRole.STUDENT if role is Role.STUDENT else ServiceRole.INSTRUCTOR
 
 
-def actor_of(session: Session) -> Actor:
-    """The service's view of a web session (the session id is a hash: safe to show)."""
-    return Actor(session.user.username, service_role(session.user.role), session.id[:16])
+def peer_of(connection: HTTPConnection) -> Address:
+    """Where a request or socket comes from: its peer's address (behind a reverse proxy
+    given with ``--trusted-proxy``, uvicorn has put the client's own there)."""
+    client = connection.client
+    return peer_address(client.host if client is not None else None)
 
 
-def get_actor(session: SessionDep) -> Actor:
-    return actor_of(session)
+def actor_of(session: Session, address: Address | None = None) -> Actor:
+    """The service's view of a web session (the session id is a hash: safe to show), from
+    ``address`` (`peer_of`; the lab's networks ask it)."""
+    return Actor(session.user.username, service_role(session.user.role), session.id[:16], address)
+
+
+def get_actor(request: Request, session: SessionDep) -> Actor:
+    return actor_of(session, peer_of(request))
 
 
 ActorDep = Annotated[Actor, Depends(get_actor)]
@@ -141,6 +151,7 @@ __all__ = [
     "bearer_token",
     "find_session",
     "get_context",
+    "peer_of",
     "service_role",
     "ws_context",
 ]

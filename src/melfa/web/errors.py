@@ -210,6 +210,7 @@ REFUSAL_STATUS: dict[Refusal, int] = {
     Refusal.NOT_YOUR_TURN: 409,
     Refusal.NOT_QUEUED: 409,
     Refusal.HELD: 423,
+    Refusal.OUTSIDE_LAB: 403,
 }
 """The HTTP status of each policy refusal (the code is the refusal's own)."""
 assert set(REFUSAL_STATUS) == set(Refusal), "every refusal has its status"

@@ -84,7 +84,7 @@ from melfa.vocab.commands import command_label
 from melfa.web.config import SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.convert import actor_dict, actor_out, state_dict, target_dict
-from melfa.web.deps import actor_of, find_session
+from melfa.web.deps import actor_of, find_session, peer_of
 from melfa.web.errors import ApiError, from_robot
 from melfa.web.guard import MessageGate, TooManySockets
 from melfa.web.limits import origin_allowed as same_site
@@ -463,7 +463,7 @@ async def live(websocket: WebSocket) -> None:
     except ServiceClosed:
         await websocket.close(code=GOING_AWAY, reason="server shutting down")
         return
-    connection = Connection(websocket, context, actor_of(session), target)
+    connection = Connection(websocket, context, actor_of(session, peer_of(websocket)), target)
     connection.token = websocket.cookies.get(SESSION_COOKIE, "")
     try:
         handle = context.guard.open(session, connection.token, connection.end)

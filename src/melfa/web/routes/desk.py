@@ -4,7 +4,10 @@ The simulation gate (`melfa.service.policy.Gate`) was a start-up flag; here staf
 on and off while the server runs, and every door (REST, WebSocket, rosbridge, the thesis's
 messages) obeys at once because they all pass the one policy. *Stop and hold* stops the
 robot and holds it (`Policy.hold`): nothing a student sends starts, and each refusal names
-who holds it, until a member of staff releases it. Each switch is audited."""
+who holds it, until a member of staff releases it. *Where students drive from* sets the lab's
+networks (`melfa.service.lab_network`, ``melfa serve --lab-network``): from elsewhere a
+student's commands to the lab robot are refused. Each switch is audited; like the gate, a
+restart goes back to the start-up options."""
 
 from __future__ import annotations
 
@@ -12,12 +15,13 @@ from fastapi import APIRouter, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
-from melfa.vocab.desk import DeskAction
+from melfa.service.lab_network import UNKNOWN_PEER, NetworkError, parse_networks
+from melfa.vocab.desk import DESK_WORDS, DeskAction
 from melfa.web.context import WebContext
-from melfa.web.deps import ContextDep, StaffDep, actor_of
+from melfa.web.deps import ContextDep, StaffDep, actor_of, peer_of
 from melfa.web.desk_audit import audit_desk
 from melfa.web.errors import ERROR_RESPONSES, ApiError
-from melfa.web.models import Input
+from melfa.web.models import Input, ShortText
 from melfa.web.routes.pages import staff_page
 
 router = APIRouter(prefix="/api/desk", tags=["desk"], responses=ERROR_RESPONSES)
@@ -31,47 +35,86 @@ class DeskOut(BaseModel):
     held_by: str | None = Field(
         description="Who of the staff stopped the lab robot and holds it (null: nobody)."
     )
+    lab_networks: list[str] = Field(
+        description="Where students may drive the lab robot from, as CIDR networks "
+        "(192.168.10.0/24); empty: anywhere."
+    )
+    your_address: str | None = Field(
+        description="The address this request came from (null: not known)."
+    )
 
 
 class GateIn(Input):
     require_simulation: bool
 
 
-def _desk(context: WebContext) -> DeskOut:
+class LabNetworkIn(Input):
+    networks: list[ShortText] = Field(
+        max_length=64,
+        description="CIDR networks (192.168.10.0/24; one address is its /32); empty: anywhere.",
+    )
+
+
+def _desk(context: WebContext, request: Request) -> DeskOut:
     policy = context.service.policy
-    return DeskOut(require_simulation=policy.simulation_required, held_by=policy.held_by)
+    return DeskOut(
+        require_simulation=policy.simulation_required,
+        held_by=policy.held_by,
+        lab_networks=policy.lab.written() if policy.lab is not None else [],
+        your_address=None if (peer := peer_of(request)) == UNKNOWN_PEER else str(peer),
+    )
 
 
 @router.get("", response_model=DeskOut, summary="The lab robot's settings (staff)")
-async def desk(session: StaffDep, context: ContextDep) -> DeskOut:
-    return _desk(context)
+async def desk(request: Request, session: StaffDep, context: ContextDep) -> DeskOut:
+    return _desk(context, request)
 
 
 @router.put("/gate", response_model=DeskOut, summary="Turn the simulation gate on or off")
-async def set_gate(body: GateIn, session: StaffDep, context: ContextDep) -> DeskOut:
+async def set_gate(
+    request: Request, body: GateIn, session: StaffDep, context: ContextDep
+) -> DeskOut:
     gate = context.service.policy.gate
     if gate is None:
         raise ApiError(409, "refused", "this robot has no simulation gate")
     gate.required = body.require_simulation
     state = "on" if body.require_simulation else "off"
     await audit_desk(context, session, DeskAction.GATE, state=state)
-    return _desk(context)
+    return _desk(context, request)
 
 
 @router.post("/hold", response_model=DeskOut, summary="Stop the lab robot and hold it")
-async def hold(session: StaffDep, context: ContextDep) -> DeskOut:
+async def hold(request: Request, session: StaffDep, context: ContextDep) -> DeskOut:
     """Held first, then stopped: nothing queued after the STOP can start."""
     context.service.policy.hold(session.user.username)
     await context.service.stop(actor_of(session))
     await audit_desk(context, session, DeskAction.HOLD)
-    return _desk(context)
+    return _desk(context, request)
 
 
 @router.delete("/hold", response_model=DeskOut, summary="Release the lab robot")
-async def release(session: StaffDep, context: ContextDep) -> DeskOut:
+async def release(request: Request, session: StaffDep, context: ContextDep) -> DeskOut:
     context.service.policy.hold(None)
     await audit_desk(context, session, DeskAction.RELEASE)
-    return _desk(context)
+    return _desk(context, request)
+
+
+@router.put("/lab-network", response_model=DeskOut, summary="Set where students may drive from")
+async def set_lab_network(
+    request: Request, body: LabNetworkIn, session: StaffDep, context: ContextDep
+) -> DeskOut:
+    """At once for every door; 422 naming the entry that is not a network."""
+    lab = context.service.policy.lab
+    if lab is None:
+        raise ApiError(409, "refused", "this robot has no lab network setting")
+    try:
+        networks = parse_networks(body.networks)
+    except NetworkError as exc:
+        raise ApiError(422, "invalid-request", str(exc), where={"field": "networks"}) from None
+    lab.networks = networks
+    written = ", ".join(lab.written()) or DESK_WORDS["anywhere"]
+    await audit_desk(context, session, DeskAction.LAB_NETWORK, networks=written)
+    return _desk(context, request)
 
 
 @pages.get("/desk", response_model=None)

@@ -11,7 +11,7 @@ import time
 from collections.abc import Awaitable, Callable
 from typing import Annotated, TypeVar
 
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Query, Request
 
 from melfa.lang.plan import UploadPlan, plan_upload
 from melfa.lang.points import PointKind, parse_points
@@ -23,7 +23,7 @@ from melfa.service.slot import LoadOrigin
 from melfa.vocab.commands import Command
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out, workspace_info
-from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of
+from melfa.web.deps import ContextDep, SessionDep, StopSessionDep, actor_of, peer_of
 from melfa.web.errors import ERROR_RESPONSES, ApiError, from_refusal, from_robot
 from melfa.web.logs import robot_log
 from melfa.web.models import (
@@ -221,6 +221,7 @@ async def run(drive: DriveDep, body: RunIn | None = None) -> Ok:
 
 @router.post("/stop", response_model=Ok, summary="Stop everything (anyone)")
 async def stop(
+    request: Request,
     session: StopSessionDep,
     context: ContextDep,
     target: Annotated[str, Query(description=TARGET_HELP)] = LAB,
@@ -229,7 +230,7 @@ async def stop(
     session is read in a pool of its own and the STOP goes out from the service's stop
     thread, so logins, checks and other requests never delay it."""
     chosen = await find_target(context.targets, session.user.username, target)
-    actor = chosen.actor(actor_of(session))
+    actor = chosen.actor(actor_of(session, peer_of(request)))
     await operate(actor, Command.STOP, lambda: chosen.stop(actor))
     return Ok()
 
