@@ -2,7 +2,7 @@
 // manage (instructors their students, admins everyone — the server decides, the page
 // shows what it was given), adding one, importing a class list (the CSV `melfa users
 // import` reads), a new password shown once, removing; and the lab robot's simulation
-// gate switched live, Stop and hold (students' commands refused, naming who holds it, until
+// gate and the lab's networks switched live, Stop and hold (students' commands refused, naming who holds it, until
 // released), and resetting an alarm without taking over; the audit log and each robot's
 // log in their own tabs (desk-audit.js). Every word comes from /vocab.js (melfa.vocab.desk).
 
@@ -37,6 +37,7 @@ async function main() {
   wireAdd();
   wireImport();
   $("gate-toggle").addEventListener("click", () => setGate(!state.gate));
+  wireNetworks();
   $("hold-title").textContent = W["hold-title"];
   $("reset-alarm").textContent = W["reset-alarm"];
   $("hold-toggle").addEventListener("click", () => setHold(!state.heldBy));
@@ -166,6 +167,7 @@ async function loadDesk() {
 
 function drawDesk(desk) {
   drawGate(desk.require_simulation);
+  drawNetworks(desk);
   state.heldBy = desk.held_by;
   const held = desk.held_by != null;
   $("hold-state").textContent = held ? fill(W.held, { who: desk.held_by }) : W["hold-free"];
@@ -204,6 +206,42 @@ async function setGate(on) {
     drawDesk(await api("PUT", "/api/desk/gate", { require_simulation: on }));
   } catch (err) {
     showError(W.gate, err);
+  }
+}
+
+// --- where students may drive the lab robot from (the service decides, every door) ------
+
+function wireNetworks() {
+  $("net-title").textContent = W["lab-network"];
+  $("net-label").textContent = W["lab-network-field"];
+  $("net-help").textContent = W["lab-network-help"];
+  $("net-save").textContent = W["lab-network-save"];
+  $("net-clear").textContent = W["lab-network-clear"];
+  $("net-form").addEventListener("submit", (event) => {
+    event.preventDefault();
+    const networks = $("net-input").value.split(",").map((n) => n.trim()).filter(Boolean);
+    setNetworks(networks);
+  });
+  $("net-clear").addEventListener("click", () => setNetworks([]));
+}
+
+function drawNetworks(desk) {
+  const only = desk.lab_networks.length > 0;
+  const networks = desk.lab_networks.join(", ");
+  $("net-state").textContent = only ? fill(W["lab-network-only"], { networks }) : W["lab-network-anywhere"];
+  $("net-state").className = "desk-state" + (only ? " on" : "");
+  $("net-input").value = networks;
+  $("net-clear").hidden = !only;
+  $("net-you").textContent = desk.your_address ? fill(W["lab-network-you"], { address: desk.your_address }) : "";
+}
+
+async function setNetworks(networks) {
+  try {
+    const desk = await api("PUT", "/api/desk/lab-network", { networks });
+    drawDesk(desk);
+    toast(fill(W["lab-network-saved"], { networks: desk.lab_networks.join(", ") || W.anywhere }), { kind: "ok" });
+  } catch (err) {
+    showError(W["lab-network"], err);
   }
 }
 
