@@ -8,38 +8,26 @@ student without the lease. Third-party clients unmodified: httpx, websockets, ro
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
-import threading
 from collections.abc import Iterator
-from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 import roslibpy
 from websockets.sync.client import connect
 
 from melfa.lang.plan import plan_upload
-from melfa.link.wrappers import load_trace
 from melfa.service.policy import plan_refusal
 from melfa.vocab.refusals import Refusal
-from tests.serving import free_port, melfa_serve, stop_process
 from tests.waiting import wait_until
+from tests.web.doors import POINTS, Errors, Lab, lab_server
+from tests.web.doors import call as ros_call
+from tests.web.doors import program as good
 
 pytestmark = pytest.mark.timeout(300)
 
-ADMIN = "admin-password-1"
-POINTS = "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
 GATE_TEXT = " ".join(Refusal.SIMULATION_REQUIRED.words())
 """What every door says when the gate refuses (one home: `melfa.vocab.refusals`)."""
 LEASE_TEXT = " ".join(Refusal.LEASE_REQUIRED.words(holder="ann"))
-
-
-def good(door: str) -> str:
-    """A program only this door loads (its comment marks its bytes in the trace)."""
-    return f"' door {door}\nSERVO ON\nMOV P1\nEND\n"
 
 
 def broken(door: str) -> str:
@@ -52,126 +40,31 @@ def errors_text(program: str, points: str | None = POINTS) -> str:
     return str(refusal)
 
 
-@dataclass
-class Lab:
-    url: str
-    bridge: str
-    trace: Path
-    cookies: dict[str, tuple[str, str]]
-    """user -> (session token, CSRF token)"""
-    tokens: dict[str, str]
-    """user -> personal access token"""
-
-    def sent(self) -> bytes:
-        """Every byte the server sent to the controller so far."""
-        events = load_trace(self.trace.read_text(encoding="utf-8").splitlines())
-        return b"".join(e.data for e in events if e.direction == "->")
-
-    def rest(self, user: str, method: str, path: str, body: Any = None) -> httpx.Response:
-        session, csrf = self.cookies[user]
-        return httpx.request(
-            method,
-            self.url + path,
-            json=body,
-            headers={"x-csrf-token": csrf},
-            cookies={"melfa_session": session},
-            timeout=60,
-        )
-
+class GateLab(Lab):
     def preflight(self, program: str, points: str = POINTS) -> None:
         """What the IDE's *Run pre-flight* does; its pass opens the gate for this text."""
         reply = self.rest("ann", "POST", "/api/preflight", {"program": program, "points": points})
         assert reply.status_code == 200 and reply.json()["passed"] is True, reply.text
 
-    def idle(self) -> bool:
-        """The program ran to its end (or never started) and the arm is still."""
-        state = self.rest("ann", "GET", "/api/robot/state").json()
-        return not (state["running"] or state["program_running"] or state["moving"])
-
-    def ros(self, user: str, mode: str) -> Any:
-        ros = roslibpy.Ros(host=f"{self.bridge}/?token={self.tokens[user]}&mode={mode}")
-        ros.run(timeout=20)
-        return ros
-
 
 @pytest.fixture(scope="module")
-def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Lab]:
-    data = tmp_path_factory.mktemp("lab")
-    sim_port, bridge_port = free_port(), free_port()
-    sim = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "melfa",
-            "sim",
-            "--tcp",
-            f"127.0.0.1:{sim_port}",
-            "--no-pacing",
-            "--latency",
-            "0",
-        ],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    trace = data / "robot.trace"
-    try:
-        with melfa_serve(
-            data,
-            "--robot",
-            f"tcp://127.0.0.1:{sim_port}",
-            "--trace",
-            str(trace),
-            "--require-simulation",
-            "--rosbridge-port",
-            str(bridge_port),
-            admin_password=ADMIN,
-            timeout=60,
-        ) as url:
-            admin = httpx.post(
-                url + "/api/session", json={"username": "admin", "password": ADMIN}, timeout=30
-            )
-            cookie, csrf = admin.cookies["melfa_session"], admin.json()["csrf_token"]
-            cookies: dict[str, tuple[str, str]] = {}
-            tokens: dict[str, str] = {}
-            for user in ("ann", "bob"):
-                made = httpx.post(
-                    url + "/api/users",
-                    json={"username": user, "password": f"{user}-password-12"},
-                    headers={"x-csrf-token": csrf},
-                    cookies={"melfa_session": cookie},
-                    timeout=30,
-                )
-                assert made.status_code == 201, made.text
-                signed = httpx.post(
-                    url + "/api/session",
-                    json={"username": user, "password": f"{user}-password-12"},
-                    timeout=30,
-                )
-                cookies[user] = (signed.cookies["melfa_session"], signed.json()["csrf_token"])
-                made_token = httpx.post(
-                    url + "/api/tokens",
-                    json={"label": "doors"},
-                    headers={"x-csrf-token": cookies[user][1]},
-                    cookies={"melfa_session": cookies[user][0]},
-                    timeout=30,
-                )
-                tokens[user] = made_token.json()["token"]
-            lab = Lab(url, f"ws://127.0.0.1:{bridge_port}", trace, cookies, tokens)
-            # ann takes the lease (her first command) and keeps a connection open all along,
-            # as a student with the IDE open (a lease ends with its holder's last
-            # connection); bob is the student without it.
-            holder = lab.ros("ann", "melfa")
-            try:
-                servo = lab.rest("ann", "POST", "/api/robot/servo", {"on": True})
-                assert servo.status_code == 200, servo.text
-                yield lab
-            finally:
-                holder.close()
-    finally:
-        stop_process(sim)
+def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[GateLab]:
+    with lab_server(tmp_path_factory.mktemp("lab"), "--require-simulation") as served:
+        lab = GateLab(served.url, served.bridge, served.trace, served.cookies, served.tokens)
+        lab.add_students(("ann", "bob"))
+        # ann takes the lease (her first command) and keeps a connection open all along,
+        # as a student with the IDE open (a lease ends with its holder's last
+        # connection); bob is the student without it.
+        holder = lab.ros("ann", "melfa")
+        try:
+            servo = lab.rest("ann", "POST", "/api/robot/servo", {"on": True})
+            assert servo.status_code == 200, servo.text
+            yield lab
+        finally:
+            holder.close()
 
 
-def test_rest(lab: Lab) -> None:
+def test_rest(lab: GateLab) -> None:
     program = good("rest")
     assert lab.rest("ann", "DELETE", "/api/robot/program").status_code == 200
     refused = lab.rest("ann", "POST", "/api/robot/project", {"program": program, "points": POINTS})
@@ -205,7 +98,7 @@ def test_rest(lab: Lab) -> None:
     assert lab.rest("bob", "POST", "/api/robot/run", {}).json()["error"]["message"] == LEASE_TEXT
 
 
-def test_websocket(lab: Lab) -> None:
+def test_websocket(lab: GateLab) -> None:
     """The WebSocket carries no load or run (those are REST's); what it does carry that
     changes the robot (jog, hand) passes the same policy: bob, without the lease, is
     refused with the same words; ann, holding it, is not."""
@@ -236,16 +129,13 @@ def test_websocket(lab: Lab) -> None:
     wait_until(ann_toggles, what="ann's hand toggle")
 
 
-def test_rosbridge_services(lab: Lab) -> None:
+def test_rosbridge_services(lab: GateLab) -> None:
     program = good("ros")
 
     def call(user: str, name: str, args: dict[str, Any] | None = None) -> dict[str, Any]:
         ros = lab.ros(user, "melfa")
         try:
-            kind = "std_srvs/SetBool" if name == "servo" else "std_srvs/Trigger"
-            service = roslibpy.Service(ros, f"/melfa/{name}", kind)
-            reply: dict[str, Any] = service.call(roslibpy.ServiceRequest(args or {}), timeout=60)
-            return reply
+            return ros_call(ros, name, args)
         finally:
             ros.close()
 
@@ -271,24 +161,8 @@ def test_rosbridge_services(lab: Lab) -> None:
     assert call("bob", "load_project", load) == {"success": False, "message": LEASE_TEXT}
 
 
-class Errors:
-    """``/execute_error`` as roslibpy delivers it (its own thread)."""
-
-    def __init__(self) -> None:
-        self.texts: list[str] = []
-        self._lock = threading.Lock()
-
-    def __call__(self, message: dict[str, Any]) -> None:
-        with self._lock:
-            self.texts.append(message["data"])
-
-    def since(self, start: int) -> list[str]:
-        with self._lock:
-            return self.texts[start:]
-
-
 @pytest.mark.parametrize("mode", ["melfa", "thesis"])
-def test_thesis_messages(lab: Lab, mode: str) -> None:
+def test_thesis_messages(lab: GateLab, mode: str) -> None:
     program = good(f"thesis-{mode}")
     marker = f"door thesis-{mode}".encode()
     ros = lab.ros("ann", mode)

@@ -12,61 +12,26 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
-import threading
 from collections.abc import Iterator
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import httpx
 import pytest
 import roslibpy
 from websockets.sync.client import connect
 
-from melfa.link.wrappers import load_trace
 from melfa.vocab.refusals import Refusal
-from tests.serving import free_port, melfa_serve, stop_process
 from tests.waiting import wait_until
+from tests.web.doors import POINTS, Errors, Lab, call, lab_server, program
 
 pytestmark = pytest.mark.timeout(300)
 
-ADMIN = "admin-password-1"
-POINTS = "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
 OUTSIDE = " ".join(Refusal.OUTSIDE_LAB.words())
 """What every door says (one home: `melfa.vocab.refusals`)."""
 ELSEWHERE, HERE = ["10.0.0.0/8"], ["127.0.0.0/8"]
 
 
-def program(door: str) -> str:
-    """A program only this door loads (its comment marks its bytes in the trace)."""
-    return f"' door {door}\nSERVO ON\nMOV P1\nEND\n"
-
-
-@dataclass
-class Lab:
-    url: str
-    bridge: str
-    trace: Path
-    cookies: dict[str, tuple[str, str]]
-    """user -> (session token, CSRF token)"""
-    tokens: dict[str, str]
-    """user -> personal access token"""
-
-    def sent(self) -> bytes:
-        events = load_trace(self.trace.read_text(encoding="utf-8").splitlines())
-        return b"".join(e.data for e in events if e.direction == "->")
-
-    def rest(self, user: str, method: str, path: str, body: Any = None) -> httpx.Response:
-        session, csrf = self.cookies[user]
-        return httpx.request(
-            method,
-            self.url + path,
-            json=body,
-            headers={"x-csrf-token": csrf},
-            cookies={"melfa_session": session},
-            timeout=60,
-        )
-
+class NetLab(Lab):
     def networks(self, networks: list[str]) -> dict[str, Any]:
         """What the instructor's desk does (as admin)."""
         reply = self.rest("admin", "PUT", "/api/desk/lab-network", {"networks": networks})
@@ -74,61 +39,18 @@ class Lab:
         desk: dict[str, Any] = reply.json()
         return desk
 
-    def ros(self, user: str, mode: str) -> Any:
-        ros = roslibpy.Ros(host=f"{self.bridge}/?token={self.tokens[user]}&mode={mode}")
-        ros.run(timeout=20)
-        return ros
-
-    def idle(self) -> bool:
-        state = self.rest("admin", "GET", "/api/robot/state").json()
-        return not (state["running"] or state["program_running"] or state["moving"])
-
 
 @pytest.fixture(scope="module")
-def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Lab]:
+def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[NetLab]:
     data = tmp_path_factory.mktemp("lab")
-    sim_port, bridge_port = free_port(), free_port()
-    sim = subprocess.Popen(
-        [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{sim_port}", "--no-pacing"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    trace = data / "robot.trace"
-    try:
-        with melfa_serve(
-            data,
-            "--robot",
-            f"tcp://127.0.0.1:{sim_port}",
-            "--trace",
-            str(trace),
-            "--lab-network",
-            ELSEWHERE[0],
-            "--rosbridge-port",
-            str(bridge_port),
-            admin_password=ADMIN,
-            timeout=60,
-        ) as url:
-            yield _accounts(Lab(url, f"ws://127.0.0.1:{bridge_port}", trace, {}, {}))
-    finally:
-        stop_process(sim)
-
-
-def _accounts(lab: Lab) -> Lab:
-    """admin and ann (a student) signed in, each with a personal access token."""
-    for user, password in (("admin", ADMIN), ("ann", "ann-password-12")):
-        if user != "admin":
-            made = lab.rest("admin", "POST", "/api/users", {"username": user, "password": password})
-            assert made.status_code == 201, made.text
-        signed = httpx.post(
-            lab.url + "/api/session", json={"username": user, "password": password}, timeout=30
-        )
-        lab.cookies[user] = (signed.cookies["melfa_session"], signed.json()["csrf_token"])
-        lab.tokens[user] = lab.rest(user, "POST", "/api/tokens", {"label": "net"}).json()["token"]
-    return lab
+    with lab_server(data, "--lab-network", ELSEWHERE[0]) as served:
+        lab = NetLab(served.url, served.bridge, served.trace, served.cookies, served.tokens)
+        lab.add_students(["ann"])
+        yield lab
 
 
 @pytest.fixture
-def outside(lab: Lab) -> Lab:
+def outside(lab: NetLab) -> NetLab:
     """The lab's network is 10.0.0.0/8 (the tests' 127.0.0.1 is outside); nobody holds the
     robot."""
     assert lab.networks(ELSEWHERE)["lab_networks"] == ELSEWHERE
@@ -138,7 +60,7 @@ def outside(lab: Lab) -> Lab:
     return lab
 
 
-def test_rest(outside: Lab) -> None:
+def test_rest(outside: NetLab) -> None:
     lab = outside
     load = {"program": program("rest"), "points": POINTS}
     for method, path, body in [
@@ -181,7 +103,7 @@ def test_rest(outside: Lab) -> None:
     assert b"door rest" in lab.sent()
 
 
-def test_websocket(outside: Lab) -> None:
+def test_websocket(outside: NetLab) -> None:
     """What the socket carries that changes the robot (jog, hand) asks the same policy;
     its STOP is always answered."""
     lab = outside
@@ -220,14 +142,7 @@ def test_websocket(outside: Lab) -> None:
         wait_until(toggles, what="ann's hand toggle")
 
 
-def call(ros: Any, name: str, args: dict[str, Any] | None = None) -> dict[str, Any]:
-    kind = "std_srvs/SetBool" if name == "servo" else "std_srvs/Trigger"
-    service = roslibpy.Service(ros, f"/melfa/{name}", kind)
-    reply: dict[str, Any] = service.call(roslibpy.ServiceRequest(args or {}), timeout=60)
-    return reply
-
-
-def test_rosbridge(outside: Lab) -> None:
+def test_rosbridge(outside: NetLab) -> None:
     lab = outside
     load = {"program": program("ros"), "points": POINTS}
     ros = lab.ros("ann", "melfa")
@@ -246,24 +161,8 @@ def test_rosbridge(outside: Lab) -> None:
         ros.close()
 
 
-class Errors:
-    """``/execute_error`` as roslibpy delivers it (its own thread)."""
-
-    def __init__(self) -> None:
-        self.texts: list[str] = []
-        self._lock = threading.Lock()
-
-    def __call__(self, message: dict[str, Any]) -> None:
-        with self._lock:
-            self.texts.append(message["data"])
-
-    def since(self, start: int) -> list[str]:
-        with self._lock:
-            return self.texts[start:]
-
-
 @pytest.mark.parametrize("mode", ["melfa", "thesis"])
-def test_thesis_messages(outside: Lab, mode: str) -> None:
+def test_thesis_messages(outside: NetLab, mode: str) -> None:
     lab = outside
     marker = f"door thesis-{mode}"
     ros = lab.ros("ann", mode)
@@ -297,7 +196,7 @@ def test_thesis_messages(outside: Lab, mode: str) -> None:
         ros.close()
 
 
-def test_a_network_that_is_not_one_is_refused_in_words(outside: Lab) -> None:
+def test_a_network_that_is_not_one_is_refused_in_words(outside: NetLab) -> None:
     lab = outside
     reply = lab.rest("admin", "PUT", "/api/desk/lab-network", {"networks": ["192.168.10.0/33"]})
     error = reply.json()["error"]
