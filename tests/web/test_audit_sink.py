@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ipaddress
 from pathlib import Path
 
 from melfa.service.audit import AuditSink
@@ -38,6 +39,11 @@ def _check(store: Store) -> None:
         "robot": "lab",
     }
     assert entries[1].role == "student"
+    # Over the network: where from (the lab's networks ask it), for the instructor.
+    away = Actor("ada", ServiceRole.STUDENT, "s-1", ipaddress.ip_address("84.12.3.4"))
+    sink.write(ServiceEvent(actor=away, command_id=8, command="run", result="refused: …"))
+    sink.flush()
+    assert store.audit.query(actor="ada").entries[0].details["address"] == "84.12.3.4"
 
 
 def test_each_robot_s_notes_are_its_log(tmp_path: Path) -> None:
