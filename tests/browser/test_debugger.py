@@ -206,3 +206,24 @@ def test_a_run_starts_as_the_start_options_say(open_session: Any) -> None:
     page.click("#dbg-start")
     expect(page.locator(".toast").last).to_contain_text("out of the RV-6S's reach")
     s.screenshot("debugger-start-unreachable")
+
+
+def test_my_simulator_never_says_you_took_control_of_the_robot(open_session: Any) -> None:
+    """My simulator is the student's alone: switching its servo on said "You have control of
+    the robot … Others can watch; press Release when you are done", with no Release to
+    press and nobody watching. The lab robot still says it."""
+    s: Session = open_session("carol")
+    page = s.page
+    page.click("#target-switch [data-target=mine]")
+    s.wait_ready()
+    page.click("#tab-robot")
+    s.eval("() => { window.leases = []; window.melfa.live.on('lease', (m) => leases.push(m)); }")
+    page.click("#servo-on")
+    expect(page.locator("#servo-state")).to_have_text("on")
+    # The simulator's own control went to her with that command: once its message has come
+    # (the page's toasts are made in the handler before ours), no toast came with it
+    page.wait_for_function("() => window.leases.some((m) => m.command)")
+    assert "You have control" not in page.inner_text("#toasts")
+    page.click("#servo-off")
+    expect(page.locator("#servo-state")).to_have_text("off")
+    page.click("#target-switch [data-target=lab]")

@@ -162,8 +162,9 @@ function wireLive(live) {
     if (m.previous?.user === app.user && m.holder && m.holder.user !== app.user) {
       toast("Control taken over", { kind: "warning", text: `${m.holder?.user ?? "An instructor"} took control of the robot.` });
     }
-    // Nothing takes control silently: a command that took the free lease says so.
-    if (m.holder?.user === app.user && m.command) {
+    // Nothing takes control silently: a command that took the free lease says so (the
+    // shared robot's: My simulator is the user's alone, with no control to give back).
+    if (m.holder?.user === app.user && m.command && !app.targets.isPrivate) {
       toast("You have control of the robot", { kind: "info", text: `Taken when you used ${commandLabel(m.command)}. Others can watch; press Release when you are done.` });
     }
   });
