@@ -36,6 +36,16 @@ def test_an_instructor_reads_a_student_s_work_until_they_choose_to_edit(
 
     quinn: Session = open_session("quinn", login=False)
     quinn.login_api()
+    quinn.page.goto(f"{server.url}/desk")  # the desk's Open work: the same read-only view
+    quinn.page.wait_for_selector("body[data-ready=true]")
+    with quinn.context.expect_page() as opened:
+        quinn.page.click("#acc-rows tr[data-user=rosa] [data-act=work]")
+    desk = quinn.page
+    quinn.page = opened.value
+    quinn.wait_ready()
+    assert quinn.eval("() => window.melfa.workspace.id") == ws
+    quinn.page.close()
+    quinn.page = desk
     quinn.page.goto(f"{server.url}/?workspace={ws}")  # as the class view's link opens it
     quinn.wait_ready()
     banner = quinn.page.locator("#visit-banner")

@@ -66,6 +66,8 @@ function drawUsers() {
     el("td", {}, u.role),
     el("td", { title: u.last_login || "" }, when(u.last_login)),
     el("td", { class: "desk-actions" },
+      u.username === state.me.username ? null // their work opens read-only (docs/ide.md)
+        : el("a", { class: "btn btn-sm", "data-act": "work", href: `/?user=${encodeURIComponent(u.username)}`, target: "_blank", rel: "noopener" }, W["open-work"]),
       el("button", { type: "button", class: "btn btn-sm", "data-act": "reset", onclick: () => resetPassword(u) }, W.reset),
       u.username === state.me.username ? null
         : el("button", { type: "button", class: "btn btn-sm btn-danger-ghost", "data-act": "remove", onclick: () => remove(u) }, W.remove)))));

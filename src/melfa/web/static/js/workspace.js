@@ -86,11 +86,14 @@ export class Workspace extends EventTarget {
   }
 
   /** Open the workspace the address names (`/?workspace=12`: the class view's "Open in
-   * the editor"), else the one opened last in this browser, else the default one; edits
+   * the editor"; `/?user=alice`: the desk's "Open work"), else the one opened last in this browser, else the default one; edits
    * this browser kept (typed offline) merge into it. */
   async open() {
     await this.refreshList();
-    const asked = Number(new URLSearchParams(location.search).get("workspace"));
+    const params = new URLSearchParams(location.search);
+    const whose = params.get("user"); // the desk's "Open work": that user's first own workspace
+    const theirs = whose && this.list.find((w) => w.kind === "personal" && w.owner === whose && !w.archived);
+    const asked = theirs ? theirs.id : Number(params.get("workspace"));
     let last = null;
     try { last = Number(localStorage.getItem(this.lastKey)); } catch { /* no storage */ }
     const known = (id) => this.list.some((w) => w.id === id && !w.archived);
