@@ -227,3 +227,36 @@ def test_my_simulator_never_says_you_took_control_of_the_robot(open_session: Any
     page.click("#servo-off")
     expect(page.locator("#servo-state")).to_have_text("off")
     page.click("#target-switch [data-target=lab]")
+
+
+def test_a_breakpoint_removed_just_before_continue_is_gone(open_session: Any) -> None:
+    """The gutter's PUT and *Continue*'s POST travel on two connections: the POST waits for
+    the PUT, or the run stops at the breakpoint the student has just taken away. The test
+    holds the PUT in the browser and sees whether *Continue* goes out before it."""
+    s: Session = open_session("carol")
+    page = s.page
+    to_mine(s)
+    s.set_program("M1 = 1\nM1 = 2\nM1 = 3\nM1 = 4\nEND\n")
+    s.set_points("")
+    gutter(page, 2)
+    gutter(page, 4)
+    expect(page.locator(".ace_gutter-cell.melfa-breakpoint")).to_have_count(2)
+    page.select_option("#dbg-speed", "instant")
+    page.click("#dbg-start")
+    at_line(page, 2)
+
+    held: list[Any] = []
+    continued_while_held: list[bool] = []
+    page.route("**/api/debug/breakpoints", lambda route: held.append(route))
+    page.route(
+        "**/api/debug/command/continue",
+        lambda route: (continued_while_held.append(bool(held)), route.continue_()),
+    )
+    gutter(page, 4)  # off again, while the run stands at line 2
+    page.wait_for_function("() => true")  # the PUT is out (and held)
+    assert len(held) == 1
+    page.click("#dbg-continue")
+    page.wait_for_function("() => true")  # a POST sent on the click is routed by now
+    held.pop().continue_()
+    expect(page.locator("#dbg-status")).to_have_attribute("data-state", "finished")
+    assert continued_while_held == [False]

@@ -144,12 +144,19 @@ export class DebugPanel {
     return { lines, labels };
   }
 
-  async sendBreakpoints() {
-    try {
-      this.show(await api("PUT", "/api/debug/breakpoints", this.breakpointSpec()));
-    } catch (err) {
-      showError("Could not set the breakpoints", err);
-    }
+  /** Breakpoints are sent one PUT after another, and every command waits for the last:
+   *  a breakpoint removed just before *Continue* must be gone when the run goes on (two
+   *  requests on two connections may otherwise arrive in either order). */
+  sendBreakpoints() {
+    const spec = this.breakpointSpec();
+    this.breakpointsSent = (this.breakpointsSent || Promise.resolve()).then(async () => {
+      try {
+        this.show(await api("PUT", "/api/debug/breakpoints", spec));
+      } catch (err) {
+        showError("Could not set the breakpoints", err);
+      }
+    });
+    return this.breakpointsSent;
   }
 
   // ---- commands ----
@@ -186,6 +193,7 @@ export class DebugPanel {
     }
     try {
       if (name === "run" || name === "continue") this.clearError();
+      await this.breakpointsSent;
       this.show(await api("POST", `/api/debug/command/${name}`));
     } catch (err) {
       showError("The debugger could not do that", err);
@@ -196,6 +204,7 @@ export class DebugPanel {
     const line = this.editor.editor.getCursorPosition().row + 1;
     if (!this.resumable) return this.start(["/api/debug/run-to", { line }]);
     try {
+      await this.breakpointsSent;
       this.show(await api("POST", "/api/debug/run-to", { line }));
     } catch (err) {
       showError("Could not run to the cursor", err);
