@@ -11,6 +11,7 @@ release while state messages keep coming.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import pytest
@@ -70,7 +71,15 @@ def test_a_third_students_run_after_a_refused_load_asks_and_names_whose_program(
     carol: Session = open_session("carol")
     page = carol.page
     servo_said_yes(carol)
-    expect(page.locator("#slot-info")).to_contain_text("bob's program is in the robot")
+    slot = page.locator("#slot-info")
+    expect(slot).to_have_attribute("title", re.compile("bob's program is in the robot"))
+    expect(slot).to_have_text("bob's program")  # whose, first: whole in the view's head
+    page.set_viewport_size({"width": 1024, "height": 700})
+    assert page.evaluate(  # at 1024 px it said "bob's progr…" ("Your program is i…")
+        "() => { const t = document.querySelector('#slot-info .slot-text');"
+        " return t.scrollWidth <= t.clientWidth; }"
+    )
+    page.set_viewport_size({"width": 1366, "height": 768})
     # Her load is refused (an error on line 2); the list keeps the warning of line 3 too.
     carol.set_points(POINTS)
     carol.set_program("MOV P1\nMOOV P2\nMOV PNOWHERE\nEND\n")

@@ -14,6 +14,10 @@ SLOT_WORDS: dict[str, str] = {
     "mine_changed": "Your program of {time} is in the robot; your editor has changed since",
     "theirs": "{user}'s program is in the robot (loaded {time}{from})",
     "from": " from {workspace}",
+    "chip_empty": "No known program",
+    "chip_mine": "Your program",
+    "chip_mine_changed": "Your older text",
+    "chip_theirs": "{user}'s program",
     "ask_title_theirs": "Run {user}'s program?",
     "ask_theirs": "The robot holds {user}'s program, loaded at {time}{from}, not the text in "
     "your editor. Run moves the arm with their program.",
@@ -33,7 +37,8 @@ SLOT_WORDS: dict[str, str] = {
     "stopped_when_left": "Your run was stopped at {time} because every page of yours had "
     "closed (a reload or a closed tab stops the robot, for safety).",
 }
-"""Every sentence about the slot, by key."""
+"""Every sentence about the slot, by key. The ``chip_`` words are what the 3D view's narrow
+head shows (whose, first); the whole sentence is its tooltip and accessible name."""
 
 
 __all__ = ["SLOT_WORDS"]

@@ -47,6 +47,13 @@ export function slotText(slot, owner) {
   return fill(SLOT_WORDS[key], facts(slot));
 }
 
+/** The chip's few words (whose program, first: they fit the view's head at 1024 px). */
+export function slotChipText(slot, owner) {
+  if (!slot) return SLOT_WORDS.chip_empty;
+  const key = owner === "mine" ? "chip_mine" : owner === "changed" ? "chip_mine_changed" : "chip_theirs";
+  return fill(SLOT_WORDS[key], facts(slot));
+}
+
 /** The toolbar's chip: rewritten only when what it says changes (state comes ~20/s). */
 export class SlotChip {
   constructor(node) {
@@ -61,9 +68,10 @@ export class SlotChip {
     this.shown = key;
     this.node.dataset.owner = owner;
     this.node.title = text;
+    this.node.setAttribute("aria-label", text);
     this.node.replaceChildren(
       el("span", { class: "slot-dot", "aria-hidden": "true" }),
-      el("span", { class: "slot-text" }, text),
+      el("span", { class: "slot-text", "aria-hidden": "true" }, slotChipText(slot, owner)),
     );
   }
 }
