@@ -85,6 +85,8 @@ def test_a_third_students_run_after_a_refused_load_asks_and_names_whose_program(
     carol.set_program("MOV P1\nMOOV P2\nMOV PNOWHERE\nEND\n")
     page.click("#act-load")
     expect(page.locator(".toast.error", has_text="Not loaded")).to_be_visible()
+    # Each problem is listed with its line: the message does not end "(line 2:1)" as well
+    expect(page.locator(".toast.error", has_text="Not loaded")).not_to_contain_text("(line 2")
     problems = page.locator("#problem-list li")
     expect(problems.filter(has_text="error")).to_have_count(1)
     expect(problems.filter(has_text="PNOWHERE")).to_have_count(1)

@@ -83,7 +83,8 @@ export function showError(what, err, { retry = null } = {}) {
   const items = [];
   const diags = err?.detail?.diagnostics;
   if (Array.isArray(diags)) for (const d of diags) items.push(describeDiagnostic(d));
-  const text = errorText(err);
+  // A list of diagnostics says where each is: the message is not followed by "(line 2:1)".
+  const text = items.length ? err?.message || String(err) : errorText(err);
   const actions = [];
   const fix = err?.detail?.fix;
   if (fix && fixHandlers.has(fix)) {
