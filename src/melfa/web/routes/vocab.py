@@ -30,6 +30,7 @@ from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import EntryState, QueueStep
 from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
 from melfa.vocab.runs import RunOutcome
+from melfa.vocab.signout import SIGN_OUT_WORDS
 from melfa.vocab.slot import SLOT_WORDS
 from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
 
@@ -80,6 +81,7 @@ def vocabulary() -> dict[str, Any]:
         "START_SERVO": {servo.value: words for servo, words in SERVO_WORDS.items()},
         "START_PLACE": {place.value: words for place, words in PLACE_WORDS.items()},
         "SLOT_WORDS": SLOT_WORDS,
+        "SIGN_OUT_WORDS": SIGN_OUT_WORDS,
     }
 
 

@@ -51,13 +51,15 @@ export class CoeditSession extends EventTarget {
     this.closed = false;
     this.attempt = 0;
     this.flushes = [];
+    this.edits = 0; // this page's own edits (and a kept copy's), counted...
+    this.confirmed = 0; // ...and how many of them the server confirmed it saved (a flush)
     this.restore();
     this.watch();
     this.connect();
   }
 
   get storageKey() {
-    return `melfa.coedit.${this.user}.${this.id}`;
+    return keptKey(this.user, this.id);
   }
 
   emit(type, detail = {}) {
@@ -75,6 +77,7 @@ export class CoeditSession extends EventTarget {
       if (kept && kept.epoch && kept.update) {
         Y.applyUpdate(this.doc, fromBase64(kept.update), REMOTE);
         this.epoch = kept.epoch;
+        this.edits = 1; // it may hold edits the server never got: unsynced until a flush
       }
     } catch {
       /* no storage, or not ours: start from the server's */
@@ -89,7 +92,7 @@ export class CoeditSession extends EventTarget {
   /** Write the document to this browser's storage now (leaving, switching, a reload). */
   keepNow() {
     clearTimeout(this.keepTimer);
-    if (!this.epoch) return;
+    if (!this.epoch || this.forgotten) return;
     try {
       localStorage.setItem(this.storageKey, JSON.stringify({ epoch: this.epoch, update: toBase64(Y.encodeStateAsUpdate(this.doc)), at: Date.now() }));
     } catch {
@@ -100,6 +103,7 @@ export class CoeditSession extends EventTarget {
   watch() {
     this.doc.on("update", (update, origin) => {
       this.keep();
+      if (origin !== REMOTE) this.edits++;
       if (origin !== REMOTE) this.send({ type: "update", update: toBase64(update) });
     });
     for (const [field, text] of [["program", this.program], ["points", this.points]]) {
@@ -260,11 +264,36 @@ export class CoeditSession extends EventTarget {
 
   /** Ask the server to save now; true once it has (false offline or after FLUSH_MS). */
   flush() {
+    const upTo = this.edits;
     if (!this.send({ type: "flush" })) return Promise.resolve(false);
     return new Promise((resolve) => {
-      this.flushes.push(resolve);
+      this.flushes.push((saved) => {
+        if (saved) this.confirmed = Math.max(this.confirmed, upTo);
+        resolve(saved);
+      });
       setTimeout(() => resolve(false), FLUSH_MS);
     });
+  }
+
+  /** Whether an edit made here (or kept here from before) is not yet saved on the server. */
+  get unsynced() {
+    return this.edits > this.confirmed;
+  }
+
+  /** Every edit made here on the server and saved: true; false offline (or no answer). */
+  async settle() {
+    if (!this.unsynced) return true;
+    if (!this.online) return false;
+    await this.flush();
+    return !this.unsynced;
+  }
+
+  /** Close, and remove the copy kept in this browser (sign-out: only once `settle()`d, or
+   * when the student chose to discard it). */
+  forget() {
+    this.forgotten = true;
+    this.close();
+    try { localStorage.removeItem(this.storageKey); } catch { /* no storage */ }
   }
 
   close() {
@@ -275,6 +304,24 @@ export class CoeditSession extends EventTarget {
     this.socket?.close();
     this.socket = null;
   }
+}
+
+/** Where this browser keeps `user`'s copy of workspace `id` (offline edits, a reload). */
+export function keptKey(user, id) {
+  return `melfa.coedit.${user}.${id}`;
+}
+
+/** The workspaces of which this browser keeps a copy of `user`'s (their ids). */
+export function keptIds(user) {
+  const prefix = keptKey(user, "");
+  const ids = [];
+  try {
+    for (let i = 0; i < localStorage.length; i++) {
+      const key = localStorage.key(i);
+      if (key && key.startsWith(prefix)) ids.push(Number(key.slice(prefix.length)));
+    }
+  } catch { /* no storage */ }
+  return ids.filter((id) => Number.isInteger(id) && id > 0);
 }
 
 /** Make `text` read `target` with one splice (the common start and end kept): for whole

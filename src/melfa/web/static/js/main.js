@@ -26,6 +26,7 @@ import { TargetSwitch } from "./targets.js";
 import { PasswordDialog } from "./password.js";
 import { TokensDialog } from "./tokens.js";
 import { RobotView } from "./view3d.js";
+import { signOut } from "./signout.js";
 import { SlotChip, adoptSlot, askBeforeRun, programErrorText, slotOwner, stoppedWhenLeftText } from "./slot.js";
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
@@ -349,13 +350,7 @@ function wireHeader() {
   new TokensDialog();
   new PasswordDialog();
   $("logout").addEventListener("click", async () => {
-    await app.workspace.save("autosave").catch(() => {});
-    loaded.forget(); // a shared lab PC keeps no program text
-    try {
-      await api("DELETE", "/api/session");
-    } finally {
-      location.href = "/login";
-    }
+    await signOut(app, loaded); // a shared lab PC keeps no copy, once the server has it all
   });
 }
 
