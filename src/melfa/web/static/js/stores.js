@@ -87,6 +87,7 @@ export class LoadedProgram extends Store {
 
   remember(program, lines, fingerprint = null) {
     this.set({ program, lines: lines || {}, fingerprint });
+    if (!this.key) return; // signed out: an answer still on its way keeps nothing
     try {
       localStorage.setItem(this.key, JSON.stringify(this.get()));
     } catch { /* storage full: the highlight just will not survive a reload */ }
@@ -98,6 +99,7 @@ export class LoadedProgram extends Store {
     try {
       if (this.key) localStorage.removeItem(this.key);
     } catch { /* storage unavailable: nothing kept either */ }
+    this.key = null;
   }
 
   /** The editor's line of a controller step, when `text` is what was loaded. */
