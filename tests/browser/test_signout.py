@@ -53,6 +53,8 @@ def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     away.screenshot("ide-sign-out-unsaved")
     assert away.eval(KEPT) == [f"melfa.coedit.sven.{ws}"]  # still kept: nothing lost
     away.page.click("#signout-wait")
+    expect(dialog).to_contain_text("Waiting for the connection")  # and says so
+    expect(away.page.locator("#signout-discard")).to_be_visible()  # never stuck waiting
     away.context.set_offline(False)
     away.page.wait_for_url("**/login", timeout=90_000)
     assert away.eval(KEPT) == []

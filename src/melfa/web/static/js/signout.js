@@ -48,20 +48,29 @@ async function leave(all, loaded) {
   }
 }
 
-/** Ask what to do about `left` (unsaved): "wait", "discard" or "stay". */
+/** Ask what to do about `left` (unsaved), in the page's dialog: resolves "wait",
+ * "discard" or "stay". While waiting the dialog stays open (saying so), so throwing the
+ * edits away or staying is still one click: `choice()` then gives that answer. */
 function ask(workspace, left) {
   const dialog = $("signout-dialog");
   $("signout-title").textContent = W.title;
   $("signout-text").textContent = W.text.replace("{names}", names(workspace, left));
   for (const choice of ["wait", "discard", "stay"]) $(`signout-${choice}`).textContent = W[choice];
+  $("signout-wait").hidden = false;
   dialog.showModal();
-  return new Promise((resolve) => {
-    const done = (choice) => () => { dialog.close(); resolve(choice); };
-    $("signout-wait").onclick = done("wait");
-    $("signout-discard").onclick = done("discard");
-    $("signout-stay").onclick = done("stay");
-    dialog.oncancel = done("stay");
+  const asked = { now: null };
+  const first = new Promise((resolve) => {
+    const pick = (choice) => () => {
+      asked.now = choice;
+      if (choice !== "wait") dialog.close();
+      resolve(choice);
+    };
+    $("signout-wait").onclick = pick("wait");
+    $("signout-discard").onclick = pick("discard");
+    $("signout-stay").onclick = pick("stay");
+    dialog.oncancel = (event) => { event.preventDefault(); pick("stay")(); };
   });
+  return { first, choice: () => asked.now };
 }
 
 /** Sign out: everything saved on the server first, or the student's explicit choice. */
@@ -71,17 +80,23 @@ export async function signOut(app, loaded) {
   const all = await sessions(workspace, app.user);
   let left = await unsaved(all);
   if (left.length === 0) return leave(all, loaded);
-  const choice = await ask(workspace, left);
-  if (choice === "discard") return leave(all, loaded);
+  const asked = ask(workspace, left);
+  let choice = await asked.first;
+  if (choice === "wait") {
+    document.body.dataset.signingOut = "waiting";
+    $("signout-text").textContent = W.waiting;
+    $("signout-wait").hidden = true;
+    while (left.length > 0 && asked.choice() === "wait") {
+      await new Promise((resolve) => setTimeout(resolve, RETRY_MS));
+      left = await unsaved(left);
+    }
+    choice = left.length === 0 ? "wait" : asked.choice();
+    $("signout-dialog").close();
+    delete document.body.dataset.signingOut;
+  }
   if (choice === "stay") {
     for (const s of all) if (s !== workspace.live) s.close(); // kept, as before
     return;
-  }
-  document.body.dataset.signingOut = "waiting";
-  toast(W.waiting, { kind: "warning" });
-  while (left.length > 0) {
-    await new Promise((resolve) => setTimeout(resolve, RETRY_MS));
-    left = await unsaved(left);
   }
   return leave(all, loaded);
 }
