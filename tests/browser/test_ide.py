@@ -50,7 +50,7 @@ def test_login_form_and_typo_suggestion_inline(open_session: Any, server: Server
     page.keyboard.type("DEF INTE M1\nWIHLE M1 < 3\nWEND\n")
     # The typo is suggested inline as one types (no save, no button): problems list,
     # gutter, underline. How soon is measured by bench/bench_web.py, not here.
-    problem = page.locator("#problem-list li", has_text="Did you mean WHILE")
+    problem = page.locator("#problem-list li", has_text="did you mean WHILE?")
     expect(problem).to_be_visible()
     expect(page.locator(".ace_gutter-cell.ace_error")).to_have_count(1)
     marker = page.locator(".ace_marker-layer .melfa-err").first
@@ -60,7 +60,8 @@ def test_login_form_and_typo_suggestion_inline(open_session: Any, server: Server
     page.mouse.move(box["x"] + 8, box["y"] + box["height"] / 2)
     tip = page.locator("#tooltip")
     expect(tip).to_be_visible()
-    expect(tip).to_contain_text("Write WHILE instead of WIHLE")
+    expect(tip).to_contain_text("Replace with WHILE")
+    expect(problem).not_to_contain_text("instead of")  # the fix does not repeat the headline
     s.screenshot("editor")
 
 

@@ -203,7 +203,7 @@ def test_a_misspelt_point_offers_the_close_name_first(open_session: Any) -> None
     row = page.locator("#problem-list li", has_text="Phom is not defined")
     expect(row).to_contain_text("Did you mean Phome?")
     buttons = row.locator(".fixes button")
-    expect(buttons.first).to_have_text("Change to Phome")  # the first fix is the close name
+    expect(buttons.first).to_have_text("Replace with Phome")  # the first fix is the close name
     buttons.first.click()
     wait_until(lambda: s.eval("() => window.melfa.editor.text").startswith("MOV Phome\n"))
     page.click("#act-check")

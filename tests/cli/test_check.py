@@ -75,7 +75,7 @@ def test_an_error_exits_1_and_reads_like_a_compiler(runner: CliRunner, tmp_path:
     assert first.startswith(f"{prog}:2:4: error: ")
     assert first.endswith("[L4220]")
     assert "MOVV" in first
-    assert "  = help: Write MOV instead of MOVV.\n" in out
+    assert "  = help: Replace with MOV.\n" in out
     assert out.splitlines()[-1].startswith("1 error, ")
     assert "\x1b[" not in out  # plain when piped
     assert "| 20 MOVV" not in out  # no source excerpt when piped

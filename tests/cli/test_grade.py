@@ -190,7 +190,7 @@ def test_a_submission_that_does_not_parse_is_graded_as_failed(folder: Path, tmp_
     (report,) = as_json(folder, garbage)
     assert report["passed"] is False
     assert all(c["line"] == 2 for c in report["checks"] if not c["passed"] and c["kind"] != "uses")
-    assert "WHILE instead of WIHLE" in by_kind(report)["no-errors"][2]
+    assert "did you mean WHILE?" in by_kind(report)["no-errors"][2]
 
 
 def test_a_broken_assignment_is_exit_2_with_what_and_where(folder: Path, tmp_path: Path) -> None:

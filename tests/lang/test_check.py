@@ -56,12 +56,14 @@ def test_thesis_label_example() -> None:
 
 def test_wihle_suggests_while_without_structure_cascade() -> None:
     found = check("WIHLE A < B\nWEND\n")
-    assert [d.message for d in found] == ["Invalid statement. Did you mean WHILE instead of WIHLE?"]
+    assert [d.message for d in found] == ["WIHLE is not a MELFA BASIC IV word: did you mean WHILE?"]
+    # The headline asks, the fix acts: they do not say the same sentence twice.
+    assert [d.suggestion for d in found] == ["Replace with WHILE."]
 
 
 def test_def_int_is_an_error_on_its_line() -> None:
     found = check("DEF DOUBLE oPx\nDEF INT npesa\nDEF POS Ppila\n")
-    assert [(d.line, d.suggestion) for d in found] == [(2, "Write DEF INTE instead of DEF INT.")]
+    assert [(d.line, d.suggestion) for d in found] == [(2, "Replace with INTE.")]
 
 
 # --------------------------------------------------------------------------- structure
@@ -489,7 +491,7 @@ def test_every_finding_with_a_clear_fix_has_a_suggestion() -> None:
 @pytest.mark.parametrize(
     ("text", "suggestion"),
     [
-        ("WIHLE M1 < 3\nWEND\n", "Write WHILE instead of WIHLE."),
+        ("WIHLE M1 < 3\nWEND\n", "Replace with WHILE."),
         ("GOTO *mylabel\nmylabel\n", "Write *mylabel to define the label."),
         ("IF A < B HOPEN 1\n", "Add THEN after the condition: IF A < B THEN HOPEN …"),
         ("IF A < B\n", "Add THEN after the condition: IF A < B THEN …"),

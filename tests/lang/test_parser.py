@@ -247,7 +247,7 @@ def test_invalid_line_becomes_invalid_statement_with_its_text() -> None:
     assert isinstance(broken, A.InvalidStatement)
     assert broken.text == "DEF INT npesa"
     assert broken.issue.replacement == "INTE"
-    assert broken.issue.suggestion == "Write DEF INTE instead of DEF INT."
+    assert broken.issue.suggestion == "Replace with INTE."
     assert broken.issue.span == A.Span(1, 5, 1, 8)
 
 
@@ -260,9 +260,9 @@ def test_invalid_line_becomes_invalid_statement_with_its_text() -> None:
 )
 def test_typo_suggestions(typo: str, keyword: str) -> None:
     (issue,) = issues(f"{typo} 1")
-    assert issue.message == f"Invalid statement. Did you mean {keyword} instead of {typo}?"
+    assert issue.message == f"{typo} is not a MELFA BASIC IV word: did you mean {keyword}?"
     assert issue.replacement == keyword
-    assert issue.suggestion == f"Write {keyword} instead of {typo}."
+    assert issue.suggestion == f"Replace with {keyword}."
 
 
 def test_no_suggestion_when_too_different() -> None:

@@ -5,7 +5,7 @@ end-exclusive (see `melfa.lang.diagnostics`); tokens, tree spans and diagnostics
 
 >>> from melfa.lang import check
 >>> [d.message for d in check("WIHLE M1 < 3\\nWEND\\n")][:1]
-['Invalid statement. Did you mean WHILE instead of WIHLE?']
+['WIHLE is not a MELFA BASIC IV word: did you mean WHILE?']
 
 What it does not do: talk to a robot, read files, or run programs (`melfa.sim.interp` runs
 the tree this package builds).

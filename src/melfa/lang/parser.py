@@ -639,9 +639,9 @@ class _LineParser:
             if guess is not None:
                 raise self.fail(
                     tok,
-                    f"Invalid statement. Did you mean {guess} instead of {tok.text}?",
+                    f"{tok.text} is not a MELFA BASIC IV word: did you mean {guess}?",
                     "unknown-statement",
-                    f"Write {guess} instead of {tok.text}.",
+                    f"Replace with {guess}.",
                     replacement=guess,
                 )
             if nxt.kind in _END_KINDS and word in self.labels:
@@ -1254,7 +1254,7 @@ class _LineParser:
                 kind_tok,
                 f"Unknown DEF type {kind_tok.text}. Did you mean DEF {guess}?",
                 "unknown-def-type",
-                f"Write DEF {guess} instead of DEF {kind_tok.text}.",
+                f"Replace with {guess}.",
                 replacement=guess,
             )
         raise self.fail(

@@ -199,7 +199,8 @@ export class ProgramEditor extends EventTarget {
           el("button", { type: "button", class: "problem-go", title: `Line ${d.line}: ${d.message}${d.suggestion ? " — " + d.suggestion : ""}`, onclick: () => this.goTo(d) },
             el("span", { class: `sev ${d.severity}` }, d.severity),
             el("span", { class: "loc" }, `${d.line}:${d.column}`),
-            el("span", { class: "what" }, d.message, d.suggestion ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
+            // With a one-click fix the button beside it is the fix: its words are not said twice.
+            el("span", { class: "what" }, d.message, d.suggestion && !d.replace ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
               d.code ? el("span", { class: "code" }, `  ${d.code}`) : null)),
           this.fixButton(d),
         )),
@@ -221,7 +222,7 @@ export class ProgramEditor extends EventTarget {
           this.session.replace(r, d.replace);
           this.editor.focus();
         },
-      }, `Change to ${d.replace}`));
+      }, `Replace with ${d.replace}`));
     }
     const name = this.session.getTextRange(r).trim();
     if (d.rule === "undefined-point" && this.onAddPoint && /^[A-Za-z][A-Za-z0-9]*$/.test(name)) {
