@@ -54,6 +54,13 @@ def test_thesis_label_example() -> None:
     assert found[1].message.startswith("Label needs to start with *")
 
 
+def test_a_mistyped_label_says_did_you_mean_as_a_mistyped_point_does() -> None:
+    (found,) = check("GOTO *LOPO\n*LOOP\nEND\n")
+    assert found.message == "Label *LOPO is not defined in this program. Did you mean *LOOP?"
+    (far,) = check("GOTO *XYZZY\n*LOOP\nEND\n")
+    assert far.message == "Label *XYZZY is not defined in this program"
+
+
 def test_wihle_suggests_while_without_structure_cascade() -> None:
     found = check("WIHLE A < B\nWEND\n")
     assert [d.message for d in found] == ["WIHLE is not a MELFA BASIC IV word: did you mean WHILE?"]

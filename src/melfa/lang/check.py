@@ -250,12 +250,14 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
                 line.label_text or guess for line in self.program.lines if line.label == guess
             )
             hint = f"Write *{defined} instead of *{shown}, or define *{shown}."
+            headline = f"Label *{shown} is not defined in this program. Did you mean *{defined}?"
         else:
             hint = f"Define the label with a line *{shown} where the jump should go."
+            headline = f"Label *{shown} is not defined in this program"
         self.add(
             node.span,
             W,
-            f"Label *{shown} is not defined in this program",
+            headline,
             "undefined-label",
             "L3600",
             hint,
