@@ -214,8 +214,12 @@ def test_my_simulator_never_says_you_took_control_of_the_robot(open_session: Any
     press and nobody watching. The lab robot still says it."""
     s: Session = open_session("carol")
     page = s.page
-    page.click("#target-switch [data-target=mine]")
+    failed: list[str] = []  # nothing being debugged is no error: no 404 in the console
+    page.on("response", lambda r: failed.append(r.url) if r.status >= 400 else None)
+    with page.expect_response(lambda r: r.url.endswith("/api/debug")):
+        page.click("#target-switch [data-target=mine]")
     s.wait_ready()
+    assert failed == []
     page.click("#tab-robot")
     s.eval("() => { window.leases = []; window.melfa.live.on('lease', (m) => leases.push(m)); }")
     page.click("#servo-on")

@@ -154,10 +154,14 @@ async def start(
     return _out(debug)
 
 
-@router.get("", response_model=DebugOut, summary="The debugger's state")
-async def get_state(session: SessionDep, context: ContextDep) -> DebugOut:
-    """Where the program is, why it stopped, the variables: what a reloaded IDE shows."""
-    return _out(await _session(context, session.user.username))
+@router.get("", response_model=DebugOut | None, summary="The debugger's state")
+async def get_state(session: SessionDep, context: ContextDep) -> DebugOut | None:
+    """Where the program is, why it stopped, the variables: what a reloaded IDE shows; null
+    when nothing is being debugged (the IDE asks at every load: no session is no error)."""
+    target = await _mine(context, session.user.username)
+    if target.debug is None or target.debug.closed:
+        return None
+    return _out(target.debug)
 
 
 @router.delete("", response_model=Ok, summary="End the debug session")

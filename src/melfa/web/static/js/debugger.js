@@ -252,12 +252,13 @@ export class DebugPanel {
       return;
     }
     try {
-      this.show(await api("GET", "/api/debug"));
+      const now = await api("GET", "/api/debug"); // null: nothing is being debugged
+      if (now) return this.show(now);
     } catch (err) {
-      if (err.code !== "no-debug-session") showError("Could not read the debugger", err);
-      this.session = null;
-      this.render();
+      showError("Could not read the debugger", err);
     }
+    this.session = null;
+    this.render();
   }
 
   onMessage(m) {
