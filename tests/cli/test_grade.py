@@ -168,6 +168,13 @@ def test_every_kind_fails_with_its_line_on_a_program_that_does_not(
     assert got["avoids"][:2] == (False, 7)
     assert got["no-collision"][0] is True and got["no-errors"][0] is True
 
+    # In words: a failure's line once ("line 7 uses GOTO", not "(line 7): line 7 uses …").
+    code, out, _ = run(folder, prog, pts, "--jobs", "1")
+    assert code == 0
+    (avoids,) = [x for x in out.splitlines() if "uses GOTO" in x]
+    assert avoids.count("line 7") == 1, avoids
+    assert "(line 4): " in out  # a message that does not name its line still gets it
+
 
 def test_a_collision_and_a_checker_error(folder: Path, tmp_path: Path) -> None:
     low = POINTS.replace("(400,100,400,", "(400,100,-20,")
@@ -186,7 +193,14 @@ def test_a_submission_that_does_not_parse_is_graded_as_failed(folder: Path, tmp_
     assert code == 0 and not err
     assert "Traceback" not in out
     assert "garbage.MB4: failed, score 1 of 11" in out  # avoids GOTO is judged on the tree
-    assert "FAIL  the tool ends at (400, -100, 400) (line 2): not run: line 2: " in out
+    # The checker's error is said once, and the checks it kept from running in one line.
+    lines = out.splitlines()
+    error = [x for x in lines if "FAIL  no errors from melfa check" in x]
+    assert len(error) == 1 and error[0].count("line 2") == 1, out
+    (skipped,) = [x for x in lines if "NOT RUN" in x]
+    assert skipped.startswith("  NOT RUN  8 checks, until the error above is fixed: the tool ends")
+    assert "WIHLE" not in skipped and "not run: line 2" not in out
+    assert sum("WIHLE" in x for x in lines) == 1
     (report,) = as_json(folder, garbage)
     assert report["passed"] is False
     assert all(c["line"] == 2 for c in report["checks"] if not c["passed"] and c["kind"] != "uses")

@@ -157,6 +157,7 @@ def test_score_is_the_weights_of_the_checks_that_passed() -> None:
         "message": "the program does not use FOR",
         "line": None,
         "weight": 1.0,
+        "not_run": False,
     }
 
 

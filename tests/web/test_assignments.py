@@ -145,7 +145,7 @@ def test_class_view_filters_and_csv(web: Web) -> None:
     table = list(csv.reader(io.StringIO(reply.text)))
     assert table[0] == [COLUMN_WORDS[c] for c in ClassColumn]
     by_name = {r[0]: dict(zip(table[0], r, strict=True)) for r in table[1:]}
-    assert by_name["ann"]["Best submission"] == "passed (3 of 3)"
+    assert by_name["ann"]["Best submission"] == "every check passed"
     assert by_name["ann"]["Pre-flight"] == "passed"
     assert by_name["bob"]["Latest check"] == "not opened"
     assert (by_name["ann"]["Ran on the arm"], by_name["bob"]["Ran on the arm"]) == ("1", "0")
@@ -156,6 +156,29 @@ def test_class_view_filters_and_csv(web: Web) -> None:
     assert again == FILES
     form = {"file": ("block.zip", zipped.content, "application/zip")}
     assert web.ivy.post("/api/assignments/folder.zip", files=form).json()["files"] == FILES
+
+
+def test_student_and_instructor_read_one_summary_of_a_grading(web: Web) -> None:
+    """Checks passed of checks, and the points when the checks have weights: the same
+    words in the student's reply, their history, the class view and its CSV (the class
+    view once said "failed · 2 of 4" where the student read "2 of 3 checks passed")."""
+    toml = FILES["assignment.toml"].replace("tolerance_mm = 1\n", "tolerance_mm = 1\nweight = 2\n")
+    made = web.ivy.post(
+        "/api/assignments", json={"files": dict(FILES, **{"assignment.toml": toml})}
+    )
+    assert made.status_code == 201, made.text
+    aid = made.json()["id"]
+    _open(web.ann, aid)
+    checked = web.ann.post(f"/api/assignments/{aid}/check").json()["grading"]
+    words = "2 of 3 checks passed, 2 of 4 points"
+    assert (checked["checks_passed"], checked["checks"], checked["summary"]) == (2, 3, words)
+    history = web.ann.get(f"/api/assignments/{aid}/history").json()["gradings"]
+    assert history[0]["summary"] == words
+    rows = {r["student"]: r for r in web.ivy.get(f"/api/assignments/{aid}/class").json()["rows"]}
+    assert rows["ann"]["latest"]["summary"] == words
+    table = list(csv.reader(io.StringIO(web.ivy.get(f"/api/assignments/{aid}/class.csv").text)))
+    by_name = {r[0]: dict(zip(table[0], r, strict=True)) for r in table[1:]}
+    assert by_name["ann"]["Latest check"] == words
 
 
 def test_who_may_see_what(web: Web) -> None:

@@ -30,7 +30,7 @@ from melfa.grade.model import (
     Uses,
     Visits,
 )
-from melfa.grade.report import CheckResult, Report
+from melfa.grade.report import NOT_RUN, CheckResult, Report
 from melfa.grade.variants import Variant, shifted
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Diagnostic
@@ -101,10 +101,10 @@ def _simulate(
 ) -> Run | NotRun:
     if errors:
         first = errors[0]
-        return NotRun(f"not run: line {first.line}: {first.message}", first.line)
+        return NotRun(f"{NOT_RUN}line {first.line}: {first.message}", first.line)
     if point_errors:
         first = point_errors[0]
-        return NotRun(f"not run: the points file, line {first.line}: {first.message}", None)
+        return NotRun(f"{NOT_RUN}the points file, line {first.line}: {first.message}", None)
     try:
         return preflight(
             program,
@@ -114,7 +114,7 @@ def _simulate(
             max_time=assignment.spec.max_time_s,
         )
     except DebugError as exc:
-        return NotRun(f"not run: {exc}", None)
+        return NotRun(f"{NOT_RUN}{exc}", None)
     except Exception as exc:  # a bug of ours: a failed check that says so, never a traceback
         return NotRun(f"internal error in melfa's simulator (please report it): {exc!r}", None)
 
@@ -129,6 +129,7 @@ def _judge(
 ) -> CheckResult:
     check = follow(check, v)
     outcome: C.Outcome
+    not_run = False
     match check:
         case Uses():
             outcome = C.uses(check, program)
@@ -140,7 +141,7 @@ def _judge(
             inputs = frozenset(check.inputs.items()) if isinstance(check, Io) else frozenset()
             got = run(inputs)
             if isinstance(got, NotRun):
-                outcome = C.Outcome(False, got.message, got.line)
+                outcome, not_run = C.Outcome(False, got.message, got.line), True
             else:
                 outcome = _on_run(check, got, program)
     return CheckResult(
@@ -150,6 +151,7 @@ def _judge(
         message=outcome.message,
         line=outcome.line,
         weight=check.weight,
+        not_run=not_run,
     )
 
 

@@ -9,6 +9,7 @@ and the instructor's CSV export say the same.
 from __future__ import annotations
 
 import csv
+import re
 from collections.abc import Sequence
 
 from pydantic import BaseModel, ConfigDict
@@ -25,6 +26,7 @@ class CheckResult(BaseModel):
     message: str  # why it failed (or what was found when it passed)
     line: int | None = None  # the line of the program that caused a failure
     weight: float = 1.0
+    not_run: bool = False  # not judged: the program could not be simulated (message: why)
 
 
 class Report(BaseModel):
@@ -53,19 +55,42 @@ class Report(BaseModel):
         )
 
 
+NOT_RUN = "not run: "
+"""How the message of a check that was not judged begins (the reason follows)."""
+
+
 def report_text(report: Report, name: str) -> str:
     """A submission's report as the terminal shows it: one check a line, failures with
-    their line and why."""
+    their line and why; the checks the simulator could not judge in one line with the
+    reason once (not once per check, nor again when a failure above already says it)."""
     head = "passed" if report.passed else "failed"
     cycle = f", cycle {report.cycle_time:.1f} s" if report.cycle_time is not None else ""
     out = [f"{name}: {head}, score {report.score:g} of {report.max_score:g}{cycle}"]
+    said: list[str] = []
+    not_run: dict[str, list[str]] = {}
     for c in report.checks:
-        if c.passed:
+        if c.not_run:
+            not_run.setdefault(c.message.removeprefix(NOT_RUN), []).append(c.title)
+        elif c.passed:
             out.append(f"  ok    {c.title}")
         else:
-            where = f" (line {c.line})" if c.line is not None else ""
-            out.append(f"  FAIL  {c.title}{where}: {c.message}")
+            said.append(c.message)
+            out.append(f"  FAIL  {c.title}{_where(c)}: {c.message}")
+    for why, titles in not_run.items():
+        count = f"{len(titles)} check{'' if len(titles) == 1 else 's'}"
+        if any(why in message for message in said):
+            reason = "until the error above is fixed"
+        else:
+            reason = f"as the program could not run ({why})"
+        out.append(f"  NOT RUN  {count}, {reason}: {'; '.join(titles)}")
     return "\n".join(out) + "\n"
+
+
+def _where(c: CheckResult) -> str:
+    """The failure's line, " (line 18)", unless its message already names that line."""
+    if c.line is None or re.search(rf"\bline {c.line}\b", c.message):
+        return ""
+    return f" (line {c.line})"
 
 
 CSV_COLUMNS = ("submission", "variant", "passed", "score", "max_score", "failed", "first_line")

@@ -76,6 +76,10 @@ class SubmissionSummary:
     """Whether the text passed pre-flight (no pre-flight error); None: not known."""
     max_score: float | None = None
     """What every check passing would score (from the report); None: not in the report."""
+    checks_passed: int = 0
+    """How many of the report's checks passed."""
+    checks: int = 0
+    """How many checks the report has."""
     fingerprint: str | None = None
     """The graded text's fingerprint as the lab robot would load it (a recorded run of the
     same fingerprint ran this text)."""

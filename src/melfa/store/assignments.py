@@ -94,8 +94,14 @@ def _enrolment(row: sqlite3.Row) -> Enrolment:
     )
 
 
-_GRADED = "*, json_extract(report, '$.max_score') AS max_score"
-"""A grading's columns and its report's highest score (the engine's ``max_score``)."""
+_GRADED = (
+    "*, json_extract(report, '$.max_score') AS max_score,"
+    " (SELECT count(*) FROM json_each(report, '$.checks')) AS checks_total,"
+    " (SELECT count(*) FROM json_each(report, '$.checks')"
+    " WHERE json_extract(value, '$.passed')) AS checks_passed"
+)
+"""A grading's columns, its report's highest score (the engine's ``max_score``) and how
+many of its checks passed, of how many."""
 
 
 def _summary(row: sqlite3.Row) -> SubmissionSummary:
@@ -110,6 +116,8 @@ def _summary(row: sqlite3.Row) -> SubmissionSummary:
         preflight=None if preflight is None else bool(preflight),
         fingerprint=row["fingerprint"],
         max_score=None if row["max_score"] is None else float(row["max_score"]),
+        checks_passed=row["checks_passed"],
+        checks=row["checks_total"],
     )
 
 

@@ -108,12 +108,28 @@ RESULT_WORDS: dict[str, str] = {
     "attempts-unlimited": "Submit as often as you like",
     "attempts-unlimited-all": "no limit on submissions",
     "attempts-each": "{total} submissions each",
-    "points": "{score} of {max}",
+    "points": "{score} of {max} points",
     "due": "Due {due}",
     "variant": "Your variant: {words}",
     "score": "{passed} of {total} checks passed",
 }
 """Short words the student's panel and the class view fill in (``{…}`` placeholders)."""
+
+
+def summary_words(
+    passed: bool, checks_passed: int, checks: int, score: float, max_score: float | None
+) -> str:
+    """How a grading is summed up, the same for the student and the instructor (their pane,
+    the class view, its CSV): checks passed of checks, then the points when the checks
+    have weights ("5 of 14 checks passed, 6 of 15 points")."""
+    head = (
+        RESULT_WORDS["every-check"]
+        if passed
+        else RESULT_WORDS["score"].format(passed=checks_passed, total=checks)
+    )
+    if max_score is None or (score == checks_passed and max_score == checks):
+        return head
+    return f"{head}, " + RESULT_WORDS["points"].format(score=f"{score:g}", max=f"{max_score:g}")
 
 
 PANE_WORDS: dict[str, str] = {
@@ -161,7 +177,7 @@ CLASS_VIEW_WORDS: dict[str, str] = {
     "lines-one": "1 line",
     "lines-many": "{n} lines",
     "graded": "{kind} · revision {revision}",
-    "score-hint": "Score: the weights of the checks that passed",
+    "score-hint": "Checks passed of checks; points are the weights of the checks that passed",
     "published-title": "Published",
     "published-class": "“{title}” is handed out to the whole class.",
     "published-group": "“{title}” is handed out to group {group}.",
@@ -190,4 +206,5 @@ __all__ = [
     "ClassFilter",
     "FilterWords",
     "GradeKind",
+    "summary_words",
 ]

@@ -71,6 +71,9 @@ class GradingOut(BaseModel):
     score: float
     max_score: float | None = Field(description="The score with every check passed.")
     preflight: bool | None = Field(description="The text passed pre-flight; null: unknown.")
+    checks_passed: int = Field(description="How many checks passed.")
+    checks: int = Field(description="How many checks were graded.")
+    summary: str = Field(description="The grading in words, as student and instructor read it.")
 
 
 class MineOut(BaseModel):

@@ -37,6 +37,7 @@ from melfa.vocab.classroom import (
     STUCK_AFTER_MIN,
     ClassColumn,
     ClassFilter,
+    summary_words,
 )
 from melfa.web.assignment_models import (
     AssignmentCheckOut,
@@ -242,7 +243,9 @@ def ran_on_arm(row: ClassRow, runs: list[RunInfo]) -> int:
 def grading_out(s: SubmissionSummary) -> GradingOut:
     return GradingOut(
         id=s.id, kind=s.kind, revision=s.revision, at=s.at, passed=s.passed, score=s.score,
-        max_score=s.max_score, preflight=s.preflight,
+        max_score=s.max_score, preflight=s.preflight, checks_passed=s.checks_passed,
+        checks=s.checks,
+        summary=summary_words(s.passed, s.checks_passed, s.checks, s.score, s.max_score),
     )  # fmt: skip
 
 
@@ -328,11 +331,7 @@ def row_out(row: ClassRow, now: datetime, ran: int) -> ClassRowOut:
 def _result(g: GradingOut | None, opened: bool) -> str:
     if g is None:
         return RESULT_WORDS["none" if opened else "not-opened"]
-    verdict = RESULT_WORDS["passed" if g.passed else "failed"]
-    if g.max_score is None:
-        return f"{verdict} ({g.score:g})"
-    points = RESULT_WORDS["points"].format(score=f"{g.score:g}", max=f"{g.max_score:g}")
-    return f"{verdict} ({points})"
+    return g.summary
 
 
 def class_csv(rows: list[ClassRowOut]) -> str:

@@ -27,14 +27,10 @@ export function attemptsWords(left, total) {
 
 /**
  * What a grading says: "Submitted: 5 of 14 checks passed", "Checked: every check passed".
- * `result` is a report (its checks give the score) or a grading's summary ({passed}).
+ * `grading` is the server's record of it: its `summary` is the same words the class view shows.
  */
-export function graded(kind, result) {
-  const checks = result.checks;
-  const verdict = result.passed ? RESULT_WORDS["every-check"]
-    : checks ? fill(RESULT_WORDS.score, { passed: checks.filter((c) => c.passed).length, total: checks.length })
-      : RESULT_WORDS["not-every-check"];
-  return fill(GRADED_WORDS[kind], { verdict });
+export function graded(kind, grading) {
+  return fill(GRADED_WORDS[kind], { verdict: grading.summary });
 }
 
 export class AssignmentsPanel {
@@ -144,7 +140,7 @@ export class AssignmentsPanel {
     }));
     const latest = result?.grading || a.mine?.latest;
     if (result) {
-      this.summary.textContent = `${graded(result.grading.kind, result.report)}.`;
+      this.summary.textContent = `${graded(result.grading.kind, result.grading)}.`;
       this.summary.dataset.passed = String(result.report.passed);
     } else {
       this.summary.textContent = latest ? graded(latest.kind, latest) : RESULT_WORDS.none;
@@ -176,7 +172,7 @@ export class AssignmentsPanel {
       }
       const out = await api("POST", `/api/assignments/${this.current.id}/${kind}`);
       this.render(out);
-      this.app.idle(graded(kind, out.report), !out.report.passed);
+      this.app.idle(graded(kind, out.grading), !out.report.passed);
       if (kind === "submit") toast(W["submitted-title"], { kind: out.report.passed ? "ok" : "info", text: fill(W.submitted, { revision: out.grading.revision, left: attemptsWords(out.attempts_left, this.current.attempts) }) });
       await this.refreshQuietly();
     } catch (err) {

@@ -28,8 +28,7 @@ export function ago(iso, nowIso) {
 
 function result(g, opened) {
   if (!g) return el("span", { class: "muted" }, RESULT_WORDS[opened ? "none" : "not-opened"]);
-  return el("span", { class: `verdict ${g.passed ? "pass" : "fail"}`, title: W["score-hint"] },
-    `${RESULT_WORDS[g.passed ? "passed" : "failed"]} · ${fill(RESULT_WORDS.points, { score: g.score, max: g.max_score })}`);
+  return el("span", { class: `verdict ${g.passed ? "pass" : "fail"}`, title: W["score-hint"] }, g.summary);
 }
 
 function flight(g) {
