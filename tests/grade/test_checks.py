@@ -134,7 +134,7 @@ def test_an_unparseable_submission_fails_every_run_check_with_the_checkers_messa
     assert not report.passed and report.score == 1 and report.max_score == 3
     pose, collision, avoids = report.checks
     for c in (pose, collision):
-        assert not c.passed and c.line == 3 and "WHILE instead of WIHLE" in c.message
+        assert not c.passed and c.not_run and c.line == 3 and "did you mean WHILE?" in c.message
     assert avoids.passed
     binary = grade(a, Submission("\x00\x01garbage(((\n", ""))  # type: ignore[arg-type]
     assert not binary.passed and all(c.line == 1 for c in binary.checks if not c.passed)
