@@ -75,6 +75,20 @@ def test_a_student_runs_and_debugs_on_their_simulator_while_the_lab_is_held(
     s.set_points(LOOP_POINTS)
     page.click("#act-load")
     expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
+    # My simulator loads at once: the activity line says so, not "Project loaded in 0.0 s".
+    expect(page.locator("#activity-text")).not_to_contain_text("0.0 s")
+    said = s.eval(
+        "async () => { const { took } = await import('/static/js/ui.js');"
+        " return [0, 0.04, 0.1, 0.4242, 1.26, 12.3].map((t) => took('Project loaded', t)); }"
+    )
+    assert said == [
+        "Project loaded",
+        "Project loaded",
+        "Project loaded in 0.1 s",
+        "Project loaded in 0.42 s",
+        "Project loaded in 1.3 s",
+        "Project loaded in 12 s",
+    ]
     page.click("#tab-robot")
     page.click("#servo-on")
     expect(page.locator("#servo-state")).to_have_text("on")

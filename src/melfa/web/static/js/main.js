@@ -16,7 +16,7 @@ import { JogPad } from "./jog.js";
 import { ToolbarOverflow } from "./layout.js";
 import { Live } from "./live.js";
 import { PointsTab } from "./points.js";
-import { $, el, setActivity, showError, toast } from "./ui.js";
+import { $, el, setActivity, showError, toast, took } from "./ui.js";
 import { activityLine, endTask, lease, loaded, robot, session as sessionStore, startTask } from "./stores.js";
 import { DebugPanel } from "./debugger.js";
 import { PreflightPanel } from "./preflight.js";
@@ -434,7 +434,7 @@ async function loadProject(workspace, editor) {
     const program = workspace.program;
     const out = await api("POST", "/api/robot/project", { program, points: workspace.points, workspace_id: workspace.id ?? undefined, check: true });
     loaded.remember(program, out.step_lines, out.fingerprint);
-    endTask(`Project loaded in ${out.seconds.toFixed(1)} s`, false, 1);
+    endTask(took("Project loaded", out.seconds), false, 1);
     toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
     return true;

@@ -93,6 +93,15 @@ export function showError(what, err, { retry = null } = {}) {
   return toast(what, { kind: "error", text, items, code: err?.detail?.code || "", actions });
 }
 
+/**
+ * "Project loaded in 1.3 s", or just "Project loaded" when it took under 0.1 s (My simulator
+ * loads at once: "in 0.0 s" read as broken). Two significant digits: 0.42 s, 1.3 s, 12 s.
+ */
+export function took(what, seconds) {
+  if (!(seconds >= 0.1)) return what;
+  return `${what} in ${Number(seconds.toPrecision(2))} s`;
+}
+
 /** The toolbar's activity line: busy spinner, text, optional progress 0…1. */
 export function setActivity(text, { busy = false, error = false, progress = null, hint = "" } = {}) {
   const box = document.getElementById("activity");
