@@ -43,7 +43,7 @@ def test_sign_in_keeps_the_username_and_looks_finished(open_session: Any) -> Non
     page.fill("#username", "bob")
     page.fill("#password", "not the password")
     page.click("button[type=submit]")
-    expect(page.locator(".error")).to_contain_text("wrong username or password")
+    expect(page.locator(".error")).to_contain_text("Wrong username or password")
     expect(page.locator("#username")).to_have_value("bob")  # only the password again
     assert page.evaluate("() => document.activeElement.id") == "password"
     icon = page.context.request.get(s.server.url + "/favicon.ico")

@@ -34,7 +34,7 @@ def test_wrong_password_is_the_servers_refusal(server: Server) -> None:
     with pytest.raises(ApiError) as info:
         ApiClient(server.url).login("admin", "not-the-password")
     assert (info.value.status, info.value.code) == (401, "wrong-login")
-    assert "wrong username or password" in info.value.message
+    assert "Wrong username or password" in info.value.message
 
 
 def test_no_server_is_unreachable_not_a_refusal() -> None:

@@ -97,7 +97,7 @@ def test_login_form_page_and_redirect(web: Web) -> None:
     assert evil.headers["location"] == "/"
     web.client.cookies.clear()
     wrong = web.client.post("/login", data={"username": "ann", "password": "nope-nope-nope"})
-    assert wrong.status_code == 401 and "wrong username or password" in wrong.text
+    assert wrong.status_code == 401 and "Wrong username or password" in wrong.text
 
 
 def test_login_from_another_site_refused(web: Web) -> None:

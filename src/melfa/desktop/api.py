@@ -173,9 +173,9 @@ class ApiError(Exception):
     def from_body(cls, status: int, body: bytes) -> ApiError:
         """
         >>> e = ApiError.from_body(401, b'{"error": {"code": "wrong-login", "status": 401,'
-        ...                             b' "message": "wrong username or password"}}')
+        ...                             b' "message": "Wrong username or password"}}')
         >>> e.code, e.message
-        ('wrong-login', 'wrong username or password')
+        ('wrong-login', 'Wrong username or password')
         >>> ApiError.from_body(502, b"<html>Bad gateway</html>").code
         'http-502'
         """

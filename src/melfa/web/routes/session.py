@@ -68,7 +68,7 @@ async def sign_in(context: WebContext, username: str, password: str, addr: str) 
     """A new session, or `ApiError` 429 (too many failures) / 401 (wrong name or password)."""
     user = await password_checked(context, username, password, addr)
     if user is None:
-        raise ApiError(401, "wrong-login", "wrong username or password")
+        raise ApiError(401, "wrong-login", "Wrong username or password")
     new = await context.db(context.store.sessions.create, user, addr)
     await context.store.audit.record_async(
         AuditEvent(
