@@ -181,3 +181,25 @@ def test_the_editors_bar_holds_a_groups_pill_and_the_problems_count(
         assert not found, (width, found)
         s.screenshot(f"editor-bar-{width}")
     page.set_viewport_size({"width": 1366, "height": 768})
+
+
+def test_a_problem_with_two_fixes_is_read_whole(open_session: Any) -> None:
+    """A warning with two fix buttons beside it ("Replace with PHOME", "Add PHOM from the
+    current position") showed "Position PHOM is not de…" even at 1366 px: its message wraps."""
+    s: Session = open_session("alice")
+    page = s.page
+    s.set_points("PHOME=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n")
+    s.set_program("MOV PHOM\nEND\n")
+    page.click("#act-check")
+    row = page.locator("#problem-list li", has_text="PHOM is not defined")
+    expect(row.locator(".fixes button")).to_have_count(2)
+    for width, height in ((1366, 768), (1024, 700)):
+        page.set_viewport_size({"width": width, "height": height})
+        settle(page)
+        what = row.locator(".what")
+        clipped = what.evaluate("(e) => [e.scrollWidth, e.clientWidth]")
+        assert clipped[0] <= clipped[1], (width, clipped)
+        box, fixes = what.bounding_box(), row.locator(".fixes").bounding_box()
+        assert box and fixes and box["x"] + box["width"] <= fixes["x"], (width, box, fixes)
+        s.screenshot(f"problem-two-fixes-{width}")
+    page.set_viewport_size({"width": 1366, "height": 768})

@@ -193,17 +193,20 @@ export class ProgramEditor extends EventTarget {
       );
     }
     list.replaceChildren(
-      ...this.diagnostics.map((d) =>
+      ...this.diagnostics.map((d) => {
         // A real button per problem (its visible words are its name); the fix beside it.
-        el("li", {},
+        // With fix buttons beside it the buttons are the fix: the suggestion's words stay in
+        // the tooltip and the editor's hover, and the whole message fits (it wraps, never cut).
+        const fixes = this.fixButton(d);
+        return el("li", {},
           el("button", { type: "button", class: "problem-go", title: `Line ${d.line}: ${d.message}${d.suggestion ? " — " + d.suggestion : ""}`, onclick: () => this.goTo(d) },
             el("span", { class: `sev ${d.severity}` }, d.severity),
             el("span", { class: "loc" }, `${d.line}:${d.column}`),
-            // With a one-click fix the button beside it is the fix: its words are not said twice.
-            el("span", { class: "what" }, d.message, d.suggestion && !d.replace ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
+            el("span", { class: "what" }, d.message, d.suggestion && !fixes ? el("span", { class: "sugg" }, " — " + d.suggestion) : null,
               d.code ? el("span", { class: "code" }, `  ${d.code}`) : null)),
-          this.fixButton(d),
-        )),
+          fixes,
+        );
+      }),
     );
   }
 
