@@ -100,7 +100,11 @@ def test_staff_see_and_rename_but_create_only_their_own(web: Web) -> None:
     made = web.ann.post("/api/workspaces", json={"name": "exam"}).json()
     staff = web.ivy.get("/api/workspaces").json()["workspaces"]
     assert made["id"] in {w["id"] for w in staff}
-    renamed = web.ivy.patch(f"/api/workspaces/{made['id']}", json={"name": "exam (seen)"})
+    # a student's work opens read-only for staff: a rename only after *Edit as instructor*
+    rename = {"name": "exam (seen)"}
+    assert_error(web.ivy.patch(f"/api/workspaces/{made['id']}", json=rename), 403, "read-only")
+    assert web.ivy.put(f"/api/workspaces/{made['id']}/staff-edit").status_code == 200
+    renamed = web.ivy.patch(f"/api/workspaces/{made['id']}", json=rename)
     assert renamed.status_code == 200
     own = web.ivy.post("/api/workspaces", json={"name": "exam"}).json()
     assert own["owner"] == "ivy"
