@@ -222,7 +222,7 @@ def stop_robot(server: Server) -> Iterator[None]:
     request = urllib.request.Request(
         server.url + "/api/session", body, {"Content-Type": "application/json"}
     )
-    with urllib.request.urlopen(request, timeout=5) as reply:
+    with urllib.request.urlopen(request, timeout=30) as reply:
         token = json.loads(reply.read())["csrf_token"]
         cookies = "; ".join(c.split(";")[0] for c in reply.headers.get_all("Set-Cookie") or [])
     stop = urllib.request.Request(

@@ -52,7 +52,26 @@ const app = {
   lineOf: (step) => (app.slotOwner === "mine" ? loaded.lineOf(step, app.editor.text) : null),
   busy: (text, progress = null) => startTask("operation", text, progress),
   idle: (text = "Idle", error = false) => endTask(text, error),
+  // `before`: the state message when the student clicked (an "At P1" of the last move
+  // is not this move's word)
+  moved: (before) => untilTheRobotSays(MOTION_SEEN, before).then(() => endTask()),
 };
+
+// What the service says once it has taken a *Move to*: the reply to the POST can come
+// before the state message that says so (messages are paced), and the line must not fall
+// back meanwhile on the older word ("Paused at line 35", or "At P1" before the arm went).
+const MOTION_SEEN = new Set(["moving-to", "at", "moving", "alarm", "offline"]);
+const MOTION_WAIT_MS = 3000; // a lost message must not keep "Moving to…" for ever
+
+function untilTheRobotSays(codes, before) {
+  const says = (state) => state !== before && codes.has(state?.activity);
+  return new Promise((resolve) => {
+    if (says(robot.get().state)) return resolve();
+    const done = () => { stop(); clearTimeout(timer); resolve(); };
+    const stop = robot.subscribe((value) => { if (says(value.state)) done(); });
+    const timer = setTimeout(done, MOTION_WAIT_MS);
+  });
+}
 // For the console and the browser tests: a read-only view (the stores are the state).
 window.melfa = new Proxy(app, {
   set: () => { throw new TypeError("window.melfa is read-only"); },
@@ -550,9 +569,10 @@ function wireRobotTab() {
     if (!point) return;
     const linear = $("goto-linear").checked;
     await moving(`Could not move to ${point}`, async (extra) => {
+      const before = app.state;
       app.busy(`Moving to ${point}…`);
       await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear, ...extra });
-      app.idle(); // the robot's own words from here: "Moving to P1", then "At P1" on arrival
+      await app.moved(before); // the robot's own words from here: "Moving to P1", then "At P1" on arrival
     }, () => app.idle("Move failed", true));
   });
   $("path-clear").addEventListener("click", () => app.view.clearPath());

@@ -303,9 +303,10 @@ export class PointsTab {
 
   async moveTo(row) {
     await moving(`Could not move to ${row.name}`, async (extra) => {
+      const before = this.app.state;
       this.app.busy(`Moving to ${row.name}…`);
       await api("POST", "/api/robot/move", { point: row.name, points: this.workspace.points, ...extra });
-      this.app.idle(`At ${row.name}`);
+      await this.app.moved(before); // then the robot's words: "Moving to P1", "At P1" on arrival
     }, () => this.app.idle("Move failed", true));
   }
 
