@@ -45,11 +45,21 @@ def at_line(page: Page, line: int, state: str = "paused") -> None:
 
 
 def gutter(page: Page, line: int) -> None:
-    """Click the gutter of ``line`` (a breakpoint on, or off)."""
+    """Click the gutter of ``line`` (a breakpoint on, or off), as a student would: with the
+    line in view and the editor still (a stop scrolls it, animated, to the stopped line: a
+    click measured mid-scroll lands on another row), then see that this line toggled."""
+    editor = "window.melfa.editor.editor"
+    page.wait_for_function(f"() => !{editor}.renderer.$scrollAnimation")
+    page.evaluate(f"(n) => {editor}.scrollToLine(n - 1, true, false, () => {{}})", line)
+    page.evaluate("() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    before = page.evaluate(f"(n) => !!{editor}.session.getBreakpoints()[n - 1]", line)
     cell = page.locator(".ace_gutter-cell").filter(has_text=re.compile(rf"^\s*{line}\s*$"))
     box = cell.first.bounding_box()
     assert box is not None
     page.mouse.click(box["x"] + 6, box["y"] + box["height"] / 2)
+    page.wait_for_function(
+        f"([n, was]) => !!{editor}.session.getBreakpoints()[n - 1] !== was", arg=[line, before]
+    )
 
 
 def variable(page: Page, name: str) -> Any:
