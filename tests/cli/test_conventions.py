@@ -112,7 +112,7 @@ def test_check_honours_no_color_on_a_terminal() -> None:
     status, plain = on_a_terminal(["check", str(BROKEN)], clean_env(NO_COLOR="1"))
     assert status == 1
     assert "\x1b[" not in plain, plain
-    assert "error: Invalid statement" in plain
+    assert "error: WIHLE is not a MELFA BASIC IV word" in plain
     assert "    2 | WIHLE" in plain  # still the source excerpt a terminal gets
     for env in (clean_env(), clean_env(NO_COLOR="1")):  # the other commands' messages too
         status, said = on_a_terminal(["fmt", "no-such.MB4"], env)
