@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -212,6 +213,11 @@ def open_session(browser: Browser, server: Server) -> Iterator[Any]:
     yield make
     for session in sessions:
         session.close()
+
+
+SIGNED_OUT = re.compile(r"/login(\?next=[^&]*)?$")
+"""The sign-in page after a sign-out: straight there, or through a request of the page that
+the ended session answered 401 first (api.js then adds where the student was)."""
 
 
 @pytest.fixture

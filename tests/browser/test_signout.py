@@ -11,7 +11,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import expect
 
-from tests.browser.conftest import Server, Session
+from tests.browser.conftest import SIGNED_OUT, Server, Session
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(300)
@@ -35,7 +35,7 @@ def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     wait_until(lambda: online.eval(STORED, ws) == "' typed online\nEND\n", what="saved")
     assert online.eval(KEPT) == [f"melfa.coedit.sven.{ws}"]
     _sign_out(online)
-    online.page.wait_for_url("**/login")
+    online.page.wait_for_url(SIGNED_OUT)
     assert online.eval(KEPT) == []  # this PC keeps no copy
     expect(online.page.locator("#signout-dialog")).to_have_count(0)  # nothing was asked
 
@@ -56,7 +56,7 @@ def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     expect(dialog).to_contain_text("Waiting for the connection")  # and says so
     expect(away.page.locator("#signout-discard")).to_be_visible()  # never stuck waiting
     away.context.set_offline(False)
-    away.page.wait_for_url("**/login", timeout=90_000)
+    away.page.wait_for_url(SIGNED_OUT, timeout=90_000)
     assert away.eval(KEPT) == []
 
     again: Session = open_session("sven")

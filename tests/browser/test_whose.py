@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page, expect
 
-from tests.browser.conftest import Server, Session, free_the_robot
+from tests.browser.conftest import SIGNED_OUT, Server, Session, free_the_robot
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(180)
@@ -245,7 +245,7 @@ def test_sign_out_leaves_no_program_text_in_the_browser(
     assert "secret solution" in stored  # kept for the running line across a reload
     s.page.click("#user-button")
     s.page.click("#logout")
-    s.page.wait_for_url("**/login")
+    s.page.wait_for_url(SIGNED_OUT)
     stored = s.eval("() => JSON.stringify(Object.assign({}, localStorage))")
     assert "secret solution" not in stored, stored
 
