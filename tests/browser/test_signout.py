@@ -28,18 +28,18 @@ def _sign_out(s: Session) -> None:
 def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     open_session: Any, server: Server
 ) -> None:
-    server.add_user("sven")
-    online: Session = open_session("sven")
+    server.add_user("sigrid")
+    online: Session = open_session("sigrid")
     ws = online.eval("() => window.melfa.workspace.id")
     online.set_program("' typed online\nEND\n")
     wait_until(lambda: online.eval(STORED, ws) == "' typed online\nEND\n", what="saved")
-    assert online.eval(KEPT) == [f"melfa.coedit.sven.{ws}"]
+    assert online.eval(KEPT) == [f"melfa.coedit.sigrid.{ws}"]
     _sign_out(online)
     online.page.wait_for_url(SIGNED_OUT)
     assert online.eval(KEPT) == []  # this PC keeps no copy
     expect(online.page.locator("#signout-dialog")).to_have_count(0)  # nothing was asked
 
-    away: Session = open_session("sven")
+    away: Session = open_session("sigrid")
     expect(away.page.locator("#save-state")).to_contain_text("Live")
     away.context.set_offline(True)
     away.page.click("#editor")
@@ -51,7 +51,7 @@ def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     expect(dialog).to_contain_text("only in this browser")
     expect(dialog).to_contain_text("Your latest edits to My programs")  # the workspace
     away.screenshot("ide-sign-out-unsaved")
-    assert away.eval(KEPT) == [f"melfa.coedit.sven.{ws}"]  # still kept: nothing lost
+    assert away.eval(KEPT) == [f"melfa.coedit.sigrid.{ws}"]  # still kept: nothing lost
     away.page.click("#signout-wait")
     expect(dialog).to_contain_text("Waiting for the connection")  # and says so
     expect(away.page.locator("#signout-discard")).to_be_visible()  # never stuck waiting
@@ -59,5 +59,5 @@ def test_sign_out_removes_the_copy_only_once_the_server_has_it(
     away.page.wait_for_url(SIGNED_OUT, timeout=90_000)
     assert away.eval(KEPT) == []
 
-    again: Session = open_session("sven")
+    again: Session = open_session("sigrid")
     assert "' typed offline" in again.eval(STORED, ws)
