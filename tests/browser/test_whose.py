@@ -285,5 +285,5 @@ def test_a_run_stopped_by_a_reload_says_so_when_the_page_is_back(
     page.reload()  # her only page closes while the arm moves: the service stops it
     s.wait_ready()
     told = page.locator(".toast", has_text="Your run was stopped")
-    expect(told).to_be_visible()
+    expect(told).to_be_visible(timeout=30_000)  # the reload and the stop on a busy machine
     expect(told).to_contain_text("every page of yours had closed")
