@@ -11,11 +11,14 @@ restart goes back to the start-up options."""
 
 from __future__ import annotations
 
+from typing import TypeVar
+
 from fastapi import APIRouter, Request
 from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
 from melfa.service.lab_network import UNKNOWN_PEER, NetworkError, parse_networks
+from melfa.store import Session
 from melfa.vocab.desk import DESK_WORDS, DeskAction
 from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, StaffDep, actor_of, peer_of
@@ -26,6 +29,8 @@ from melfa.web.routes.pages import staff_page
 
 router = APIRouter(prefix="/api/desk", tags=["desk"], responses=ERROR_RESPONSES)
 pages = APIRouter(include_in_schema=False)
+
+_Setting = TypeVar("_Setting")
 
 
 class DeskOut(BaseModel):
@@ -55,6 +60,14 @@ class LabNetworkIn(Input):
     )
 
 
+def _switchable(setting: _Setting | None, missing: str) -> _Setting:
+    """The setting a switch changes, or 409 saying this robot has none (a robot built
+    without a gate or a lab-network setting)."""
+    if setting is None:
+        raise ApiError(409, "refused", missing)
+    return setting
+
+
 def _desk(context: WebContext, request: Request) -> DeskOut:
     policy = context.service.policy
     return DeskOut(
@@ -63,6 +76,14 @@ def _desk(context: WebContext, request: Request) -> DeskOut:
         lab_networks=policy.lab.written() if policy.lab is not None else [],
         your_address=None if (peer := peer_of(request)) == UNKNOWN_PEER else str(peer),
     )
+
+
+async def _switched(
+    context: WebContext, request: Request, session: Session, action: DeskAction, **details: object
+) -> DeskOut:
+    """Every switch ends alike: audited in the staff member's name, then the desk as it now is."""
+    await audit_desk(context, session, action, **details)
+    return _desk(context, request)
 
 
 @router.get("", response_model=DeskOut, summary="The lab robot's settings (staff)")
@@ -74,13 +95,10 @@ async def desk(request: Request, session: StaffDep, context: ContextDep) -> Desk
 async def set_gate(
     request: Request, body: GateIn, session: StaffDep, context: ContextDep
 ) -> DeskOut:
-    gate = context.service.policy.gate
-    if gate is None:
-        raise ApiError(409, "refused", "this robot has no simulation gate")
+    gate = _switchable(context.service.policy.gate, "this robot has no simulation gate")
     gate.required = body.require_simulation
     state = "on" if body.require_simulation else "off"
-    await audit_desk(context, session, DeskAction.GATE, state=state)
-    return _desk(context, request)
+    return await _switched(context, request, session, DeskAction.GATE, state=state)
 
 
 @router.post("/hold", response_model=DeskOut, summary="Stop the lab robot and hold it")
@@ -88,15 +106,13 @@ async def hold(request: Request, session: StaffDep, context: ContextDep) -> Desk
     """Held first, then stopped: nothing queued after the STOP can start."""
     context.service.policy.hold(session.user.username)
     await context.service.stop(actor_of(session))
-    await audit_desk(context, session, DeskAction.HOLD)
-    return _desk(context, request)
+    return await _switched(context, request, session, DeskAction.HOLD)
 
 
 @router.delete("/hold", response_model=DeskOut, summary="Release the lab robot")
 async def release(request: Request, session: StaffDep, context: ContextDep) -> DeskOut:
     context.service.policy.hold(None)
-    await audit_desk(context, session, DeskAction.RELEASE)
-    return _desk(context, request)
+    return await _switched(context, request, session, DeskAction.RELEASE)
 
 
 @router.put("/lab-network", response_model=DeskOut, summary="Set where students may drive from")
@@ -104,17 +120,14 @@ async def set_lab_network(
     request: Request, body: LabNetworkIn, session: StaffDep, context: ContextDep
 ) -> DeskOut:
     """At once for every door; 422 naming the entry that is not a network."""
-    lab = context.service.policy.lab
-    if lab is None:
-        raise ApiError(409, "refused", "this robot has no lab network setting")
+    lab = _switchable(context.service.policy.lab, "this robot has no lab network setting")
     try:
         networks = parse_networks(body.networks)
     except NetworkError as exc:
         raise ApiError(422, "invalid-request", str(exc), where={"field": "networks"}) from None
     lab.networks = networks
     written = ", ".join(lab.written()) or DESK_WORDS["anywhere"]
-    await audit_desk(context, session, DeskAction.LAB_NETWORK, networks=written)
-    return _desk(context, request)
+    return await _switched(context, request, session, DeskAction.LAB_NETWORK, networks=written)
 
 
 @pages.get("/desk", response_model=None)
