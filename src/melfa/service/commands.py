@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import dataclasses
 import datetime as dt
-from collections.abc import Sequence
-from typing import Any
+from collections.abc import Callable, Sequence
+from typing import Any, TypeVar
 
 from melfa.lang.plan import UploadPlan
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
@@ -27,6 +27,8 @@ from melfa.service.statements import move_statements
 from melfa.vocab.activity import Motion, MotionKind
 from melfa.vocab.commands import Command
 
+T = TypeVar("T")
+
 
 class RobotCommands:
     """The robot's commands, for `RobotService` (which supplies the parts below)."""
@@ -37,6 +39,11 @@ class RobotCommands:
     _snapshots: Snapshots
 
     # ================================================================== commands
+
+    def decide(self, actor: Actor, command: Command, decision: Callable[[], T]) -> T:
+        """A request of ``actor``'s decided at once, never queued (take control, join the
+        queue): a refusal is audited as a command's is (`Dispatcher.decide`)."""
+        return self._dispatch.decide(actor, command, decision)
 
     async def _move(
         self,

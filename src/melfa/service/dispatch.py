@@ -6,6 +6,8 @@ the controller answered (datasette's "events after success").
 calls (REST, the WebSocket, rosbridge, the thesis's messages, the ROS node, the desktop
 client): it asks `melfa.service.policy.Policy` (check-before-upload, the instructor's
 gate, the lease), and tells it how a command that carried an upload plan ended.
+`Dispatcher.decide` is the same for what is decided at once and never queued (take
+control, join the queue); both audit a refusal in one place (`Dispatcher.refused`).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ import contextlib
 import dataclasses
 import itertools
 from collections.abc import Callable
-from typing import Any
+from typing import Any, TypeVar
 
 from melfa.lang.plan import UploadPlan
 from melfa.protocol.advice import advice_for
@@ -35,6 +37,7 @@ from melfa.vocab.activity import Motion
 from melfa.vocab.commands import Command
 from melfa.vocab.lease import LeaseReason
 
+T = TypeVar("T")
 Work = Callable[[Robot], Any]
 DoneHook = Callable[[Actor, Command, UploadPlan | None, bool], None]
 """``(actor, command, plan, ok)`` after a command's answer (or failure)."""
@@ -118,11 +121,22 @@ class Dispatcher:
         command_id = command_id if command_id is not None else self.next_id()
         refused = precondition() if precondition is not None else None
         if refused is not None:
-            self.audit(actor, command_id, command, detail, f"refused: {refused}")
+            self.refused(actor, command_id, command, detail, refused)
             raise refused
         taken = self._check_policy(actor, command_id, command, detail, plan)
         self.audit(actor, command_id, command, detail, "accepted")
         return command_id, taken
+
+    def decide(self, actor: Actor, command: Command, decision: Callable[[], T]) -> T:
+        """A request decided at once, never queued to the worker (take control, join the
+        queue): ``decision``'s `Refused` is audited as a command's refusal is, then raised.
+        An accepted one is audited by what it changed (the control note, the queue's step)."""
+        self._life.check_open()
+        try:
+            return decision()
+        except Refused as exc:
+            self.refused(actor, self.next_id(), command, "", exc)
+            raise
 
     def _check_policy(
         self,
@@ -137,7 +151,7 @@ class Dispatcher:
         try:
             change = self._policy.admit(actor, command, plan)
         except ServiceError as exc:
-            self.audit(actor, command_id, command, detail, f"refused: {exc}")
+            self.refused(actor, command_id, command, detail, exc)
             raise
         if change is not None and change.holder is not None:
             change = dataclasses.replace(
@@ -287,6 +301,13 @@ class Dispatcher:
         with contextlib.suppress(Exception):
             self.audit_sink.write(entry)
         self._bus.publish(entry)
+
+    def refused(
+        self, actor: Actor, command_id: int, command: Command, detail: str, exc: ServiceError
+    ) -> None:
+        """The one record of a refusal: ``refused:`` and the student's words and fix
+        (`melfa.vocab.refusals`, as every door sends them)."""
+        self.audit(actor, command_id, command, detail, f"refused: {exc}")
 
     def note(self, note: RobotNote) -> None:
         """What happened to the robot that no command asked for (`melfa.service.notes`)."""

@@ -234,24 +234,29 @@ class QueueKeeper:
     ) -> None:
         """Enter the queue (or replace the queued text) from where the policy lets one
         drive (`Policy.from_where`) with a text it lets in (`Policy.may_queue`: checked, and
-        pre-flight passed when the gate is on)."""
-        if actor.role is Role.OBSERVER:
-            raise Refused(Refusal.OBSERVER, user=actor.user)
-        policy = self.service.policy
-        policy.from_where(actor)
-        policy.may_queue(plan)
-        entry = Entry(
-            user=actor.user,
-            role=actor.role.value,
-            program=program,
-            points=points,
-            program_digest=plan.program_digest,
-            points_digest=plan.points_digest,
-            cycle_s=policy.cycle_time(plan),
-            joined=self.clock.now(),
-            workspace_id=workspace_id,
-        )
-        self._do(lambda q: q.join(entry))
+        pre-flight passed when the gate is on); a refusal is audited (`RobotService.decide`),
+        the join itself is the queue's step."""
+
+        def join() -> None:
+            if actor.role is Role.OBSERVER:
+                raise Refused(Refusal.OBSERVER, user=actor.user)
+            policy = self.service.policy
+            policy.from_where(actor)
+            policy.may_queue(plan)
+            entry = Entry(
+                user=actor.user,
+                role=actor.role.value,
+                program=program,
+                points=points,
+                program_digest=plan.program_digest,
+                points_digest=plan.points_digest,
+                cycle_s=policy.cycle_time(plan),
+                joined=self.clock.now(),
+                workspace_id=workspace_id,
+            )
+            self._do(lambda q: q.join(entry))
+
+        self.service.decide(actor, Command.JOIN_QUEUE, join)
 
     def leave(self, actor: Actor) -> None:
         self._do(lambda q: q.leave(actor.user))

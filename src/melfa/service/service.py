@@ -345,9 +345,12 @@ class RobotService(RobotCommands):
         """Take the free operator lease (`LeaseRequired` naming the holder if taken,
         `NotAllowed` for observers, `Refused` from outside the lab's networks). Every
         session of the holder's user shares it."""
-        self._life.check_open()
-        self.policy.from_where(actor)
-        self._lease_changed(self._lease.acquire(actor))
+
+        def take() -> None:
+            self.policy.from_where(actor)
+            self._lease_changed(self._lease.acquire(actor))
+
+        self.decide(actor, Command.TAKE_CONTROL, take)  # a refusal is audited
 
     def release_lease(self, actor: Actor) -> None:
         """Give the lease back (no effect if ``actor``'s user does not hold it); ends

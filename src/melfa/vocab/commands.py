@@ -46,6 +46,12 @@ class Command(enum.StrEnum):
     RESET_PROGRAM = "reset_program"
     READ_JOINTS = "read_joints"
     READ_POSE = "read_pose"
+    TAKE_CONTROL = "take_control"
+    """Take the free operator lease (the audit keeps a refused one; an accepted one is the
+    control change it makes)."""
+    JOIN_QUEUE = "join_queue"
+    """Enter the shared robot's queue (the audit keeps a refused one; an accepted one is
+    the queue's step)."""
 
     @property
     def label(self) -> str:
@@ -91,6 +97,8 @@ _WORDS: dict[Command, _Words] = {
     Command.RESET_PROGRAM: _Words("Reset program", False),
     Command.READ_JOINTS: _Words("Read joints", False),
     Command.READ_POSE: _Words("Read position", False),
+    Command.TAKE_CONTROL: _Words("Take control", False),
+    Command.JOIN_QUEUE: _Words("Join the queue", False),
 }
 assert set(_WORDS) == set(Command), "every command has its words"
 

@@ -61,10 +61,10 @@ export function robotName(robot) {
 const KINDS = {
   all: () => true,
   robot: (e) => e.action.startsWith("robot."),
-  control: (e) => e.action === "control.changed",
+  control: (e) => e.action === "control.changed" || e.action === "robot.take_control", // a refused take too
   alarm: (e) => e.action.startsWith("alarm.") || e.action === "link.changed",
   refused: (e) => e.result.startsWith("refused"),
-  queue: (e) => e.action.startsWith("queue."),
+  queue: (e) => e.action.startsWith("queue.") || e.action === "robot.join_queue", // a refused join too
   desk: (e) => e.action in AUDIT_ACTIONS && e.action !== "session.sign-in",
   "sign-in": (e) => e.action === "session.sign-in",
 };
