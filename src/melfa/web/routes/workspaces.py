@@ -155,6 +155,14 @@ async def save_workspace(
     return SaveOut(revision=revision_out(result.revision), created=result.created)
 
 
+async def _audit_visit(
+    context: WebContext, session: Session, ws: Workspace, action: DeskAction
+) -> None:
+    """A member of staff switched how they visit someone else's workspace: audited naming
+    whose workspace it is and which."""
+    await audit_desk(context, session, action, who=ws.owner, workspace=ws.name, workspace_id=ws.id)
+
+
 @router.put("/{workspace_id}/staff-edit", response_model=StaffEditOut, summary="Edit as instructor")
 async def edit_as_staff(
     workspace_id: WorkspaceId, session: SessionDep, context: ContextDep
@@ -164,14 +172,7 @@ async def edit_as_staff(
     ws = await open_workspace(context, session.user, workspace_id)
     if context.staff_edits.visiting(session, ws):
         context.staff_edits.grant(session, ws.id)
-        await audit_desk(
-            context,
-            session,
-            DeskAction.EDIT_AS_STAFF,
-            who=ws.owner,
-            workspace=ws.name,
-            workspace_id=ws.id,
-        )
+        await _audit_visit(context, session, ws, DeskAction.EDIT_AS_STAFF)
     return StaffEditOut(writable=True, visiting=context.staff_edits.visiting(session, ws))
 
 
@@ -186,14 +187,7 @@ async def stop_editing_as_staff(
     visiting = context.staff_edits.visiting(session, ws)
     if visiting and context.staff_edits.editing(session, ws):
         context.staff_edits.revoke(session, ws.id)
-        await audit_desk(
-            context,
-            session,
-            DeskAction.READ_ONLY,
-            who=ws.owner,
-            workspace=ws.name,
-            workspace_id=ws.id,
-        )
+        await _audit_visit(context, session, ws, DeskAction.READ_ONLY)
     return StaffEditOut(writable=not visiting, visiting=visiting)
 
 
