@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 
 from melfa.service.recording_compare import SimSample, SimulatedRun, compare
 from melfa.service.recording_frames import EncodingError, Frame, decode, encode
-from melfa.store.run_retention import RunAge, RunRetention, to_thin
+from melfa.store.run_retention import RunAge, to_thin
+from melfa.store.thinning import Retention
 
 hundredths = st.integers(-36000, 36000).map(lambda v: v / 100)
 axes = st.tuples(*[hundredths] * 6)
@@ -86,7 +87,7 @@ NOW = datetime(2026, 11, 20, 12, tzinfo=UTC)
 
 def test_the_newest_runs_are_all_kept() -> None:
     runs = [RunAge(i, NOW - timedelta(minutes=i)) for i in range(5)]
-    assert to_thin(runs, NOW, RunRetention(keep_recent=5)) == []
+    assert to_thin(runs, NOW, Retention(keep_recent=5)) == []
 
 
 def test_older_runs_keep_one_per_hour_then_one_per_day() -> None:
@@ -100,7 +101,7 @@ def test_older_runs_keep_one_per_hour_then_one_per_day() -> None:
         for i, (d, h) in enumerate((d, h) for d in range(10) for h in (1, 3))
     ]
     doomed = set(
-        to_thin(hourly + daily, NOW, RunRetention(keep_recent=4, hourly_for=timedelta(days=7)))
+        to_thin(hourly + daily, NOW, Retention(keep_recent=4, hourly_for=timedelta(days=7)))
     )
     kept = {r.id for r in hourly + daily} - doomed
     # The four newest, then one per hour, then one per day.
@@ -120,7 +121,7 @@ def test_older_runs_keep_one_per_hour_then_one_per_day() -> None:
 
 def test_a_kept_run_is_never_thinned() -> None:
     runs = [RunAge(i, NOW - timedelta(minutes=i), kept=(i == 9)) for i in range(10)]
-    doomed = to_thin(runs, NOW, RunRetention(keep_recent=1))
+    doomed = to_thin(runs, NOW, Retention(keep_recent=1))
     assert 9 not in doomed
     assert sorted(doomed) == list(range(2, 9))  # 0 newest; 1 the newest of its hour
 

@@ -10,8 +10,8 @@ import pytest
 
 from melfa.store import Store
 from melfa.store.errors import NotFound
-from melfa.store.run_retention import RunRetention
 from melfa.store.runs import NewRun
+from melfa.store.thinning import Retention
 from tests.store.conftest import CHEAP, FakeClock
 
 
@@ -65,9 +65,7 @@ def test_lists_are_newest_first_per_user_or_for_everyone(store: Store, clock: Fa
 def test_old_runs_lose_their_samples_but_keep_their_summary(
     db_path: Path, clock: FakeClock
 ) -> None:
-    with Store(
-        db_path, clock=clock, hasher=CHEAP, run_retention=RunRetention(keep_recent=2)
-    ) as store:
+    with Store(db_path, clock=clock, hasher=CHEAP, run_retention=Retention(keep_recent=2)) as store:
         ids = []
         for _ in range(4):  # four runs in one hour
             ids.append(_run(store, clock))

@@ -9,7 +9,7 @@ from pathlib import Path
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from melfa.store import RetentionPolicy, SaveConflict, Store
+from melfa.store import Retention, SaveConflict, Store
 from melfa.store.merge import merge3
 from tests.store.conftest import CHEAP, FakeClock
 
@@ -31,7 +31,7 @@ def test_saves_and_restores_never_lose_or_rewrite(steps: list[tuple[str, object,
     with (
         tempfile.TemporaryDirectory() as tmp,
         Store(
-            Path(tmp) / "m.sqlite3", clock=clock, hasher=CHEAP, retention=RetentionPolicy(100)
+            Path(tmp) / "m.sqlite3", clock=clock, hasher=CHEAP, retention=Retention(100)
         ) as store,
     ):
         ada = store.accounts.create_user("ada", "kettle-moon-1")

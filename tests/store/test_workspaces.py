@@ -11,7 +11,7 @@ from melfa.store import (
     AccessDenied,
     InvalidValue,
     NotFound,
-    RetentionPolicy,
+    Retention,
     Role,
     SaveConflict,
     SaveReason,
@@ -158,7 +158,7 @@ def test_unknown_workspace(store: Store) -> None:
 def test_autosaves_are_thinned_explicit_saves_kept(
     db_path: Path, clock: FakeClock, tmp_path: Path
 ) -> None:
-    retention = RetentionPolicy(keep_recent=5)
+    retention = Retention(keep_recent=5)
     with Store(db_path, clock=clock, hasher=CHEAP, retention=retention) as store:
         ada = store.accounts.create_user("ada", "kettle-moon-1")
         ws = store.workspaces.personal(ada)
@@ -206,7 +206,7 @@ def test_work_survives_a_restart(db_path: Path, clock: FakeClock) -> None:
 def test_restore_keeps_every_text_it_replaced_through_any_thinning(
     db_path: Path, clock: FakeClock
 ) -> None:
-    retention = RetentionPolicy(keep_recent=3)
+    retention = Retention(keep_recent=3)
     with Store(db_path, clock=clock, hasher=CHEAP, retention=retention) as store:
         ada = store.accounts.create_user("ada", "kettle-moon-1")
         ws = store.workspaces.personal(ada)

@@ -65,7 +65,7 @@ from melfa.store.models import (
     WorkspaceState,
 )
 from melfa.store.passwords import Passwords, generate_password
-from melfa.store.revisions import MAX_TEXT_CHARS, RetentionPolicy, SaveResult
+from melfa.store.revisions import MAX_TEXT_CHARS, SaveResult
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions, check_csrf
 from melfa.store.store import (
     DATA_ENV,
@@ -75,6 +75,7 @@ from melfa.store.store import (
     database_path,
     default_data_dir,
 )
+from melfa.store.thinning import Retention
 from melfa.store.tokens import AccessToken, AccessTokens, NewAccessToken, is_access_token
 from melfa.store.transfer import (
     ExportedFile,
@@ -131,7 +132,7 @@ __all__ = [
     "NotFound",
     "Passwords",
     "RateLimit",
-    "RetentionPolicy",
+    "Retention",
     "Revision",
     "RevisionInfo",
     "Role",

@@ -4,26 +4,26 @@ with what was saved since its base, and how autosaves are thinned.
 Rules (docs/store.md): saving never rewrites a revision; a save on an older revision is
 merged line by line (`merge.merge3`: no line dropped), refused with `SaveConflict` only
 when that revision is no longer kept; saving the content already there adds nothing;
-autosaves are thinned by the `RetentionPolicy`, every other reason is kept. The functions
-take the writer's connection: `melfa.store.workspaces.Workspaces` calls them inside its
-transactions.
+autosaves are thinned by `AUTOSAVE_RETENTION` (or the store's own `Retention`), every other
+reason is kept. The functions take the writer's connection: `melfa.store.workspaces.Workspaces`
+calls them inside its transactions.
 """
 
 from __future__ import annotations
 
 import sqlite3
 from dataclasses import dataclass
-from datetime import datetime, timedelta
+from datetime import datetime
 
 from melfa.store.errors import InvalidValue, NotFound, SaveConflict
 from melfa.store.merge import merge3
 from melfa.store.models import Revision, RevisionInfo, SaveReason, User
-from melfa.store.thinning import thinned
+from melfa.store.thinning import Retention, thinned
 from melfa.store.timeutil import from_text, to_text
 
 __all__ = [
+    "AUTOSAVE_RETENTION",
     "MAX_TEXT_CHARS",
-    "RetentionPolicy",
     "SaveResult",
     "add_revision",
     "check_size",
@@ -36,15 +36,10 @@ MAX_TEXT_CHARS = 1_000_000
 """Per program or points text: far above any real program, low enough to bound the disk."""
 
 
-@dataclass(frozen=True, slots=True)
-class RetentionPolicy:
-    """How autosaves are thinned (explicit saves, imports and restores are never pruned)."""
-
-    keep_recent: int = 50
-    """The newest autosaves of a workspace, all kept: undo for the last stretch of typing."""
-    hourly_for: timedelta = timedelta(days=7)
-    """Older autosaves younger than this keep one per hour (the newest of each hour)."""
-    # Older still: one per day, forever.
+AUTOSAVE_RETENTION = Retention(keep_recent=50)
+"""How autosaves are thinned: the newest 50 of a workspace all kept (undo for the last
+stretch of typing), then one an hour for a week, then one a day, forever. Explicit saves,
+imports and restores are never pruned."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,7 +85,7 @@ def _empty(workspace_id: int, created: datetime) -> Revision:
 
 def add_revision(
     conn: sqlite3.Connection,
-    retention: RetentionPolicy,
+    retention: Retention,
     workspace_id: int,
     program: str,
     points: str,
@@ -153,7 +148,7 @@ def add_revision(
 
 
 def _prune(
-    conn: sqlite3.Connection, retention: RetentionPolicy, workspace_id: int, now: datetime
+    conn: sqlite3.Connection, retention: Retention, workspace_id: int, now: datetime
 ) -> None:
     rows = conn.execute(
         "SELECT id, number, created FROM revisions WHERE workspace_id = ?"

@@ -1,8 +1,8 @@
 """Which recorded runs keep their samples: old runs are thinned as workspace autosaves are
-(`melfa.store.revisions.RetentionPolicy`; one rule, `melfa.store.thinning`).
+(one rule, `melfa.store.thinning.Retention`).
 
-Per user, the newest `RunRetention.keep_recent` runs keep everything; older runs younger
-than `RunRetention.hourly_for` keep their samples for the newest run of each hour, older
+Per user, the newest `Retention.keep_recent` runs keep everything; older runs younger
+than `Retention.hourly_for` keep their samples for the newest run of each hour, older
 ones for the newest run of each day. A thinned run loses its samples (the replay) and its
 simulated path, never its summary: who ran what, when, the fingerprint, how it ended, the
 cycle times and the deviation stay for good (the record an instructor grades from).
@@ -15,18 +15,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from datetime import datetime, timedelta
+from datetime import datetime
 
-from melfa.store.thinning import thinned
+from melfa.store.thinning import Retention, thinned
 
-
-@dataclass(frozen=True, slots=True)
-class RunRetention:
-    keep_recent: int = 20
-    """The newest runs of a user, all kept whole."""
-    hourly_for: timedelta = timedelta(days=7)
-    """Older runs younger than this: the newest of each hour keeps its samples."""
-    # Older still: the newest of each day.
+RUN_RETENTION = Retention(keep_recent=20)
+"""The newest 20 runs of a user kept whole; older ones the newest of each hour for a week,
+then of each day."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -38,13 +33,13 @@ class RunAge:
     kept: bool = False
 
 
-def to_thin(runs: Sequence[RunAge], now: datetime, policy: RunRetention) -> list[int]:
+def to_thin(runs: Sequence[RunAge], now: datetime, policy: Retention) -> list[int]:
     """The ids of ``runs`` (one user's, any order) whose samples go.
 
-    >>> from datetime import UTC
+    >>> from datetime import UTC, timedelta
     >>> day = datetime(2026, 11, 1, tzinfo=UTC)
     >>> runs = [RunAge(i, day + timedelta(minutes=10 * i)) for i in range(8)]
-    >>> to_thin(runs, day + timedelta(days=1), RunRetention(keep_recent=2))
+    >>> to_thin(runs, day + timedelta(days=1), Retention(keep_recent=2))
     [4, 3, 2, 1, 0]
     """
     newest_first = sorted(runs, key=lambda r: (r.started, r.id), reverse=True)
@@ -52,4 +47,4 @@ def to_thin(runs: Sequence[RunAge], now: datetime, policy: RunRetention) -> list
     return thinned(older, now, policy.hourly_for)
 
 
-__all__ = ["RunAge", "RunRetention", "to_thin"]
+__all__ = ["RUN_RETENTION", "RunAge", "to_thin"]

@@ -20,7 +20,8 @@ from typing import Any
 
 from melfa.store.db import Database
 from melfa.store.errors import NotFound
-from melfa.store.run_retention import RunAge, RunRetention, to_thin
+from melfa.store.run_retention import RUN_RETENTION, RunAge, to_thin
+from melfa.store.thinning import Retention
 from melfa.store.timeutil import from_text, to_text
 
 MAX_PAGE = 200
@@ -124,9 +125,9 @@ def _info(row: sqlite3.Row) -> RunInfo:
 class Runs:
     """The ``runs`` and ``simulations`` tables."""
 
-    def __init__(self, db: Database, retention: RunRetention | None = None) -> None:
+    def __init__(self, db: Database, retention: Retention | None = None) -> None:
         self.db = db
-        self.retention = retention or RunRetention()
+        self.retention = retention or RUN_RETENTION
 
     # --- simulated paths ------------------------------------------------------------------
 

@@ -19,12 +19,12 @@ from melfa.store.errors import DatabaseError
 from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
 from melfa.store.queues import QueueDocs
-from melfa.store.run_retention import RunRetention
 from melfa.store.runs import Runs
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions
+from melfa.store.thinning import Retention
 from melfa.store.timeutil import Clock, system_clock
 from melfa.store.tokens import AccessTokens
-from melfa.store.workspaces import RetentionPolicy, Workspaces
+from melfa.store.workspaces import Workspaces
 
 __all__ = [
     "DATABASE_FILENAME",
@@ -67,8 +67,8 @@ class Store:
         hasher: PasswordHasher | None = None,
         session_policy: SessionPolicy | None = None,
         login_policy: LoginPolicy | None = None,
-        retention: RetentionPolicy | None = None,
-        run_retention: RunRetention | None = None,
+        retention: Retention | None = None,
+        run_retention: Retention | None = None,
     ) -> None:
         self.db = Database(path, clock=clock)
         self.passwords = Passwords(hasher)

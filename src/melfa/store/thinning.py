@@ -7,7 +7,19 @@ of each day. Pure: no I/O.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass
 from datetime import datetime, timedelta
+
+
+@dataclass(frozen=True, slots=True)
+class Retention:
+    """How the store thins one kind of item as it ages (the rule above):
+    `melfa.store.revisions.AUTOSAVE_RETENTION`, `melfa.store.run_retention.RUN_RETENTION`."""
+
+    keep_recent: int
+    """The newest items of their owner (a workspace's autosaves, a user's runs), all kept."""
+    hourly_for: timedelta = timedelta(days=7)
+    """Older items younger than this keep the newest of each hour; older still, of each day."""
 
 
 def thinned(
@@ -34,4 +46,4 @@ def thinned(
     return doomed
 
 
-__all__ = ["thinned"]
+__all__ = ["Retention", "thinned"]

@@ -17,7 +17,7 @@ Rules (docs/store.md):
 * Saving the content that is already there adds nothing (and never conflicts).
 * Explicit saves, imports, restores and the text a restore replaced are kept forever;
   autosaves are thinned
-  (`RetentionPolicy`): the newest ones all kept, older ones one per hour, then one per day.
+  (`AUTOSAVE_RETENTION`): the newest ones all kept, older ones one per hour, then one per day.
 """
 
 from __future__ import annotations
@@ -40,8 +40,8 @@ from melfa.store.models import (
     WorkspaceState,
 )
 from melfa.store.revisions import (
+    AUTOSAVE_RETENTION,
     MAX_TEXT_CHARS,
-    RetentionPolicy,
     SaveResult,
     add_revision,
     check_size,
@@ -49,6 +49,7 @@ from melfa.store.revisions import (
     list_revisions,
     read_revision,
 )
+from melfa.store.thinning import Retention
 from melfa.store.timeutil import from_text, to_text
 from melfa.store.transfer import (
     ExportedFile,
@@ -61,7 +62,7 @@ from melfa.store.transfer import (
 )
 from melfa.store.workspace_names import DEFAULT_PERSONAL_NAME, clean_name
 
-__all__ = ["MAX_TEXT_CHARS", "RetentionPolicy", "SaveResult", "Workspaces"]
+__all__ = ["MAX_TEXT_CHARS", "SaveResult", "Workspaces"]
 
 _WS_SELECT = """
     SELECT w.id, w.user_id, w.group_id, w.created, w.head, w.name, w.archived, u.username,
@@ -89,11 +90,11 @@ class Workspaces:
     """Workspaces and their revisions in one `Database`."""
 
     def __init__(
-        self, db: Database, accounts: Accounts, retention: RetentionPolicy | None = None
+        self, db: Database, accounts: Accounts, retention: Retention | None = None
     ) -> None:
         self.db = db
         self.accounts = accounts
-        self.retention = retention if retention is not None else RetentionPolicy()
+        self.retention = retention if retention is not None else AUTOSAVE_RETENTION
 
     # --- finding workspaces ---------------------------------------------------------------
 
