@@ -23,6 +23,7 @@ from melfa.store.passwords import (
     check_password_rules,
     generate_password,
 )
+from melfa.store.rows import record
 from melfa.store.timeutil import from_text, from_text_or_none, to_text
 
 __all__ = [
@@ -121,22 +122,15 @@ class NewUser:
 
 
 _USER_SELECT = """
-    SELECT u.id, u.username, u.display_name, u.role, g.name AS group_name, u.created,
+    SELECT u.id, u.username, u.display_name, u.role, g.name AS "group", u.created,
            u.last_login, u.disabled, u.password_hash
     FROM users AS u LEFT JOIN groups AS g ON g.id = u.group_id
 """
 
 
 def _user(row: sqlite3.Row) -> User:
-    return User(
-        id=row["id"],
-        username=row["username"],
-        display_name=row["display_name"],
-        role=Role(row["role"]),
-        group=row["group_name"],
-        created=from_text(row["created"]),
-        last_login=from_text_or_none(row["last_login"]),
-        disabled=bool(row["disabled"]),
+    return record(
+        User, row, role=Role, created=from_text, last_login=from_text_or_none, disabled=bool
     )
 
 

@@ -33,6 +33,7 @@ from melfa.store.assignment_models import (
 from melfa.store.db import Database
 from melfa.store.errors import AlreadyExists, InvalidValue, NotFound
 from melfa.store.models import SaveReason, User
+from melfa.store.rows import record
 from melfa.store.timeutil import from_text, from_text_or_none, to_text
 from melfa.store.workspace_names import MAX_NAME_CHARS, clean_name
 from melfa.store.workspaces import MAX_TEXT_CHARS, Workspaces
@@ -64,34 +65,24 @@ class AssignmentClosed(InvalidValue):
 
 _SELECT = """
     SELECT a.id, a.title, a.files, a.variants, a.due, a.attempts, a.author, a.created,
-           g.name AS group_name
+           g.name AS "group"
     FROM assignments AS a LEFT JOIN groups AS g ON g.id = a.group_id
 """
 
 
 def _assignment(row: sqlite3.Row) -> Assignment:
-    return Assignment(
-        id=row["id"],
-        title=row["title"],
-        files=json.loads(row["files"]),
-        group=row["group_name"],
-        variants=bool(row["variants"]),
-        due=from_text_or_none(row["due"]),
-        attempts=row["attempts"],
-        author=row["author"],
-        created=from_text(row["created"]),
+    return record(
+        Assignment,
+        row,
+        files=json.loads,
+        variants=bool,
+        due=from_text_or_none,
+        created=from_text,
     )
 
 
 def _enrolment(row: sqlite3.Row) -> Enrolment:
-    return Enrolment(
-        assignment_id=row["assignment_id"],
-        user_id=row["user_id"],
-        username=row["username"],
-        seed=row["seed"],
-        workspace_id=row["workspace_id"],
-        opened=from_text(row["opened"]),
-    )
+    return record(Enrolment, row, opened=from_text)
 
 
 _GRADED = (

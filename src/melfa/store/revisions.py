@@ -18,6 +18,7 @@ from datetime import datetime
 from melfa.store.errors import InvalidValue, NotFound, SaveConflict
 from melfa.store.merge import merge3
 from melfa.store.models import Revision, RevisionInfo, SaveReason, User
+from melfa.store.rows import record
 from melfa.store.thinning import Retention, thinned
 from melfa.store.timeutil import from_text, to_text
 
@@ -56,16 +57,7 @@ def check_size(field: str, text: str) -> None:
 
 
 def revision_of(row: sqlite3.Row) -> Revision:
-    return Revision(
-        workspace_id=row["workspace_id"],
-        number=row["number"],
-        author=row["author"],
-        created=from_text(row["created"]),
-        reason=SaveReason(row["reason"]),
-        program=row["program"],
-        points=row["points"],
-        restored_from=row["restored_from"],
-    )
+    return record(Revision, row, created=from_text, reason=SaveReason)
 
 
 def head_revision(conn: sqlite3.Connection, workspace_id: int, number: int) -> Revision | None:
