@@ -1,7 +1,8 @@
 """The instructor's desk in Debian's Chromium at 1366×768 (issue 26's "Done when"): an
 instructor imports a class list, reads the passwords shown once, resets a student's
 password (the student signs in with it), removes an account, and toggles the simulation
-gate (a student's pre-flight settings follow at once). Screenshots for docs/ide.md."""
+gate (a student's pre-flight settings follow at once; the card says who set it and that a
+restart keeps it). Screenshots for docs/ide.md."""
 
 from __future__ import annotations
 
@@ -101,6 +102,9 @@ def test_an_instructor_toggles_the_gate_live(open_session: Any, server: Server) 
     toggle.click()
     expect(toggle).to_have_attribute("aria-pressed", "true")
     expect(page.locator("#gate-state")).to_contain_text("must pass pre-flight")
+    # Where it came from, in plain words: saved, so a restart keeps it.
+    expect(page.locator("#gate-from")).to_contain_text("Set by noa on the desk")
+    expect(page.locator("#gate-from")).to_contain_text("A restart keeps it.")
     assert required() is True
     noa.screenshot("desk-gate-on", toasts=False)
     toggle.click()

@@ -69,14 +69,26 @@ def test_a_class_list_is_imported_all_or_nothing(web: Web) -> None:
 def test_the_gate_is_switched_live_and_every_load_obeys(web: Web) -> None:
     ann, ivy = web.ann, web.ivy
     assert_error(ann.put("/api/desk/gate", json={"require_simulation": True}), 403)
+    default = {
+        "source": "default",  # nobody set it, and the server started without the option
+        "by": None,
+        "at": None,
+        "command_line": None,
+        "until_restart": False,
+    }
     assert ivy.get("/api/desk").json() == {
         "require_simulation": False,
+        "require_simulation_from": default,
         "held_by": None,
         "lab_networks": [],  # anywhere, unless told
+        "lab_networks_from": default,
         "your_address": None,  # the test client has no address
     }
     on = ivy.put("/api/desk/gate", json={"require_simulation": True})
     assert on.json()["require_simulation"] is True
+    origin = on.json()["require_simulation_from"]
+    assert (origin["source"], origin["by"], origin["until_restart"]) == ("desk", "ivy", False)
+    assert web.store.robot_settings.load("lab")["require_simulation"].value is True  # saved
     body = {"program": PROGRAM, "points": POINTS}
     assert_error(ann.post("/api/robot/project", json=body), 409, "simulation-required")
     assert ann.get("/api/preflight").json()["require_simulation"] is True

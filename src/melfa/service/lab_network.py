@@ -57,6 +57,24 @@ def parse_networks(texts: Iterable[str]) -> tuple[Network, ...]:
     return tuple(found)
 
 
+def within(networks: Iterable[Network], floor: Iterable[Network]) -> tuple[Network, ...]:
+    """The part of ``networks`` that lies inside ``floor``, as networks (two networks
+    either nest or are apart, so each overlapping pair gives the smaller one), in the order
+    of ``networks``, each once. Empty when nothing of it lies inside."""
+    bounds = tuple(floor)
+    found: list[Network] = []
+    for network in networks:
+        for bound in bounds:
+            if network.version != bound.version:
+                continue
+            inner = network if network.subnet_of(bound) else None  # type: ignore[arg-type]
+            if inner is None and bound.subnet_of(network):  # type: ignore[arg-type]
+                inner = bound
+            if inner is not None and inner not in found:
+                found.append(inner)
+    return tuple(found)
+
+
 def plain(address: Address) -> Address:
     """An IPv4 client of a dual-stack socket (``::ffff:192.168.10.7``) as IPv4."""
     if isinstance(address, ipaddress.IPv6Address) and address.ipv4_mapped is not None:
@@ -110,4 +128,5 @@ __all__ = [
     "parse_networks",
     "peer_address",
     "plain",
+    "within",
 ]

@@ -343,6 +343,26 @@ _AUDIT_ROBOT = Migration(
 """Each robot's entries of the audit log (``details.robot``: ``lab`` or ``sim:<user>``),
 newest first: the desk's robot log of one robot (`melfa.vocab.robot_log`)."""
 
+_ROBOT_SETTINGS = Migration(
+    "0015_robot_settings",
+    (
+        """
+        CREATE TABLE robot_settings (
+            target TEXT NOT NULL,
+            name TEXT NOT NULL,
+            value TEXT NOT NULL,
+            by TEXT NOT NULL,
+            updated TEXT NOT NULL,
+            PRIMARY KEY (target, name)
+        )
+        """,
+    ),
+)
+"""The live settings staff choose on the instructor's desk for a shared robot (``target``:
+``lab``): ``name`` the setting (``require_simulation``, ``lab_networks``), ``value`` its
+JSON, who chose it and when; read at start so a restart keeps them (`store.robot_settings`;
+the rule against the start-up options: `melfa.service.live_settings`)."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -358,5 +378,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _SUBMISSION_FINGERPRINTS,
     _LIVE_DOCS,
     _AUDIT_ROBOT,
+    _ROBOT_SETTINGS,
 )
 """Every migration, in the order they apply. Append only."""

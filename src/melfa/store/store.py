@@ -19,6 +19,7 @@ from melfa.store.errors import DatabaseError
 from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
 from melfa.store.queues import QueueDocs
+from melfa.store.robot_settings import RobotSettings
 from melfa.store.runs import Runs
 from melfa.store.sessions import LoginAttempts, LoginPolicy, SessionPolicy, Sessions
 from melfa.store.thinning import Retention
@@ -53,8 +54,8 @@ def database_path(data_dir: Path | str) -> Path:
 
 
 class Store:
-    """Accounts, sessions, login attempts, workspaces, assignments, the audit log and
-    recorded runs of one file.
+    """Accounts, sessions, login attempts, workspaces, assignments, the audit log,
+    recorded runs, the shared robots' queues and desk settings of one file.
 
     Opening applies pending migrations. Every part is safe to use from many threads.
     """
@@ -81,6 +82,7 @@ class Store:
         self.assignments = Assignments(self.db, self.workspaces)
         self.runs = Runs(self.db, run_retention)
         self.queues = QueueDocs(self.db)
+        self.robot_settings = RobotSettings(self.db)
 
     @classmethod
     def open_dir(cls, data_dir: Path | str, *, create: bool = True, **options: object) -> Store:

@@ -9,7 +9,14 @@ from __future__ import annotations
 
 import enum
 
-__all__ = ["ACTION_WORDS", "DESK_WORDS", "VISIT_WORDS", "DeskAction", "visit_refusal"]
+__all__ = [
+    "ACTION_WORDS",
+    "DESK_WORDS",
+    "VISIT_WORDS",
+    "DeskAction",
+    "SettingSource",
+    "visit_refusal",
+]
 
 
 class DeskAction(enum.StrEnum):
@@ -28,6 +35,18 @@ class DeskAction(enum.StrEnum):
     READ_ONLY = "workspace.read-only"
     CELL = "cell.edit"
     LAB_NETWORK = "lab-network.set"
+
+
+class SettingSource(enum.StrEnum):
+    """Where a live setting of the lab robot (the gate, the lab's networks) came from, as
+    the desk shows it (`melfa.service.live_settings`)."""
+
+    DEFAULT = "default"
+    """Nobody set it: gate off, anywhere."""
+    COMMAND_LINE = "command-line"
+    """The server's start-up option (``--require-simulation``, ``--lab-network``)."""
+    DESK = "desk"
+    """Staff chose it on the desk (saved: a restart keeps it, within the start-up option)."""
 
 
 ACTION_WORDS: dict[DeskAction, str] = {
@@ -93,6 +112,13 @@ DESK_WORDS: dict[str, str] = {
     "lab-network-save": "Only from these",
     "lab-network-clear": "Allow anywhere",
     "lab-network-saved": "Saved: {networks}.",
+    "from-default": "Nobody has changed this: it is the default.",
+    "from-command-line": "Set when the server started ({flag}).",
+    "from-desk": "Set by {who} on the desk, {when}. A restart keeps it.",
+    "from-desk-until-restart": (
+        "Set by {who} on the desk, {when}, until the server restarts: it starts with "
+        "{flag}, and that applies again then."
+    ),
     "anywhere": "anywhere",
     "audit": "Audit log",
     "audit-all": "everything",
@@ -109,7 +135,9 @@ DESK_WORDS: dict[str, str] = {
     "result-ok": "done",
     "result-accepted": "asked (no answer yet)",
 }
-"""The desk's labels, help and confirmations (``{who}``: an account's name)."""
+"""The desk's labels, help and confirmations (``{who}``: an account's name). Under each
+setting, where it came from (``from-`` and a `SettingSource`; ``{who}`` set it, ``{when}``
+in the browser's local time, ``{flag}`` the server's start-up option as written)."""
 
 VISIT_WORDS: dict[str, str] = {
     "reading": "You are reading {who}'s work ({workspace}): it is read-only.",

@@ -20,6 +20,7 @@ from melfa.ros.rosapi import ParamBudget
 from melfa.service import RobotService
 from melfa.service.clock import Clock
 from melfa.store import Store
+from melfa.store.robot_settings import SavedSetting
 from melfa.vocab.robot_log import simulator_of
 from melfa.web import errors
 from melfa.web.audit_sink import ServiceAuditSink
@@ -27,6 +28,7 @@ from melfa.web.coedit import CoeditHub
 from melfa.web.config import SESSION_COOKIE, WebSettings
 from melfa.web.context import WebContext
 from melfa.web.deps import find_session
+from melfa.web.desk_settings import DeskSettings, StartOptions
 from melfa.web.guard import SocketGuard
 from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
@@ -119,10 +121,6 @@ def create_app(
                     audit=ServiceAuditSink(the_store.audit),
                 )
                 await the_service.start()
-            elif config.require_simulation and the_service.policy.gate is not None:
-                the_service.policy.gate.required = True  # a service given by the caller
-            if service is not None and config.lab_networks and the_service.policy.lab:
-                the_service.policy.lab.networks = config.lab_networks  # the same
             registry = TargetRegistry(
                 the_service,
                 idle_s=config.private_idle_s,
@@ -143,6 +141,18 @@ def create_app(
                     limits.rosapi_param_chars, limits.rosapi_param_chars_total
                 ),
             )
+
+            async def save(target: str, name: str, value: object, by: str) -> SavedSetting:
+                return await context.db(the_store.robot_settings.save, target, name, value, by)
+
+            # What staff chose on the desk before a restart, on the start-up options' floor.
+            context.desk = DeskSettings(
+                the_store.robot_settings,
+                save,
+                the_service.policy,
+                LAB,
+                StartOptions(config.require_simulation, config.lab_networks),
+            ).start()
             turns = make_keeper(
                 LAB,
                 the_service,

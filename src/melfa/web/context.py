@@ -14,6 +14,7 @@ from melfa.service.queue_keeper import QueueKeeper
 from melfa.store import Store
 from melfa.web.coedit import CoeditHub
 from melfa.web.config import WebSettings
+from melfa.web.desk_settings import DeskSettings
 from melfa.web.guard import SocketGuard
 from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight
@@ -69,6 +70,8 @@ class WebContext:
     """Which staff sign-ins chose to edit which of others' workspaces (else read-only)."""
     coedit: CoeditHub = field(init=False)
     """Live co-editing: the open workspaces' shared documents (set by `create_app`)."""
+    desk: DeskSettings = field(init=False)
+    """The lab robot's desk settings, saved across restarts (set by `create_app`)."""
 
     async def db(self, fn: Callable[P, T], *args: P.args, **kwargs: P.kwargs) -> T:
         """Run a store call off the event loop, in the store's own pool (never behind a

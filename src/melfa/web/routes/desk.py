@@ -6,11 +6,14 @@ messages) obeys at once because they all pass the one policy. *Stop and hold* st
 robot and holds it (`Policy.hold`): nothing a student sends starts, and each refusal names
 who holds it, until a member of staff releases it. *Where students drive from* sets the lab's
 networks (`melfa.service.lab_network`, ``melfa serve --lab-network``): from elsewhere a
-student's commands to the lab robot are refused. Each switch is audited; like the gate, a
-restart goes back to the start-up options."""
+student's commands to the lab robot are refused. Each switch is audited. The gate and the
+networks are saved before they apply and kept across a restart, on the floor of the
+start-up options (`melfa.web.desk_settings`, `melfa.service.live_settings`); the desk says
+where each came from. A hold is not kept: a restart stops whatever ran anyway."""
 
 from __future__ import annotations
 
+import datetime as dt
 from typing import TypeVar
 
 from fastapi import APIRouter, Request
@@ -18,11 +21,13 @@ from fastapi.responses import Response
 from pydantic import BaseModel, Field
 
 from melfa.service.lab_network import UNKNOWN_PEER, NetworkError, parse_networks
+from melfa.service.live_settings import Origin
 from melfa.store import Session
-from melfa.vocab.desk import DESK_WORDS, DeskAction
+from melfa.vocab.desk import DESK_WORDS, DeskAction, SettingSource
 from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, StaffDep, actor_of, peer_of
 from melfa.web.desk_audit import audit_desk
+from melfa.web.desk_settings import GATE, LAB_NETWORKS
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input, ShortText
 from melfa.web.routes.pages import staff_page
@@ -33,10 +38,30 @@ pages = APIRouter(include_in_schema=False)
 _Setting = TypeVar("_Setting")
 
 
+class SettingFrom(BaseModel):
+    """Where a setting in force came from (`melfa.service.live_settings`)."""
+
+    source: SettingSource = Field(
+        description="default (nobody set it), command-line (the server's start-up option) "
+        "or desk (staff chose it; saved, a restart keeps it within the start-up option)."
+    )
+    by: str | None = Field(description="Who chose it on the desk (null: not the desk).")
+    at: dt.datetime | None = Field(description="When they chose it (null: not the desk).")
+    command_line: str | None = Field(
+        description="The server's start-up option for it, as written "
+        "(--require-simulation; --lab-network 192.168.10.0/24); null: started without."
+    )
+    until_restart: bool = Field(
+        description="The desk's choice is looser than the start-up option: a restart "
+        "goes back to the option."
+    )
+
+
 class DeskOut(BaseModel):
     require_simulation: bool = Field(
         description="The lab robot loads and runs only texts that passed pre-flight (the gate)."
     )
+    require_simulation_from: SettingFrom
     held_by: str | None = Field(
         description="Who of the staff stopped the lab robot and holds it (null: nobody)."
     )
@@ -44,6 +69,7 @@ class DeskOut(BaseModel):
         description="Where students may drive the lab robot from, as CIDR networks "
         "(192.168.10.0/24); empty: anywhere."
     )
+    lab_networks_from: SettingFrom
     your_address: str | None = Field(
         description="The address this request came from (null: not known)."
     )
@@ -68,12 +94,26 @@ def _switchable(setting: _Setting | None, missing: str) -> _Setting:
     return setting
 
 
+def _from(origin: Origin, command_line: str | None) -> SettingFrom:
+    return SettingFrom(
+        source=origin.source,
+        by=origin.by,
+        at=origin.at,
+        command_line=command_line,
+        until_restart=origin.until_restart,
+    )
+
+
 def _desk(context: WebContext, request: Request) -> DeskOut:
     policy = context.service.policy
+    settings = context.desk
+    options = settings.options
     return DeskOut(
         require_simulation=policy.simulation_required,
+        require_simulation_from=_from(settings.gate_origin, options.written(GATE)),
         held_by=policy.held_by,
         lab_networks=policy.lab.written() if policy.lab is not None else [],
+        lab_networks_from=_from(settings.networks_origin, options.written(LAB_NETWORKS)),
         your_address=None if (peer := peer_of(request)) == UNKNOWN_PEER else str(peer),
     )
 
@@ -95,8 +135,10 @@ async def desk(request: Request, session: StaffDep, context: ContextDep) -> Desk
 async def set_gate(
     request: Request, body: GateIn, session: StaffDep, context: ContextDep
 ) -> DeskOut:
-    gate = _switchable(context.service.policy.gate, "this robot has no simulation gate")
-    gate.required = body.require_simulation
+    """Saved, then at once for every door; a restart keeps it (on the floor of
+    ``--require-simulation``: a server started with it starts with the gate on)."""
+    _switchable(context.service.policy.gate, "this robot has no simulation gate")
+    await context.desk.set_gate(body.require_simulation, session.user.username)
     state = "on" if body.require_simulation else "off"
     return await _switched(context, request, session, DeskAction.GATE, state=state)
 
@@ -119,13 +161,14 @@ async def release(request: Request, session: StaffDep, context: ContextDep) -> D
 async def set_lab_network(
     request: Request, body: LabNetworkIn, session: StaffDep, context: ContextDep
 ) -> DeskOut:
-    """At once for every door; 422 naming the entry that is not a network."""
+    """Saved, then at once for every door; 422 naming the entry that is not a network. A
+    restart keeps what lies inside ``--lab-network`` when the server starts with it."""
     lab = _switchable(context.service.policy.lab, "this robot has no lab network setting")
     try:
         networks = parse_networks(body.networks)
     except NetworkError as exc:
         raise ApiError(422, "invalid-request", str(exc), where={"field": "networks"}) from None
-    lab.networks = networks
+    await context.desk.set_networks(networks, session.user.username)
     written = ", ".join(lab.written()) or DESK_WORDS["anywhere"]
     return await _switched(context, request, session, DeskAction.LAB_NETWORK, networks=written)
 

@@ -169,7 +169,9 @@ async function loadDesk() {
 
 function drawDesk(desk) {
   drawGate(desk.require_simulation);
+  drawFrom("gate-from", desk.require_simulation_from);
   drawNetworks(desk);
+  drawFrom("net-from", desk.lab_networks_from);
   state.heldBy = desk.held_by;
   const held = desk.held_by != null;
   $("hold-state").textContent = held ? fill(W.held, { who: desk.held_by }) : W["hold-free"];
@@ -201,6 +203,23 @@ function drawGate(on) {
   $("gate-state").className = "desk-state" + (on ? " on" : "");
   $("gate-toggle").textContent = on ? W["gate-turn-off"] : W["gate-turn-on"];
   $("gate-toggle").setAttribute("aria-pressed", String(on));
+}
+
+/** Where a setting came from, in words: the default, the server's start-up option, or who
+ * chose it on the desk and when (and whether a restart goes back to the option). */
+export function saidFrom(origin) {
+  const facts = { who: origin.by, when: when(origin.at), flag: origin.command_line };
+  if (origin.source !== "desk") return fill(W[`from-${origin.source}`] ?? "", facts);
+  return fill(W[origin.until_restart ? "from-desk-until-restart" : "from-desk"], facts);
+}
+
+/** The origin's words, the start-up option kept on one line as the technician types it. */
+function drawFrom(id, origin) {
+  const text = saidFrom(origin);
+  const flag = origin.command_line;
+  const at = flag ? text.indexOf(flag) : -1;
+  if (at < 0) $(id).textContent = text;
+  else $(id).replaceChildren(text.slice(0, at), el("code", {}, flag), text.slice(at + flag.length));
 }
 
 async function setGate(on) {
