@@ -117,7 +117,9 @@ def serve(
             "--require-simulation",
             help="The instructor's gate: the lab robot loads and runs a program only after "
             "the same program and points passed a simulated run without pre-flight errors, "
-            "whichever door it comes through (web, rosbridge, the thesis's messages).",
+            "whichever door it comes through (web, rosbridge, the thesis's messages). "
+            "Without it, the gate the instructor's desk last saved; with it, on at start "
+            "whatever was saved.",
         ),
     ] = False,
     lab_networks: Annotated[
@@ -127,8 +129,9 @@ def serve(
             metavar="CIDR",
             help="Where the lab robot may be driven from: a network such as 192.168.10.0/24 "
             "(repeatable). Elsewhere students may watch and use their own simulator, and "
-            "STOP always works; staff are exempt. Default: anywhere. Switched live on the "
-            "instructor's desk.",
+            "STOP always works; staff are exempt. Default: anywhere, or what the "
+            "instructor's desk last saved (switched live there); with this option, a "
+            "saved list is kept only inside these networks.",
         ),
     ] = None,
     turn_minutes: Annotated[
