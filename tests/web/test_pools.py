@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import os
+import signal
+import time
+from pathlib import Path
 
 from melfa.web.pools import WORKER_NICENESS, BoundedPool
+from tests.waiting import wait_until
 
 
 def test_worker_processes_run_at_a_lower_cpu_priority_than_the_server() -> None:
@@ -19,3 +24,46 @@ def test_worker_processes_run_at_a_lower_cpu_priority_than_the_server() -> None:
         pool.shutdown()
     ours = os.nice(0)
     assert theirs == min(19, ours + WORKER_NICENESS)
+
+
+def work_for_ten_minutes(started: str) -> None:
+    """In a worker: a check that goes on and on (say so first)."""
+    Path(started).touch()
+    time.sleep(600)
+
+
+def _gone(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except FileNotFoundError:
+        return True
+    return state == "Z"
+
+
+def test_a_worker_still_at_work_when_the_server_stops_is_ended_not_waited_for(
+    tmp_path: Path,
+) -> None:
+    """Ctrl-C on `melfa serve`: the server's exit joins its worker processes, so one still
+    at work (a big check, a load plan) must be ended by `shutdown`, not left to finish:
+    it keeps nothing (before, the exit waited for the workers to wind down on their own,
+    seconds on a busy machine)."""
+    pool = BoundedPool("cpu", 1, 1, processes=True)
+    started = tmp_path / "started"
+
+    async def main() -> None:
+        worker = await pool.run(os.getpid)
+        busy = asyncio.ensure_future(pool.run(work_for_ten_minutes, str(started)))
+        try:
+            await asyncio.to_thread(wait_until, started.exists, 120, "the work to start")
+            pool.shutdown()
+            await asyncio.to_thread(wait_until, lambda: _gone(worker), 60, "the worker to end")
+            with contextlib.suppress(Exception):
+                await busy  # failed: its worker was ended
+        finally:
+            with contextlib.suppress(OSError):
+                os.kill(worker, signal.SIGKILL)  # not left behind if the test fails
+
+    try:
+        asyncio.run(main())
+    finally:
+        pool.shutdown()
