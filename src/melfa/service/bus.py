@@ -103,6 +103,18 @@ class Subscription:
             self._wakeup.clear()
             await self._wakeup.wait()
 
+    async def get_within(self, seconds: float | None) -> Event | None:
+        """The next event, or None when none comes within ``seconds`` (None: no limit).
+        Cancelling the caller always ends it, even when an event arrives in the same
+        moment: Python 3.11's `asyncio.wait_for` then returns the event and drops the
+        cancellation, and a socket's pump that got a snapshot 20 times a second ran on
+        after its socket had closed (the server's Ctrl-C waited 3 s for it)."""
+        try:
+            async with asyncio.timeout(seconds):
+                return await self.get()
+        except TimeoutError:
+            return None
+
     def pending(self) -> int:
         return len(self._queue)
 

@@ -259,15 +259,15 @@ class Connection:
         while True:
             timeout = None if pending is None else max(0.0, last + self.interval - time.monotonic())
             try:
-                event = await asyncio.wait_for(sub.get(), timeout)
-            except TimeoutError:
+                event = await sub.get_within(timeout)
+            except ServiceClosed:
+                return
+            if event is None:
                 assert pending is not None
                 await self.send(StateMessage.model_validate(state_dict(pending)))
                 self.sent_states += 1
                 last, pending = time.monotonic(), None
                 continue
-            except ServiceClosed:
-                return
             if isinstance(event, StateSnapshot):
                 if pending is None and time.monotonic() - last >= self.interval:
                     await self.send(StateMessage.model_validate(state_dict(event)))
