@@ -3,12 +3,14 @@ server's counters), started the way `melfa serve` starts it (`melfa.web.server`)
 
 from __future__ import annotations
 
+import asyncio
 import socket
 import threading
-from collections.abc import Iterator
+from collections.abc import Coroutine, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
+from typing import Any, TypeVar
 
 import httpx
 from argon2 import PasswordHasher
@@ -18,7 +20,9 @@ from melfa.web import WebSettings, create_app
 from melfa.web.context import WebContext
 from melfa.web.server import uvicorn_config
 from tests.waiting import start_uvicorn
-from tests.web.conftest import PASSWORDS
+from tests.web.conftest import PASSWORDS, fast_service, make_store
+
+T = TypeVar("T")
 
 CHEAP = PasswordHasher(time_cost=1, memory_cost=64, parallelism=1)
 
@@ -52,6 +56,14 @@ class Live:
     port: int
     app: Any
     store: Store
+    loop: asyncio.AbstractEventLoop | None = None
+    """The server's event loop (`on_loop`)."""
+
+    def on_loop(self, work: Coroutine[Any, Any, T]) -> T:
+        """Run ``work`` on the server's event loop and give its result (state that only
+        the loop may touch)."""
+        assert self.loop is not None
+        return asyncio.run_coroutine_threadsafe(work, self.loop).result(60)
 
     @property
     def context(self) -> WebContext:
@@ -96,7 +108,21 @@ def live_server(
             for sock in listening.sockets:
                 sock.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, send_buffer)
     try:
-        yield Live(f"http://127.0.0.1:{port}", port, app, store)
+        loop = server.servers[0].get_loop()
+        yield Live(f"http://127.0.0.1:{port}", port, app, store, loop)
     finally:
         server.should_exit = True
         thread.join(30)
+
+
+@contextmanager
+def fresh_live(tmp_path: Path) -> Iterator[Live]:
+    """`live_server` on a new store under ``tmp_path`` with the test accounts
+    (`make_store`), default settings and a fast-polling service."""
+    store = make_store(tmp_path / "data")
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service())
+    try:
+        with live_server(store, settings) as server:
+            yield server
+    finally:
+        store.close()

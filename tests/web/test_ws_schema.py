@@ -38,9 +38,7 @@ from melfa.service import (
     UploadProgress,
 )
 from melfa.service.debugging import DebugUpdate
-from melfa.web import WebSettings
-from tests.web.conftest import fast_service, make_store
-from tests.web.live_server import Live, live_server
+from tests.web.live_server import Live, fresh_live
 
 ROOT = Path(__file__).resolve().parents[2]
 COMMITTED = ROOT / "docs" / "ws-schema.json"
@@ -122,11 +120,8 @@ class Recorder:
 
 @pytest.fixture
 def live(tmp_path: Path) -> Iterator[Live]:
-    store = make_store(tmp_path / "data")
-    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service())
-    with live_server(store, settings) as server:
+    with fresh_live(tmp_path) as server:
         yield server
-    store.close()
 
 
 def test_every_message_of_a_session_validates_against_the_committed_schema(live: Live) -> None:

@@ -30,6 +30,7 @@ from melfa.web.context import WebContext
 from melfa.web.deps import find_session
 from melfa.web.desk_settings import DeskSettings, StartOptions
 from melfa.web.guard import SocketGuard
+from melfa.web.known_sessions import KnownSessions
 from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
 from melfa.web.pools import Pools
@@ -135,7 +136,10 @@ def create_app(
                 PreflightState(config.data_dir, the_store.audit),
                 pools=Pools(config.pools),
                 guard=SocketGuard(
-                    limits.max_sockets_per_user, limits.max_sockets, limits.max_sockets_signing_in
+                    limits.max_sockets_per_user,
+                    limits.max_sockets,
+                    limits.max_sockets_signing_in,
+                    known=KnownSessions(limits.socket_recheck_s, limits.stop_session_memory_s),
                 ),
                 rosapi_params=ParamBudget(
                     limits.rosapi_param_chars, limits.rosapi_param_chars_total

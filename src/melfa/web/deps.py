@@ -1,13 +1,18 @@
 """Dependencies declared once (the FastAPI template's api/deps.py): the context, the
 signed-in session with CSRF checked on every state-changing request, the service `Actor`,
-and role gates."""
+and role gates.
+
+Every dependency here is ``async``: FastAPI runs a plain ``def`` dependency in the thread
+pool every request shares, one more hop away from the event loop and back (on two busy
+cores each hop waits for the CPU again); these do nothing that blocks."""
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Awaitable, Callable
 from typing import Annotated
 
-from fastapi import Depends, Request, WebSocket
+from fastapi import BackgroundTasks, Depends, Request, WebSocket
 from starlette.requests import HTTPConnection
 
 from melfa.service import Actor
@@ -17,9 +22,10 @@ from melfa.store import Role, Session, check_csrf, is_access_token
 from melfa.web.config import CSRF_HEADER, SAFE_METHODS, SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.errors import ApiError
+from melfa.web.pools import Busy
 
 
-def get_context(request: Request) -> WebContext:
+async def get_context(request: Request) -> WebContext:
     context: WebContext = request.app.state.web
     return context
 
@@ -80,18 +86,53 @@ async def _signed_in(
 
 
 async def get_session(request: Request, context: ContextDep) -> Session:
-    """The signed-in session (see `_signed_in`), looked up in the store's pool."""
-    return await _signed_in(request, context, lambda token: find_session(context, token))
-
-
-async def get_stop_session(request: Request, context: ContextDep) -> Session:
-    """The session of a STOP: looked up read-only in a pool nothing else uses, so no login
-    flood, check or store write can delay it."""
+    """The signed-in session (see `_signed_in`), looked up in the store's pool; a session
+    found is remembered for STOP (`get_stop_session`)."""
 
     async def find(token: str) -> Session | None:
-        if is_access_token(token):
-            return await context.pools.stop.run(context.store.tokens.lookup, token)
-        return await context.pools.stop.run(context.store.sessions.lookup, token, touch=False)
+        session = await find_session(context, token)
+        if session is not None:
+            context.guard.known.remember(token, session)
+        return session
+
+    return await _signed_in(request, context, find)
+
+
+async def stop_lookup(context: WebContext, token: str) -> Session | None:
+    """A STOP's session read from the store, read-only, in a pool nothing else uses (no
+    login flood, check or store write delays it), and remembered (or forgotten)."""
+    if is_access_token(token):
+        session = await context.pools.stop.run(context.store.tokens.lookup, token)
+    else:
+        session = await context.pools.stop.run(context.store.sessions.lookup, token, touch=False)
+    known = context.guard.known
+    if session is None:
+        known.forget(token)
+    else:
+        known.remember(token, session)
+    return session
+
+
+async def reconfirm(context: WebContext, token: str) -> None:
+    """Read a remembered session again (after the STOP that used it was answered)."""
+    with contextlib.suppress(Busy):
+        await stop_lookup(context, token)
+
+
+async def get_stop_session(
+    request: Request, context: ContextDep, after: BackgroundTasks
+) -> Session:
+    """The session of a STOP: from memory when this server confirmed it recently
+    (`melfa.web.known_sessions`: no thread, no store; read again once the STOP is
+    answered when it is older than `Limits.socket_recheck_s`), else `stop_lookup`."""
+
+    async def find(token: str) -> Session | None:
+        recalled = context.guard.known.recall(token)
+        if recalled is None:
+            return await stop_lookup(context, token)
+        if recalled.stale:
+            after.add_task(reconfirm, context, token)
+        return recalled.session
 
     return await _signed_in(request, context, find)
 
@@ -118,20 +159,20 @@ def actor_of(session: Session, address: Address | None = None) -> Actor:
     return Actor(session.user.username, service_role(session.user.role), session.id[:16], address)
 
 
-def get_actor(request: Request, session: SessionDep) -> Actor:
+async def get_actor(request: Request, session: SessionDep) -> Actor:
     return actor_of(session, peer_of(request))
 
 
 ActorDep = Annotated[Actor, Depends(get_actor)]
 
 
-def require_staff(session: SessionDep) -> Session:
+async def require_staff(session: SessionDep) -> Session:
     if not session.user.role.is_staff:
         raise ApiError(403, "forbidden", "only instructors and admins may do this")
     return session
 
 
-def require_admin(session: SessionDep) -> Session:
+async def require_admin(session: SessionDep) -> Session:
     if session.user.role is not Role.ADMIN:
         raise ApiError(403, "forbidden", "only admins may manage accounts")
     return session

@@ -7,6 +7,8 @@ refused) and closed. Changes made elsewhere (`melfa users` in another process) a
 are found by `sweep`, which re-reads every open socket's session every
 `Limits.socket_recheck_s`, and by the sockets themselves, which re-read their session
 before anything that moves the arm. Caps on open sockets per user and overall live here too.
+The same revocations forget the session where a STOP would find it in memory (`known`,
+`melfa.web.known_sessions`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from collections.abc import Awaitable, Callable, Iterator
 from dataclasses import dataclass, field
 
 from melfa.store import Session
+from melfa.web.known_sessions import KnownSessions
 from melfa.web.limits import Limits, RateMeter, json_too_deep
 
 _log = logging.getLogger("melfa.web.guard")
@@ -59,6 +62,8 @@ class SocketGuard:
     handles: set[SocketHandle] = field(default_factory=set)
     signing_in: int = 0
     """Sockets accepted but not yet signed in (`before_sign_in`)."""
+    known: KnownSessions = field(default_factory=KnownSessions)
+    """The sessions a STOP is answered from without the store: revoked with the sockets."""
     _tasks: set[asyncio.Task[None]] = field(default_factory=set)
 
     @contextlib.contextmanager
@@ -98,11 +103,13 @@ class SocketGuard:
 
     def revoke_session(self, session_id: str, reason: str) -> int:
         """End every socket of one session (sign-out); how many."""
+        self.known.forget_session(session_id)
         return self._revoke([h for h in self.handles if h.session_id == session_id], reason)
 
     def revoke_user(self, user: str, reason: str, *, keep_session: str | None = None) -> int:
         """End every socket of one user (password or role change, removal), except those
         of ``keep_session`` (the session that changed its own password)."""
+        self.known.forget_user(user, keep_session=keep_session)
         hit = [h for h in self.handles if h.user == user and h.session_id != keep_session]
         return self._revoke(hit, reason)
 

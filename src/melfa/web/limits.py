@@ -86,7 +86,11 @@ class Limits:
     json_depth: int = 32
     """Deepest nesting of a JSON message on a socket."""
     socket_recheck_s: float = 2.0
-    """How often an open socket's session is re-read (changes made by another process)."""
+    """How often an open socket's session is re-read (changes made by another process);
+    a STOP answered from a session in memory older than this re-reads it once answered."""
+    stop_session_memory_s: float = 60.0
+    """A STOP is answered from a session this server confirmed within this long, without
+    reading the store (`melfa.web.known_sessions`); older, it is read again."""
 
     def body_limit(self, path: str) -> int:
         for prefix, limit in self.body_bytes_by_route:

@@ -226,9 +226,10 @@ async def stop(
     context: ContextDep,
     target: Annotated[str, Query(description=TARGET_HELP)] = LAB,
 ) -> Ok:
-    """Overtakes every queued command; allowed to every signed-in user. Its own path: the
-    session is read in a pool of its own and the STOP goes out from the service's stop
-    thread, so logins, checks and other requests never delay it."""
+    """Overtakes every queued command; allowed to every signed-in user. Its own path, as
+    direct as the WebSocket's: the session comes from memory when this server confirmed it
+    recently (else it is read in a pool of its own), and the STOP goes out from the
+    service's stop thread, so logins, checks and other requests never delay it."""
     chosen = await find_target(context.targets, session.user.username, target)
     actor = chosen.actor(actor_of(session, peer_of(request)))
     await operate(actor, Command.STOP, lambda: chosen.stop(actor))

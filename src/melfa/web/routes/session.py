@@ -70,6 +70,7 @@ async def sign_in(context: WebContext, username: str, password: str, addr: str) 
     if user is None:
         raise ApiError(401, "wrong-login", "Wrong username or password")
     new = await context.db(context.store.sessions.create, user, addr)
+    context.guard.known.remember(new.token, new.session)  # a first STOP needs no store read
     await context.store.audit.record_async(
         AuditEvent(
             action=DeskAction.SIGN_IN.value,
