@@ -5,10 +5,14 @@ admins everyone: one rule, `Role.may_manage`), a class list imported from the CS
 from __future__ import annotations
 
 import json
+from pathlib import Path
 from typing import Any
 
+from fastapi.testclient import TestClient
+
 from melfa.vocab.refusals import Refusal
-from tests.web.conftest import Web, assert_error
+from melfa.web import WebSettings, create_app
+from tests.web.conftest import Web, assert_error, fast_service, make_store
 
 HELD_TEXT = " ".join(Refusal.HELD.words(who="ivy"))
 """What every door says while ivy holds the robot (one home: `melfa.vocab.refusals`)."""
@@ -138,3 +142,24 @@ def test_a_sign_in_is_audited_and_a_wrong_one_is_not(web: Web) -> None:
     web.ann.get("/api/session")
     entries = web.store.audit.query(action="session.sign-in").entries
     assert [(e.actor, e.role, e.result) for e in entries] == [("ann", "student", "ok")]
+
+
+def test_the_desks_gate_survives_a_new_app_on_the_same_database(tmp_path: Path) -> None:
+    """The app factory twice on one SQLite file (a restart, in process; the real `melfa
+    serve` restarted is tests/web/test_desk_restart.py)."""
+    settings = WebSettings(data_dir=tmp_path / "data", service_config=fast_service())
+    body = {"program": PROGRAM, "points": POINTS}
+    with make_store(tmp_path / "data") as store:
+        app = create_app(settings, store=store)
+        with TestClient(app) as client:
+            web = Web(client, store, app)
+            assert web.ivy.put("/api/desk/gate", json={"require_simulation": True}).is_success
+    with make_store(tmp_path / "data") as store:
+        app = create_app(settings, store=store)
+        with TestClient(app) as client:
+            web = Web(client, store, app)
+            desk = web.ivy.get("/api/desk").json()
+            assert desk["require_simulation"] is True
+            assert desk["require_simulation_from"]["by"] == "ivy"
+            assert_error(web.ann.post("/api/robot/project", json=body), 409, "simulation-required")
+            assert_error(web.ann.post("/api/queue", json=body), 409, "simulation-required")

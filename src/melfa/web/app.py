@@ -149,13 +149,15 @@ def create_app(
             async def save(target: str, name: str, value: object, by: str) -> SavedSetting:
                 return await context.db(the_store.robot_settings.save, target, name, value, by)
 
-            # What staff chose on the desk before a restart, on the start-up options' floor.
+            # What staff chose on the desk before a restart, on the start-up options' floor
+            # (a service given by the caller brings its own: its gate, its networks).
+            policy = the_service.policy
+            options = StartOptions(
+                config.require_simulation or policy.simulation_required,
+                config.lab_networks or (policy.lab.networks if policy.lab is not None else ()),
+            )
             context.desk = DeskSettings(
-                the_store.robot_settings,
-                save,
-                the_service.policy,
-                LAB,
-                StartOptions(config.require_simulation, config.lab_networks),
+                the_store.robot_settings, save, policy, LAB, options
             ).start()
             turns = make_keeper(
                 LAB,
