@@ -161,7 +161,7 @@ def test_lease_rules() -> None:
         async with service:
             with pytest.raises(LeaseRequired, match="observer"):
                 await service.servo(OLGA, True)
-            with pytest.raises(NotAllowed):
+            with pytest.raises(LeaseRequired, match="olga is an observer"):
                 service.acquire_lease(OLGA)
             await service.servo(ANN, True)  # a free lease is taken by the first mover
             assert service.lease_holder == ANN

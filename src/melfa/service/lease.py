@@ -183,7 +183,7 @@ class Lease:
         """Take a free lease (None if ``actor``'s user already holds it)."""
         self.expire()
         if actor.role is Role.OBSERVER:
-            raise NotAllowed(f"{actor.user} is an observer and cannot hold the robot")
+            raise LeaseRequired(None, Refusal.OBSERVER, user=actor.user)
         if self.holds(actor):
             self._last_used = self._clock()
             return None

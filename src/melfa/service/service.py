@@ -342,9 +342,9 @@ class RobotService(RobotCommands):
         return self._lease.info()
 
     def acquire_lease(self, actor: Actor) -> None:
-        """Take the free operator lease (`LeaseRequired` naming the holder if taken,
-        `NotAllowed` for observers, `Refused` from outside the lab's networks). Every
-        session of the holder's user shares it."""
+        """Take the free operator lease (`LeaseRequired` naming the holder if taken, or
+        for observers; `Refused` from outside the lab's networks; each refusal audited).
+        Every session of the holder's user shares it."""
 
         def take() -> None:
             self.policy.from_where(actor)
