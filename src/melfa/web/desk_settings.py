@@ -6,6 +6,7 @@ may only tighten); and where each setting in force came from, which the desk sho
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
@@ -68,6 +69,8 @@ class DeskSettings:
         self.options = options
         self.gate_origin: Origin
         self.networks_origin: Origin
+        self._switching = asyncio.Lock()
+        """One switch at a time: what applies is what was saved last."""
 
     def start(self) -> DeskSettings:
         """Read what staff chose before the restart and set the policy by the rule (before
@@ -99,19 +102,22 @@ class DeskSettings:
     async def set_gate(self, on: bool, by: str) -> None:
         """Save the gate, then switch it for every door (a store that fails leaves it as
         it was: nothing applies unsaved)."""
-        saved = await self._save(self.target, GATE, on, by)
-        if self.policy.gate is not None:
-            self.policy.gate.required = on
-        choice = Choice(on, saved.by, saved.at)
-        self.gate_origin = gate_switched(self.options.require_simulation, choice)
+        async with self._switching:
+            saved = await self._save(self.target, GATE, on, by)
+            if self.policy.gate is not None:
+                self.policy.gate.required = on
+            choice = Choice(on, saved.by, saved.at)
+            self.gate_origin = gate_switched(self.options.require_simulation, choice)
 
     async def set_networks(self, networks: Networks, by: str) -> None:
         """Save the lab's networks, then set them (as `set_gate`)."""
-        saved = await self._save(self.target, LAB_NETWORKS, [str(n) for n in networks], by)
-        if self.policy.lab is not None:
-            self.policy.lab.networks = networks
-        choice = Choice(networks, saved.by, saved.at)
-        self.networks_origin = networks_switched(self.options.lab_networks, choice)
+        written = [str(n) for n in networks]
+        async with self._switching:
+            saved = await self._save(self.target, LAB_NETWORKS, written, by)
+            if self.policy.lab is not None:
+                self.policy.lab.networks = networks
+            choice = Choice(networks, saved.by, saved.at)
+            self.networks_origin = networks_switched(self.options.lab_networks, choice)
 
 
 __all__ = ["GATE", "LAB_NETWORKS", "DeskSettings", "StartOptions"]
