@@ -37,6 +37,7 @@ from pycrdt import Doc, Text
 from websockets.asyncio.client import ClientConnection, connect
 
 from melfa.store import Store
+from serving import wait_healthy
 
 PASSWORD = "bench-password-1"
 ADMIN_PASSWORD = "bench-admin-password-1"
@@ -215,13 +216,7 @@ def main() -> None:
         )
         base = f"http://127.0.0.1:{port}"
         try:
-            for _ in range(600):
-                try:
-                    if httpx.get(base + "/api/health", timeout=2).status_code == 200:
-                        break
-                except httpx.HTTPError:
-                    pass
-                time.sleep(0.1)
+            wait_healthy(base)
             asyncio.run(run(base, args.pairs, args.seconds, args.rate))
         finally:
             server.send_signal(signal.SIGINT)

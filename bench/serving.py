@@ -85,17 +85,22 @@ def serve(
     )
     url = f"http://127.0.0.1:{port}"
     try:
-        for _ in range(600):
-            try:
-                if httpx.get(url + "/api/health", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.1)
+        wait_healthy(url)
         yield url, server.pid
     finally:
         server.terminate()
         server.wait(30)
+
+
+def wait_healthy(url: str) -> None:
+    """Until the server at ``url`` answers ``/api/health`` (a minute at most)."""
+    for _ in range(600):
+        try:
+            if httpx.get(url + "/api/health", timeout=2).status_code == 200:
+                return
+        except httpx.HTTPError:
+            pass
+        time.sleep(0.1)
 
 
 def sign_in(url: str, user: str, password: str = STUDENT_PASSWORD) -> dict[str, str]:

@@ -17,9 +17,11 @@ from collections.abc import Iterator
 from importlib.metadata import version
 from pathlib import Path
 
+import httpx
 import pytest
 import typer.main
 from typer.testing import CliRunner
+from websockets.sync.client import connect
 
 from melfa.cli import EXIT_INTERRUPTED, app
 from tests.serving import free_port
@@ -145,30 +147,60 @@ def served_port(proc: subprocess.Popen[str]) -> tuple[int, list[str]]:
     raise AssertionError(f"no 'serving on' line: {seen}")
 
 
+LOOPING = "SERVO ON\n*LOOP\nMOV P1\nMOV P2\nGOTO *LOOP\nEND\n"
+LOOPING_POINTS = (
+    "DEF POS P1=(350.00,-150.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    "DEF POS P2=(350.00,150.00,300.00,180.00,0.00,180.00)(7,0)\n"
+)
+
+
 def test_serve_port_0_prints_the_port_taken_and_ctrl_c_ends_it_with_130(tmp_path: Path) -> None:
+    """With a browser's socket open on a private simulator that runs a program (a lab's
+    usual moment to stop the server): Ctrl-C still ends it with 130, cleanly."""
+    password = "conventions-pass-1"
     proc = subprocess.Popen(
         [*MELFA, "serve", "--port", "0", "--data", str(tmp_path)],
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,
         text=True,
-        env=clean_env(MELFA_ADMIN_PASSWORD="conventions-pass-1"),
+        env=clean_env(MELFA_ADMIN_PASSWORD=password),
         start_new_session=True,  # its own process group, as a terminal's foreground job
     )
     try:
         port, _ = served_port(proc)
         assert port != 0
+        base = f"http://127.0.0.1:{port}"
 
         def answers() -> bool:
             try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/api/health", timeout=2):
+                with urllib.request.urlopen(f"{base}/api/health", timeout=2):
                     return True
             except OSError:
                 return False
 
         wait_until(answers, 60, "the served port to answer")
+        with httpx.Client(base_url=base, timeout=60) as client:
+            signed = client.post("/api/session", json={"username": "admin", "password": password})
+            signed.raise_for_status()
+            client.headers["X-CSRF-Token"] = signed.json()["csrf_token"]
+            for path, body in (
+                ("/api/robot/servo", {"on": True}),
+                ("/api/robot/project", {"program": LOOPING, "points": LOOPING_POINTS}),
+                ("/api/robot/run", None),
+            ):
+                client.post(path, json=body, params={"target": "mine"}).raise_for_status()
+            cookie = f"melfa_session={client.cookies['melfa_session']}"
+        with connect(
+            f"ws://127.0.0.1:{port}/api/ws?target=mine",
+            additional_headers={"Cookie": cookie, "Origin": base},
+        ) as ws:
+            wait_until(lambda: '"running":true' in str(ws.recv(timeout=60)), 60, "the run")
+            os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the whole group, workers too
+            rest, _ = proc.communicate(timeout=60)
     finally:
-        os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the whole group, workers too
-        rest, _ = proc.communicate(timeout=60)
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+            rest, _ = proc.communicate(timeout=60)
     assert proc.returncode == EXIT_INTERRUPTED, rest
     assert "Traceback" not in rest and "KeyboardInterrupt" not in rest, rest
     assert "melfa stopped" in rest
