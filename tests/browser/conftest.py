@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, BrowserContext, Page, sync_playwright
+from playwright.sync_api import Browser, BrowserContext, Locator, Page, sync_playwright
 
 from tests.serving import melfa_serve as serving_melfa
 
@@ -151,6 +151,14 @@ class Session:
 
     def set_points(self, text: str) -> None:
         self.eval("(t) => window.melfa.workspace.update({points: t})", text)
+
+    def checked_problem(self, points: str, program: str, says: str) -> Locator:
+        """The problems list's row that says ``says`` after *Check* of ``program`` with
+        ``points`` (as a student types them in, then presses the button)."""
+        self.set_points(points)
+        self.set_program(program)
+        self.page.click("#act-check")
+        return self.page.locator("#problem-list li", has_text=says)
 
     def joints(self) -> list[float]:
         return json.loads(self.page.get_attribute("#view3d", "data-joints") or "[]")

@@ -188,10 +188,11 @@ def test_a_problem_with_two_fixes_is_read_whole(open_session: Any) -> None:
     current position") showed "Position PHOM is not de…" even at 1366 px: its message wraps."""
     s: Session = open_session("alice")
     page = s.page
-    s.set_points("PHOME=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n")
-    s.set_program("MOV PHOM\nEND\n")
-    page.click("#act-check")
-    row = page.locator("#problem-list li", has_text="PHOM is not defined")
+    row = s.checked_problem(
+        "PHOME=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n",
+        "MOV PHOM\nEND\n",
+        "PHOM is not defined",
+    )
     expect(row.locator(".fixes button")).to_have_count(2)
     for width, height in ((1366, 768), (1024, 700)):
         page.set_viewport_size({"width": width, "height": height})
