@@ -107,6 +107,19 @@ def browser() -> Iterator[Browser]:
         browser.close()
 
 
+TOAST_LOG = """
+window.__toasts = [];
+new MutationObserver((changes) => {
+  for (const change of changes)
+    for (const node of change.addedNodes)
+      if (node.nodeType === 1 && node.classList.contains("toast"))
+        queueMicrotask(() => window.__toasts.push(node.innerText));
+}).observe(document, { childList: true, subtree: true });
+"""
+"""Every toast a page showed, in order (a toast leaves after 4 s: a test on a loaded machine
+may look only after that)."""
+
+
 class Session:
     """One signed-in browser context with the IDE open."""
 
@@ -118,6 +131,7 @@ class Session:
         self.context: BrowserContext = browser.new_context(viewport=VIEWPORT)  # type: ignore[arg-type]
         if not first_run:  # the first-run guide was seen (test_guide.py wants it unseen)
             self.context.add_init_script(f"localStorage.setItem('melfa.guide.{user}', 'done')")
+        self.context.add_init_script(TOAST_LOG)
         self.context.set_default_timeout(10_000)
         self.errors: list[str] = []
         self.page: Page = self.context.new_page()
@@ -159,6 +173,16 @@ class Session:
         self.set_program(program)
         self.page.click("#act-check")
         return self.page.locator("#problem-list li", has_text=says)
+
+    def saw_toast(self, pattern: str, timeout: float = 30_000) -> str:
+        """The first toast since the page loaded whose text matches the regular expression
+        ``pattern``, waiting up to ``timeout`` ms for it (gone again or not)."""
+        found = self.page.wait_for_function(
+            "(p) => window.__toasts.find((t) => new RegExp(p).test(t))",
+            arg=pattern,
+            timeout=timeout,
+        )
+        return str(found.json_value())
 
     def joints(self) -> list[float]:
         return json.loads(self.page.get_attribute("#view3d", "data-joints") or "[]")

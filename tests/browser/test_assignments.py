@@ -76,7 +76,9 @@ def _student_works(s: Session, title: str) -> str:
     )
     expect(page.locator("#assign-checks li.pass")).to_have_count(3)
     page.click("#assign-submit")
-    expect(page.locator(".toast", has_text="Revision 2 is recorded")).to_be_visible(timeout=GRADING)
+    # The toast names the revision graded: 2 or more (an autosave may record the fix on its
+    # own first on a loaded machine).
+    s.saw_toast(r"Revision [2-9] is recorded", timeout=GRADING)
     expect(page.locator("#assign-attempts")).to_have_text(
         "2 of 3 submissions left", timeout=GRADING
     )
