@@ -6,6 +6,7 @@ the threads are held by a latch, and STOP must be answered while they are."""
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections.abc import Iterator
 from pathlib import Path
@@ -178,3 +179,20 @@ def test_known_sessions_keep_the_newest_and_forget_a_user_but_one_session(live: 
     known.forget_user("ann", keep_session=ann[0].session.id)
     assert known.recall(ann[0].token) is not None and known.recall(ann[1].token) is None
     assert known.recall(bob.token) is not None
+
+
+def test_a_re_read_that_cannot_be_made_leaves_the_stop_answered_and_no_error(
+    live: Live, caplog: pytest.LogCaptureFixture
+) -> None:
+    known = live.context.guard.known
+    clock = Clock()
+    known.clock = clock
+    token, csrf = live.login("ann")
+    pool = live.context.pools.stop
+    pool.shutdown()  # as when the server closes: no read can be made
+    tried = pool.done
+    clock.now += known.fresh_s
+    assert stop(live, auth(token, csrf)) == 200
+    wait_until(lambda: pool.done > tried, what="the re-read tried")
+    assert known.recall(token) is not None  # kept until it ages out
+    assert not [r for r in caplog.records if r.levelno >= logging.ERROR]

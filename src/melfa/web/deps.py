@@ -22,7 +22,6 @@ from melfa.store import Role, Session, check_csrf, is_access_token
 from melfa.web.config import CSRF_HEADER, SAFE_METHODS, SESSION_COOKIE
 from melfa.web.context import WebContext
 from melfa.web.errors import ApiError
-from melfa.web.pools import Busy
 
 
 async def get_context(request: Request) -> WebContext:
@@ -114,8 +113,10 @@ async def stop_lookup(context: WebContext, token: str) -> Session | None:
 
 
 async def reconfirm(context: WebContext, token: str) -> None:
-    """Read a remembered session again (after the STOP that used it was answered)."""
-    with contextlib.suppress(Busy):
+    """Read a remembered session again (after the STOP that used it was answered). Best
+    effort: when it cannot be read (the pool full, the server closing), the entry ages out
+    after `Limits.stop_session_memory_s`; the STOP's reply has gone, nothing to report."""
+    with contextlib.suppress(Exception):
         await stop_lookup(context, token)
 
 
