@@ -9,7 +9,8 @@ in-process virtual controller, a temporary database):
 4. a class: ``--students`` students each typing (a check a second), autosaving (every 5 s)
    and running a looping program on their private simulator (the first *Load project*
    press counted when refused), and an instructor jogging the lab robot, for ``--minutes``:
-   STOP p95 from REST and from the socket (budget 0.5 s), load refusals (goal 0), and the
+   STOP p95 from REST and from the socket (budget 0.5 s) and their ratio in the same run
+   (both under the same load: less moved by the machine's), load refusals (goal 0), and the
    server's memory per running private simulator (its growth after the first minute).
 
 The load of the class runs in a child process, so the measuring process's own threads do
@@ -331,6 +332,9 @@ def class_phase(url: str, pid: int, who: dict[str, str], students: int, minutes:
         f"an instructor jogging, {minutes:g} min:\n"
         f"   STOP from REST   {ms(rest)}  (idle {ms(idle_rest)}; {len(rest)} stops)\n"
         f"   STOP over socket {ms(sock)}  (idle {ms(idle_socket)}; {len(sock)} stops)\n"
+        f"   REST against the socket in the same run: p50 "
+        f"{statistics.median(rest) / statistics.median(sock):.2f} ×, p95 "
+        f"{p(rest, 0.95) / p(sock, 0.95):.2f} ×\n"
         f"   budget 500 ms: REST p95 {'within' if p(rest, 0.95) <= 0.5 else 'OVER'}, socket "
         f"p95 {'within' if p(sock, 0.95) <= 0.5 else 'OVER'}\n"
         f"   first Load project presses refused: {refused} of {len(loads)} "
