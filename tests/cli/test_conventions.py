@@ -14,6 +14,7 @@ import subprocess
 import sys
 import urllib.request
 from collections.abc import Iterator
+from contextlib import contextmanager
 from importlib.metadata import version
 from pathlib import Path
 
@@ -152,24 +153,62 @@ LOOPING_POINTS = (
     "DEF POS P1=(350.00,-150.00,400.00,180.00,0.00,180.00)(7,0)\n"
     "DEF POS P2=(350.00,150.00,300.00,180.00,0.00,180.00)(7,0)\n"
 )
+SERVE_PASSWORD = "conventions-pass-1"
+
+
+@contextmanager
+def serving(tmp_path: Path, *options: str) -> Iterator[tuple[subprocess.Popen[str], str]]:
+    """`melfa serve --port 0` as a terminal's foreground job (its own process group) and
+    its address; ended with Ctrl-C if the test did not end it."""
+    proc = subprocess.Popen(
+        [*MELFA, "serve", *options, "--port", "0", "--data", str(tmp_path)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        env=clean_env(MELFA_ADMIN_PASSWORD=SERVE_PASSWORD),
+        start_new_session=True,
+    )
+    try:
+        port, _ = served_port(proc)
+        assert port != 0
+        yield proc, f"http://127.0.0.1:{port}"
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+            proc.communicate(timeout=60)
+
+
+def run_looping(client: httpx.Client, target: dict[str, str]) -> None:
+    """Signed in as the admin, a looping program run on ``target`` until it runs."""
+    signed = client.post("/api/session", json={"username": "admin", "password": SERVE_PASSWORD})
+    signed.raise_for_status()
+    client.headers["X-CSRF-Token"] = signed.json()["csrf_token"]
+    if not target:
+        client.post("/api/lease").raise_for_status()
+    for path, body in (
+        ("/api/robot/servo", {"on": True}),
+        ("/api/robot/project", {"program": LOOPING, "points": LOOPING_POINTS}),
+        ("/api/robot/run", None),
+    ):
+        client.post(path, json=body, params=target).raise_for_status()
+    state = "/api/robot/state"
+    wait_until(lambda: client.get(state, params=target).json()["running"], 60, "the run")
+
+
+def ctrl_c(proc: subprocess.Popen[str]) -> None:
+    """Ctrl-C as a terminal sends it (the whole group, workers too): status 130, "melfa
+    stopped", no traceback."""
+    os.killpg(proc.pid, signal.SIGINT)
+    rest, _ = proc.communicate(timeout=60)
+    assert proc.returncode == EXIT_INTERRUPTED, rest
+    assert "Traceback" not in rest and "KeyboardInterrupt" not in rest, rest
+    assert "melfa stopped" in rest
 
 
 def test_serve_port_0_prints_the_port_taken_and_ctrl_c_ends_it_with_130(tmp_path: Path) -> None:
     """With a browser's socket open on a private simulator that runs a program (a lab's
     usual moment to stop the server): Ctrl-C still ends it with 130, cleanly."""
-    password = "conventions-pass-1"
-    proc = subprocess.Popen(
-        [*MELFA, "serve", "--port", "0", "--data", str(tmp_path)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        env=clean_env(MELFA_ADMIN_PASSWORD=password),
-        start_new_session=True,  # its own process group, as a terminal's foreground job
-    )
-    try:
-        port, _ = served_port(proc)
-        assert port != 0
-        base = f"http://127.0.0.1:{port}"
+    with serving(tmp_path) as (proc, base):
 
         def answers() -> bool:
             try:
@@ -180,30 +219,14 @@ def test_serve_port_0_prints_the_port_taken_and_ctrl_c_ends_it_with_130(tmp_path
 
         wait_until(answers, 60, "the served port to answer")
         with httpx.Client(base_url=base, timeout=60) as client:
-            signed = client.post("/api/session", json={"username": "admin", "password": password})
-            signed.raise_for_status()
-            client.headers["X-CSRF-Token"] = signed.json()["csrf_token"]
-            for path, body in (
-                ("/api/robot/servo", {"on": True}),
-                ("/api/robot/project", {"program": LOOPING, "points": LOOPING_POINTS}),
-                ("/api/robot/run", None),
-            ):
-                client.post(path, json=body, params={"target": "mine"}).raise_for_status()
+            run_looping(client, {"target": "mine"})
             cookie = f"melfa_session={client.cookies['melfa_session']}"
         with connect(
-            f"ws://127.0.0.1:{port}/api/ws?target=mine",
+            base.replace("http:", "ws:") + "/api/ws?target=mine",
             additional_headers={"Cookie": cookie, "Origin": base},
         ) as ws:
-            wait_until(lambda: '"running":true' in str(ws.recv(timeout=60)), 60, "the run")
-            os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the whole group, workers too
-            rest, _ = proc.communicate(timeout=60)
-    finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGINT)
-            rest, _ = proc.communicate(timeout=60)
-    assert proc.returncode == EXIT_INTERRUPTED, rest
-    assert "Traceback" not in rest and "KeyboardInterrupt" not in rest, rest
-    assert "melfa stopped" in rest
+            wait_until(lambda: '"running":true' in str(ws.recv(timeout=60)), 60, "state")
+            ctrl_c(proc)
 
 
 def test_serve_on_a_busy_port_fails_before_saying_serving(tmp_path: Path) -> None:
@@ -251,6 +274,29 @@ def sim_tcp(tmp_path: Path) -> Iterator[str]:
         rest, _ = proc.communicate(timeout=30)
     assert proc.returncode == EXIT_INTERRUPTED, rest  # `melfa sim` keeps the convention too
     assert "Traceback" not in rest and "virtual controller stopped" in rest
+
+
+def test_ctrl_c_on_serve_stops_a_program_nobody_watches(sim_tcp: str, tmp_path: Path) -> None:
+    """Ctrl-C: whatever was moving is stopped first, by `melfa serve` too. A program run
+    through the API with no socket open (a script's) ran on after the server had gone,
+    with no STOP button left anywhere in the IDE."""
+    with serving(tmp_path, "--robot", sim_tcp) as (proc, base):
+        with httpx.Client(base_url=base, timeout=60) as client:
+
+            def linked() -> bool:
+                return bool(client.get("/api/health").json()["robot"]["link"] == "connected")
+
+            wait_until(linked, 60, "the robot link")
+            run_looping(client, {})
+        ctrl_c(proc)
+    status = subprocess.run(
+        [*MELFA, "status", "--json"],
+        capture_output=True,
+        text=True,
+        env=clean_env(MELFA_ROBOT=sim_tcp),
+        check=False,
+    )
+    assert '"run": "stopped"' in status.stdout, status.stdout
 
 
 def test_run_wait_shows_its_line_and_ctrl_c_stops_the_robot(sim_tcp: str, tmp_path: Path) -> None:

@@ -4,8 +4,9 @@ robot is given.
 The command is thin: it opens the store (creating the first admin and printing its
 password once), takes its ports (a busy one fails before anything says "serving"; port 0
 is a free one, printed), builds the app (`melfa.web.create_app`) and runs it under uvicorn.
-Ctrl+C shuts down cleanly: the service stops polling, ends the lease and closes the link;
-then "melfa stopped" and exit status 130, as every command's Ctrl-C.
+Ctrl+C shuts down cleanly: a program still running on the robot is stopped, the service
+stops polling, ends the lease and closes the link; then "melfa stopped" and exit status
+130, as every command's Ctrl-C.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ from starlette.middleware.gzip import GZipMiddleware
 from melfa import __version__
 from melfa.link import trace_file_sink
 from melfa.ros.rosapi import ParamBudget
-from melfa.service import RobotService
+from melfa.service import SERVICE_ACTOR, RobotService
 from melfa.service.clock import Clock
 from melfa.store import Store
 from melfa.store.robot_settings import SavedSetting
@@ -89,6 +89,17 @@ def operation_id(route: APIRoute) -> str:
     """Readable OpenAPI ids: ``tag-name`` (``robot-run``, ``workspaces-save_workspace``)."""
     tag = route.tags[0] if route.tags else "default"
     return f"{tag}-{route.name}"
+
+
+async def _stop_if_moving(service: RobotService) -> None:
+    """The server is going away, and every STOP button with it: a program still running or
+    an arm still moving is stopped first (the command line's Ctrl-C convention). A socket's
+    holder was stopped as the socket closed; this is the run nobody watches (a script's,
+    or one left to finish by `WhenHolderLeaves.FINISH`)."""
+    state = service.state
+    if state.running or state.moving:
+        with contextlib.suppress(Exception):  # a link already down: nothing to stop through
+            await service.stop(SERVICE_ACTOR)
 
 
 def create_app(
@@ -198,6 +209,7 @@ def create_app(
                 context.pools.shutdown()
         finally:
             if service is None and the_service is not None:
+                await _stop_if_moving(the_service)
                 await the_service.close()
             if own_store:
                 the_store.close()
