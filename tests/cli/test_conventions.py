@@ -6,6 +6,7 @@ line and no traceback (from `melfa serve`'s worker processes either)."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import signal
@@ -226,6 +227,22 @@ def test_serve_port_0_prints_the_port_taken_and_ctrl_c_ends_it_with_130(tmp_path
             additional_headers={"Cookie": cookie, "Origin": base},
         ) as ws:
             wait_until(lambda: '"running":true' in str(ws.recv(timeout=60)), 60, "state")
+            ctrl_c(proc)
+
+
+def test_ctrl_c_with_a_rosbridge_client_subscribed_ends_with_130(tmp_path: Path) -> None:
+    """The rosbridge server ends inside the web server's shutdown: cut off by the re-raised
+    Ctrl-C instead, its sockets' tasks printed tracebacks."""
+    bridge = free_port()
+    with serving(tmp_path, "--rosbridge-port", str(bridge)) as (proc, base):
+        with httpx.Client(base_url=base, timeout=60) as client:
+            wait_until(lambda: client.get("/api/health").status_code == 200, 60, "health")
+            run_looping(client, {})
+            token = client.cookies["melfa_session"]
+        with connect(f"ws://127.0.0.1:{bridge}/rosbridge") as ros:
+            ros.send(json.dumps({"op": "auth", "mac": token}))
+            ros.send(json.dumps({"op": "subscribe", "topic": "/joint_states"}))
+            assert '"topic": "/joint_states"' in str(ros.recv(timeout=60))
             ctrl_c(proc)
 
 

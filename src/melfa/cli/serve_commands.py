@@ -306,6 +306,7 @@ def serve(
                 limits=settings.limits,
                 trusted_proxies=settings.trusted_proxies,
                 log_level="warning",
+                timeout_graceful_shutdown=3,
             )
         )
         served.append((bridge_server, bridge_sockets))
@@ -363,6 +364,19 @@ async def _serve_all(
         other.capture_signals = contextlib.nullcontext  # type: ignore[method-assign,assignment]
     tasks = [asyncio.create_task(other.serve(sockets=socks)) for other, socks in others]
     herald = asyncio.create_task(_when_started(first, announce))
+    shutdown = first.shutdown
+
+    async def shutdown_all(sockets: list[socket.socket] | None = None) -> None:
+        # The others end inside the first's shutdown, before its own (the rosbridge app
+        # uses the web app's robot service): the first re-raises Ctrl+C once its shutdown
+        # returns, and that cancels whatever is still running; a rosbridge server cut off
+        # mid-shutdown printed tracebacks.
+        for other, _ in others:
+            other.should_exit = True
+        await asyncio.gather(*tasks, return_exceptions=True)
+        await shutdown(sockets)
+
+    first.shutdown = shutdown_all  # type: ignore[method-assign]
     try:
         await first.serve(sockets=first_sockets)
     finally:
