@@ -188,11 +188,8 @@ def test_a_problem_with_two_fixes_is_read_whole(open_session: Any) -> None:
     current position") showed "Position PHOM is not de…" even at 1366 px: its message wraps."""
     s: Session = open_session("alice")
     page = s.page
-    row = s.checked_problem(
-        "PHOME=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n",
-        "MOV PHOM\nEND\n",
-        "PHOM is not defined",
-    )
+    home = "PHOME=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    row = s.checked_problem(home, "MOV PHOM\nEND\n", "PHOM is not defined")
     expect(row.locator(".fixes button")).to_have_count(2)
     for width, height in ((1366, 768), (1024, 700)):
         page.set_viewport_size({"width": width, "height": height})

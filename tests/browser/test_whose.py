@@ -197,11 +197,8 @@ def test_a_run_time_error_on_the_lab_robot_marks_its_line(
 def test_a_misspelt_point_offers_the_close_name_first(open_session: Any) -> None:
     s: Session = open_session("alice")
     page = s.page
-    row = s.checked_problem(
-        "DEF POS Phome=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n",
-        "MOV Phom\nEND\n",
-        "Phom is not defined",
-    )
+    home = "DEF POS Phome=(400.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
+    row = s.checked_problem(home, "MOV Phom\nEND\n", "Phom is not defined")
     expect(row).to_contain_text("Did you mean Phome?")
     buttons = row.locator(".fixes button")
     expect(buttons.first).to_have_text("Replace with Phome")  # the first fix is the close name
