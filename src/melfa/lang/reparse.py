@@ -32,6 +32,7 @@ from __future__ import annotations
 import re
 
 from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.fastline import read_line
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import Labels, parse, parse_line, parse_lines, step_number
 from melfa.lang.relocate import moved
@@ -131,9 +132,21 @@ class LineCache:
         lines: list[A.Line | None],
         labels: Labels,
     ) -> None:
-        """Lex the lines `fresh` names (key text, index) in one pass (the lexer is cheapest
-        over many lines at once), each with its own line number, and parse them."""
+        """Read the lines `fresh` names (key text, index): those of the commonest shapes by
+        `melfa.lang.fastline`, the others lexed in one pass (the lexer is cheapest over many
+        lines at once), each with its own line number, and parsed."""
         kept, texts = self._lines, self._texts
+        rest: list[tuple[str, int]] = []
+        for key, n in fresh:
+            lineno, piece = keys[n]
+            line = read_line(piece, lineno)
+            if line is None:
+                rest.append((key, n))
+            else:
+                lines[n] = kept[keys[n]] = texts[key] = line
+        if not rest:
+            return
+        fresh = rest
         indices = [n for _, n in fresh]
         numbers = [keys[n][0] for n in indices]
         numbers.append(numbers[-1] + 1)  # after the last line end: an empty line, not read

@@ -1,0 +1,288 @@
+"""The commonest line shapes read by regular expressions, without tokens: a fast path of the
+parser for the lines it reads most.
+
+Lexing a line token by token and parsing it by recursive descent costs about 120,000
+machine instructions a line in CPython, most of it the interpreter's work per token and per
+call, not the language's (bench/bench_check.py). Most lines of real programs have one of a
+few shapes: a comment, a label, ``MOV P1, -50``, ``MVS P2``, ``HOPEN 1``, ``DLY 0.5``,
+``GOSUB *PICK``, ``RETURN``, ``M1 = 0``, ``P1.Z = 25``, ``NEXT MI``. `read_line` reads
+such a line with two regular-expression matches and builds its tree directly, and returns
+None for every other line, which the lexer and the parser then read as before
+(`melfa.lang.reparse`).
+
+The tree is the parser's, field for field (``tests/lang/test_fastline.py`` compares the two
+on every line of the golden corpus and on generated ones): each pattern follows the lexer's
+token rules (a word, a number, a label ends where the lexer's would; a keyword is never read
+as a name), and a line that is anything but plainly right goes to the parser, which also
+says what is wrong with it. No line here has a parse issue.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.parser import _COMMANDS
+from melfa.lang.tokens import KEYWORDS
+
+_new_tuple = tuple.__new__
+_Span = A.Span
+
+# A word as the lexer reads it, when it has no `#` (MELFA BASIC V's double suffix, or the
+# operator `#`: the parser's) and is not the comment word REM.
+_WORD = r"(?!(?i:REM)(?![A-Za-z0-9_$%!]))[A-Za-z][A-Za-z0-9_]*+[$%!]?+(?!\#)"
+# Numbers the lexer reads as INTEGER or REAL, without an exponent or a `#` suffix (the
+# parser's: an exponent is rare, a suffix is an issue).
+_INT = r"\d++(?![.\#Ee])"
+_REAL = r"(?:\d++\.\d*+|\.\d++)(?![\#Ee])"
+
+# The line: step number, label, the first word, the rest up to the comment, the line end.
+_LINE = re.compile(
+    rf"""
+    [ \t]*+
+    (?:(?P<num>\d++)(?![.\#A-Za-z_$%!])[ \t]*+)?
+    (?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)(?![\#.])[ \t]*+)?
+    (?P<word>{_WORD})?
+    (?P<rest>[^'"\r\n]*+)
+    (?:'(?P<comment>[^\r\n]*+))?
+    (?:\r\n|\r|\n)?+\Z
+    """,
+    re.VERBOSE,
+)
+# One value of an argument list: a signed name or number, then a comma or the end.
+_ARG = re.compile(
+    rf"""
+    [ \t]*+
+    (?:(?P<sign>[-+])[ \t]*+)?
+    (?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT}))
+    [ \t]*+(?P<comma>,)?
+    """,
+    re.VERBOSE,
+)
+_TARGET = re.compile(r"[ \t]*+(?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)|(?P<int>\d++))")
+_NAME = re.compile(rf"[ \t]*+(?P<name>{_WORD})")
+_ASSIGN = re.compile(r"[ \t]*+(?:(?P<element>\.[A-Za-z][A-Za-z0-9_]*+)[ \t]*+)?=")
+
+_ELEMENTS = {k.value: k for k in A.ElementKind}
+_INTEGER, _REAL_KIND = A.NumberKind.INTEGER, A.NumberKind.REAL
+_MINUS, _PLUS = A.UnaryOp.MINUS, A.UnaryOp.PLUS
+
+
+def _to_int(text: str) -> int:
+    return int(text) if len(text) <= 40 else 10**40  # as the parser reads it
+
+
+def _args(piece: str, pos: int, end: int, line: int) -> list[A.Expr] | None:
+    """The values of ``a, -b, 0.5`` in ``piece[pos:end]``, or None (not that shape)."""
+    items: list[A.Expr] = []
+    match = _ARG.match
+    while True:
+        m = match(piece, pos, end)
+        if m is None:
+            return None
+        sign, name, real, integer, comma = m.groups()
+        if name is not None:
+            upper = name.upper()
+            if upper in KEYWORDS:
+                return None
+            at = m.start(2)
+            node: A.Expr = A.Name(
+                upper, _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
+            )
+        else:
+            value: float
+            if integer is not None:
+                text, at, value, kind = integer, m.start(4), _to_int(integer), _INTEGER
+            else:
+                text, at, value, kind = real, m.start(3), float(real), _REAL_KIND
+            span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(text)))
+            node = A.Number(value, kind, text, span)
+        if sign is not None:
+            at = m.start(1)
+            node = A.Unary(
+                _MINUS if sign == "-" else _PLUS,
+                node,
+                _new_tuple(_Span, (line, at + 1, line, node.span[3])),
+            )
+        items.append(node)
+        pos = m.end()
+        if comma is None:
+            return items if pos == end else None
+
+
+def _span(line: int, start: int, last: A.Expr | None, end: int) -> A.Span:
+    """From column `start` to the end of `last` (or to column `end`)."""
+    return _new_tuple(_Span, (line, start, line, end if last is None else last.span[3]))
+
+
+# A statement reader: (piece, word's offset, word upper-cased, rest's start, rest's end,
+# line number) -> the statement, or None.
+_Reader = Callable[[str, int, str, int, int, int], A.Statement | None]
+
+
+def _move(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    args = _args(piece, pos, end, line)
+    if args is None or len(args) > 2:
+        return None
+    close = args[1] if len(args) == 2 else None
+    kind = A.MoveKind.MOV if word == "MOV" else A.MoveKind.MVS
+    return A.Move(kind, args[0], close, None, None, _span(line, at + 1, args[-1], 0))
+
+
+def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
+    def read(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+        args = _args(piece, pos, end, line) if pos < end else []
+        if args is None or not lo <= len(args) <= hi:
+            return None
+        last = args[-1] if args else None
+        return A.Command(kind, tuple(args), _span(line, at + 1, last, at + 1 + len(word)))
+
+    return read
+
+
+def _jump(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    m = _TARGET.fullmatch(piece, pos, end)
+    if m is None:
+        return None
+    target: A.JumpTarget
+    label = m["label"]
+    if label is not None:
+        s = m.start("label")  # after the `*`
+        span = _new_tuple(_Span, (line, s, line, end + 1))
+        target = A.LabelRef(label.upper(), span, label)
+    else:
+        s = m.start("int")
+        span = _new_tuple(_Span, (line, s + 1, line, end + 1))
+        target = A.LineRef(_to_int(m["int"]), span)
+    whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
+    return A.Goto(target, whole) if word == "GOTO" else A.Gosub(target, whole)
+
+
+def _return(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    if pos == end:
+        return A.Return(None, _new_tuple(_Span, (line, at + 1, line, at + 7)))
+    args = _args(piece, pos, end, line)
+    if args is None or len(args) != 1:
+        return None
+    return A.Return(args[0], _span(line, at + 1, args[0], 0))
+
+
+def _bare(make: Callable[[A.Span], A.Statement]) -> _Reader:
+    def read(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+        if pos != end:
+            return None
+        return make(_new_tuple(_Span, (line, at + 1, line, at + 1 + len(word))))
+
+    return read
+
+
+def _next(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    if pos == end:
+        return A.Next((), _new_tuple(_Span, (line, at + 1, line, at + 5)))
+    m = _NAME.fullmatch(piece, pos, end)
+    if m is None:
+        return None
+    name = m["name"]
+    upper = name.upper()
+    if upper in KEYWORDS:
+        return None
+    s = m.start("name")
+    counter = A.Name(upper, _new_tuple(_Span, (line, s + 1, line, end + 1)), name)
+    return A.Next((counter,), _new_tuple(_Span, (line, at + 1, line, end + 1)))
+
+
+def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.Statement | None:
+    """``NAME = value`` or ``NAME.X = value`` (`name` as written)."""
+    m = _ASSIGN.match(piece, pos, end)
+    if m is None:
+        return None
+    args = _args(piece, m.end(), end, line)
+    if args is None or len(args) != 1:
+        return None
+    target: A.AssignTarget = A.Name(
+        name.upper(), _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
+    )
+    element = m["element"]
+    if element is not None:
+        kind = _ELEMENTS.get(element[1:].upper())
+        if kind is None:
+            return None
+        stop = m.end("element") + 1
+        target = A.Element(target, kind, _new_tuple(_Span, (line, at + 1, line, stop)))
+    return A.Assign(target, args[0], None, _span(line, at + 1, args[0], 0))
+
+
+def _readers() -> dict[str, _Reader]:
+    """Statement word -> its reader; plain commands from the parser's own table."""
+    readers: dict[str, _Reader] = {
+        word: _command(kind, lo, hi) for word, (kind, lo, hi, _) in _COMMANDS.items()
+    }
+    readers.update(
+        MOV=_move,
+        MVS=_move,
+        GOTO=_jump,
+        GOSUB=_jump,
+        RETURN=_return,
+        NEXT=_next,
+        END=_bare(lambda span: A.Command(A.CommandKind.END, (), span)),
+        WEND=_bare(A.Wend),
+        ELSE=_bare(A.Else),
+        ENDIF=_bare(A.EndIf),
+        BREAK=_bare(A.Break),
+        DEFAULT=_bare(A.Default),
+    )
+    return readers
+
+
+_READERS = _readers()
+
+
+def read_line(piece: str, line: int) -> A.Line | None:
+    """The tree of text line number `line`, `piece` (with its line end, if any), when it has
+    one of the shapes read here; otherwise None (the parser reads it)."""
+    m = _LINE.match(piece)
+    if m is None:
+        return None
+    digits, label_text, word, rest, comment = m.groups()
+    pos = m.start(4)
+    end = pos + len(rest.rstrip(" \t"))
+    statement: A.Statement | None = None
+    if word is not None:
+        at = m.start(3)
+        upper = word.upper()
+        if upper in KEYWORDS:
+            reader = _READERS.get(upper)
+            if reader is None:
+                return None
+            statement = reader(piece, at, upper, pos, end, line)
+        else:
+            statement = _assign(piece, at, word, pos, end, line)
+        if statement is None:
+            return None
+    elif pos != end:
+        return None
+    number = label = number_span = label_span = None
+    if digits is not None:
+        s = m.start(1)
+        number = _to_int(digits)
+        number_span = _new_tuple(_Span, (line, s + 1, line, s + 1 + len(digits)))
+    if label_text is not None:
+        s = m.start(2)  # after the `*`
+        label = label_text.upper()
+        label_span = _new_tuple(_Span, (line, s, line, s + 1 + len(label_text)))
+    stop = len(piece.rstrip("\r\n"))
+    return A.Line(
+        number,
+        label,
+        statement,
+        _new_tuple(_Span, (line, 1, line, stop + 1)),
+        comment,
+        (),
+        number_span,
+        label_span,
+        label_text,
+    )
+
+
+__all__ = ["read_line"]

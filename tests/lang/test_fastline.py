@@ -1,0 +1,151 @@
+"""The fast path of the commonest line shapes (`melfa.lang.fastline`) builds the parser's
+tree, field for field, or leaves the line to the parser.
+
+Compared by ``repr`` as well as ``==``: equality leaves out the names as written (``Pa``),
+which the checker's messages show.
+"""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+
+from melfa.lang.fastline import read_line
+from melfa.lang.lexer import tokenize
+from melfa.lang.parser import Labels, parse_line
+from tests.lang.test_golden import corpus
+
+_LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
+
+
+def parsed(piece: str, line: int) -> str:
+    return repr(parse_line(tokenize(piece, line), Labels([])))
+
+
+def pieces(text: str) -> list[str]:
+    found = _LINES.findall(text)
+    found.append(text[sum(map(len, found)) :])
+    return found
+
+
+def variants(piece: str) -> list[str]:
+    """The line as written, and written otherwise: numbered, labelled, commented, lower
+    case, with tabs, without spaces after commas, without its line end."""
+    body = piece.rstrip("\r\n")
+    return [
+        piece,
+        body + " ' c\n",
+        "10 " + body + "\n",
+        "*L1 " + body + "\r\n",
+        "0042\t*Ab_1$ " + body + "\r",
+        body.lower() + "\n",
+        body.replace(" ", "\t") + "\n",
+        "  " + body + "  ",
+        body.replace(", ", ",") + "\n",
+        body.replace(" ", "") + "\n",
+    ]
+
+
+def test_every_line_of_the_golden_corpus_reads_as_the_parser_reads_it() -> None:
+    read = 0
+    total = 0
+    for text in corpus().values():
+        for n, original in enumerate(pieces(text), 1):
+            for piece in variants(original):
+                total += 1
+                fast = read_line(piece, n)
+                if fast is not None:
+                    read += 1
+                    assert repr(fast) == parsed(piece, n), piece
+    assert read > total // 3  # the fast path is taken, not only correct when it is
+
+
+@pytest.mark.parametrize(
+    "piece",
+    [
+        "MOV P1, -50\n",
+        "10 MVS Pagafa\n",
+        "mvs p1 , + .5 ' down\n",
+        "HOPEN 1\n",
+        "HCLOSE 1",
+        "DLY 0.5\r\n",
+        "OVRD 30\n",
+        "ACCEL 50, 50\n",
+        "HLT\n",
+        "GOSUB *S0001\n",
+        "GOTO 100\n",
+        "RETURN\n",
+        "RETURN 1\n",
+        "END\n",
+        "WEND\n",
+        "NEXT MI\n",
+        "NEXT\n",
+        "MCOUNT = 0\n",
+        "PATTERN% = -3\n",
+        "PTMP.Z = 25.\n",
+        "Pdest = Pbase\n",
+        "*AGAFA ' pick\n",
+        "' only a comment\n",
+        "\n",
+        "",
+        "   \t ",
+        "10\n",
+    ],
+)
+def test_the_common_shapes_are_read_here(piece: str) -> None:
+    fast = read_line(piece, 7)
+    assert fast is not None
+    assert repr(fast) == parsed(piece, 7)
+
+
+@pytest.mark.parametrize(
+    "piece",
+    [
+        "REM a comment\n",  # REM is a comment word, not a name
+        "REM# = 1\n",
+        "MX# = 1\n",  # V's double suffix: the parser explains it
+        "M1 = 1.0#\n",
+        "M1 = 1E3\n",  # an exponent: the parser's
+        "M1 = 10E\n",
+        "10E3 MOV P1\n",  # a number the lexer reads as REAL, not a step number
+        "10MOV P1\n",
+        "*L# MOV P1\n",
+        "*L.X = 1\n",
+        "MOV P1 MOD 2\n",
+        "MOV PLT\n",  # a keyword is never a name
+        "MOV P1,\n",
+        "MOV P1, P2, P3\n",
+        "MOV\n",
+        "MVS , -50\n",
+        "MOV P1 WTH M_OUT(1) = 1\n",
+        "HOPEN\n",  # missing argument: the parser says so
+        "HOPEN 1, 2, 3, 4, 5\n",
+        "DLY = 5\n",
+        "M1 =< 5\n",
+        "M1 == 5\n",
+        "M1 = --5\n",
+        "P1.Q = 5\n",
+        "M_OUT(17) = 1\n",
+        "M1 = 1 DLY 0.5\n",
+        'M1 = "text"\n',
+        'PRINT "a\'b"\n',
+        "GOTO *L#\n",
+        "GOTO 1.5\n",
+        "GOTO L\n",
+        "RETURN 1, 2\n",
+        "END IF\n",
+        "END SELECT\n",
+        "WEND 1\n",
+        "NEXT M1, M2\n",
+        "NEXT IF\n",
+        "M1 = 1 ' x\fy\n",
+        "M1\f= 1\n",
+        "Mà = 1\n",
+        "WIHLE M1\n",
+        "ElseIf M1 = 1\n",
+    ],
+)
+def test_other_lines_are_left_to_the_parser_or_read_alike(piece: str) -> None:
+    fast = read_line(piece, 3)
+    assert fast is None or repr(fast) == parsed(piece, 3)
