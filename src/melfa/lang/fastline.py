@@ -23,7 +23,7 @@ import re
 from collections.abc import Callable
 
 from melfa.lang import ast as A  # noqa: N812
-from melfa.lang.parser import _COMMANDS
+from melfa.lang.parser import _BINARY, _COMMANDS
 from melfa.lang.tokens import KEYWORDS
 
 _new_tuple = tuple.__new__
@@ -60,8 +60,23 @@ _ARG = re.compile(
     """,
     re.VERBOSE,
 )
+# A value in parentheses (an index, a constant's element): a signed name or number, then a
+# comma or the closing parenthesis.
+_ITEM = re.compile(
+    rf"[ \t]*+(?:(?P<sign>[-+])[ \t]*+)?(?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT}))"
+    r"[ \t]*+(?P<sep>[,)])"
+)
+# An operand: a signed name, number or constant, then the parenthesis of a name's index.
+_TERM = re.compile(
+    rf"[ \t]*+(?:(?P<sign>[-+])[ \t]*+)?"
+    rf"(?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT})|(?P<paren>\())"
+    r"(?P<index>[ \t]*+\()?"
+)
+# The operators read here, as the lexer splits them (not ^, << or >>: the parser's).
+_OPERATOR = re.compile(r"[ \t]*+(<>|><|<=|=<|>=|=>|[-+*/\\](?![-+])|[=<>](?![<>=]))")
 _TARGET = re.compile(r"[ \t]*+(?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)|(?P<int>\d++))")
 _NAME = re.compile(rf"[ \t]*+(?P<name>{_WORD})")
+_COMMA = re.compile(r"[ \t]*+,")
 _ASSIGN = re.compile(r"[ \t]*+(?:(?P<element>\.[A-Za-z][A-Za-z0-9_]*+)[ \t]*+)?=")
 
 _ELEMENTS = {k.value: k for k in A.ElementKind}
@@ -81,34 +96,118 @@ def _args(piece: str, pos: int, end: int, line: int) -> list[A.Expr] | None:
         m = match(piece, pos, end)
         if m is None:
             return None
-        sign, name, real, integer, comma = m.groups()
-        if name is not None:
-            upper = name.upper()
-            if upper in KEYWORDS:
-                return None
-            at = m.start(2)
-            node: A.Expr = A.Name(
-                upper, _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
-            )
-        else:
-            value: float
-            if integer is not None:
-                text, at, value, kind = integer, m.start(4), _to_int(integer), _INTEGER
-            else:
-                text, at, value, kind = real, m.start(3), float(real), _REAL_KIND
-            span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(text)))
-            node = A.Number(value, kind, text, span)
-        if sign is not None:
-            at = m.start(1)
-            node = A.Unary(
-                _MINUS if sign == "-" else _PLUS,
-                node,
-                _new_tuple(_Span, (line, at + 1, line, node.span[3])),
-            )
+        node = _atom(m, line)
+        if node is None:
+            return None
         items.append(node)
         pos = m.end()
-        if comma is None:
+        if m["comma"] is None:
             return items if pos == end else None
+
+
+def _atom(m: re.Match[str], line: int) -> A.Expr | None:
+    """The node of groups 1-4 of `m` (sign, name, real, integer), or None (a keyword)."""
+    sign, name, real, integer = m.group(1, 2, 3, 4)
+    if name is not None:
+        upper = name.upper()
+        if upper in KEYWORDS:
+            return None
+        at = m.start(2)
+        node: A.Expr = A.Name(
+            upper, _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
+        )
+    else:
+        value: float
+        if integer is not None:
+            text, at, value, kind = integer, m.start(4), _to_int(integer), _INTEGER
+        else:
+            text, at, value, kind = real, m.start(3), float(real), _REAL_KIND
+        span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(text)))
+        node = A.Number(value, kind, text, span)
+    if sign is not None:
+        at = m.start(1)
+        node = A.Unary(
+            _MINUS if sign == "-" else _PLUS,
+            node,
+            _new_tuple(_Span, (line, at + 1, line, node.span[3])),
+        )
+    return node
+
+
+def _items(piece: str, pos: int, end: int, line: int) -> tuple[list[A.Expr], int] | None:
+    """After a `(`: the values up to the `)`, and the offset after it; or None."""
+    items: list[A.Expr] = []
+    match = _ITEM.match
+    while True:
+        m = match(piece, pos, end)
+        if m is None:
+            return None
+        node = _atom(m, line)
+        if node is None:
+            return None
+        items.append(node)
+        pos = m.end()
+        if m["sep"] == ")":
+            return items, pos
+
+
+def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | None:
+    """An operand at `pos`: a signed name, number, ``M_IN(8)`` or ``(0, 0, -50, 0, 0, 0)``,
+    and the offset after it; or None."""
+    m = _TERM.match(piece, pos, end)
+    if m is None:
+        return None
+    sign, name, paren, index = m.group(1, 2, 5, 6)
+    if paren is None and index is None:
+        node = _atom(m, line)
+        return None if node is None else (node, m.end())
+    if (name is None and paren is None) or (paren is not None and index is not None):
+        return None  # `5 (`, `((`
+    read = _items(piece, m.end(), end, line)
+    if read is None:
+        return None
+    items, after = read
+    if paren is not None:
+        if len(items) < 2 or piece[after:end].lstrip(" \t")[:1] == "(":
+            return None  # a value in parentheses, or a constant with flags: the parser's
+        at = m.start(5)
+        span = _new_tuple(_Span, (line, at + 1, line, after + 1))
+        node = A.PositionLiteral(tuple(items), None, span)
+    else:
+        upper = name.upper()
+        if upper in KEYWORDS or upper.startswith("FN"):
+            return None  # a function call
+        at = m.start(2)
+        span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name)))
+        whole = _new_tuple(_Span, (line, at + 1, line, after + 1))
+        node = A.Index(A.Name(upper, span, name), tuple(items), whole)
+    if sign is not None:
+        at = m.start(1)
+        span = _new_tuple(_Span, (line, at + 1, line, after + 1))
+        node = A.Unary(_MINUS if sign == "-" else _PLUS, node, span)
+    return node, after
+
+
+def _expr(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | None:
+    """An operand, or two joined by one arithmetic or comparison operator (then no other
+    operator may follow: the callers ask for what must come next)."""
+    read = _term(piece, pos, end, line)
+    if read is None:
+        return None
+    left, pos = read
+    m = _OPERATOR.match(piece, pos, end)
+    if m is None:
+        return left, pos
+    op = m.group(1)
+    read = _term(piece, m.end(), end, line)
+    if read is None:
+        return None
+    right, after = read
+    if _OPERATOR.match(piece, after, end) is not None:
+        return None  # precedence: the parser's
+    s, e = left.span, right.span
+    span = _new_tuple(_Span, (line, s[1], line, e[3]))
+    return A.Binary(_BINARY[op][1], left, right, span, op), after
 
 
 def _span(line: int, start: int, last: A.Expr | None, end: int) -> A.Span:
@@ -122,12 +221,21 @@ _Reader = Callable[[str, int, str, int, int, int], A.Statement | None]
 
 
 def _move(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
-    args = _args(piece, pos, end, line)
-    if args is None or len(args) > 2:
+    read = _expr(piece, pos, end, line)
+    if read is None:
         return None
-    close = args[1] if len(args) == 2 else None
+    target, after = read
+    close = None
+    if after != end:
+        m = _COMMA.match(piece, after, end)
+        if m is None:
+            return None
+        read = _expr(piece, m.end(), end, line)
+        if read is None or read[1] != end:
+            return None
+        close = read[0]
     kind = A.MoveKind.MOV if word == "MOV" else A.MoveKind.MVS
-    return A.Move(kind, args[0], close, None, None, _span(line, at + 1, args[-1], 0))
+    return A.Move(kind, target, close, None, None, _new_tuple(_Span, (line, at + 1, line, end + 1)))
 
 
 def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
@@ -141,20 +249,23 @@ def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
     return read
 
 
-def _jump(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+def _target(piece: str, pos: int, end: int, line: int) -> A.JumpTarget | None:
+    """``*LABEL`` or a step number from `pos` to `end`, or None."""
     m = _TARGET.fullmatch(piece, pos, end)
     if m is None:
         return None
-    target: A.JumpTarget
     label = m["label"]
     if label is not None:
         s = m.start("label")  # after the `*`
-        span = _new_tuple(_Span, (line, s, line, end + 1))
-        target = A.LabelRef(label.upper(), span, label)
-    else:
-        s = m.start("int")
-        span = _new_tuple(_Span, (line, s + 1, line, end + 1))
-        target = A.LineRef(_to_int(m["int"]), span)
+        return A.LabelRef(label.upper(), _new_tuple(_Span, (line, s, line, end + 1)), label)
+    s = m.start("int")
+    return A.LineRef(_to_int(m["int"]), _new_tuple(_Span, (line, s + 1, line, end + 1)))
+
+
+def _jump(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    target = _target(piece, pos, end, line)
+    if target is None:
+        return None
     whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
     return A.Goto(target, whole) if word == "GOTO" else A.Gosub(target, whole)
 
@@ -197,8 +308,8 @@ def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.
     m = _ASSIGN.match(piece, pos, end)
     if m is None:
         return None
-    args = _args(piece, m.end(), end, line)
-    if args is None or len(args) != 1:
+    read = _expr(piece, m.end(), end, line)
+    if read is None or read[1] != end:
         return None
     target: A.AssignTarget = A.Name(
         name.upper(), _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
@@ -210,7 +321,71 @@ def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.
             return None
         stop = m.end("element") + 1
         target = A.Element(target, kind, _new_tuple(_Span, (line, at + 1, line, stop)))
-    return A.Assign(target, args[0], None, _span(line, at + 1, args[0], 0))
+    return A.Assign(target, read[0], None, _new_tuple(_Span, (line, at + 1, line, end + 1)))
+
+
+def _word(piece: str, pos: int, end: int) -> tuple[str, int]:
+    """The word at `pos` upper-cased and the offset after it, or ("", pos)."""
+    m = _NAME.match(piece, pos, end)
+    return ("", pos) if m is None else (m[1].upper(), m.end())
+
+
+def _if(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    """``IF condition THEN *L`` (or a step number, GOTO or GOSUB to one)."""
+    read = _expr(piece, pos, end, line)
+    if read is None:
+        return None
+    condition, after = read
+    then, after = _word(piece, after, end)
+    if then != "THEN":
+        return None
+    whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
+    if after == end:
+        return A.If(condition, None, None, whole)
+    branch: A.JumpTarget | A.Statement | None
+    jump, start = _word(piece, after, end)
+    if jump in ("GOTO", "GOSUB"):
+        branch = _jump(piece, start - len(jump), jump, start, end, line)
+    else:
+        branch = _target(piece, after, end, line)
+    return None if branch is None else A.If(condition, branch, None, whole)
+
+
+def _for(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    """``FOR M = start TO end [STEP step]``."""
+    m = _NAME.match(piece, pos, end)
+    if m is None or m[1].upper() in KEYWORDS:
+        return None
+    s = m.start(1)
+    counter = A.Name(m[1].upper(), _new_tuple(_Span, (line, s + 1, line, m.end() + 1)), m[1])
+    m = _ASSIGN.match(piece, m.end(), end)
+    if m is None or m["element"] is not None:
+        return None
+    values: list[A.Expr] = []
+    after = m.end()
+    for expected in ("TO", "STEP", None):
+        read = _expr(piece, after, end, line)
+        if read is None:
+            return None
+        values.append(read[0])
+        after = read[1]
+        if after == end:
+            break
+        word, after = _word(piece, after, end)
+        if word != expected:
+            return None  # also anything after the step
+    if len(values) < 2:
+        return None
+    step = values[2] if len(values) == 3 else None
+    whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
+    return A.For(counter, values[0], values[1], step, whole)
+
+
+def _while(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    read = _expr(piece, pos, end, line)
+    if read is None or read[1] != end:
+        return None
+    return A.While(read[0], _new_tuple(_Span, (line, at + 1, line, end + 1)))
 
 
 def _readers() -> dict[str, _Reader]:
@@ -225,6 +400,9 @@ def _readers() -> dict[str, _Reader]:
         GOSUB=_jump,
         RETURN=_return,
         NEXT=_next,
+        IF=_if,
+        FOR=_for,
+        WHILE=_while,
         END=_bare(lambda span: A.Command(A.CommandKind.END, (), span)),
         WEND=_bare(A.Wend),
         ELSE=_bare(A.Else),
