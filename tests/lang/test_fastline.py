@@ -105,6 +105,9 @@ def test_every_line_of_the_golden_corpus_reads_as_the_parser_reads_it() -> None:
         "MVS Pagafa * (0, 0, -80, 0, 0, 0)\n",
         "MOV -P1, -M_IN(3)\n",
         "M1 = -(1, 2) * 3\n",
+        "Pdest.X = Pbase.X + MDIAM * MPECA + MDIAM / 2 * MFILA\n",
+        "WHILE M_IN(8) = 0 AND MCOUNT < 10\n",
+        "M1 = 1 - 2 - 3 mod 2 XOR 1 OR M2 <> -P1.z\n",
     ],
 )
 def test_the_common_shapes_are_read_here(piece: str) -> None:
@@ -158,7 +161,15 @@ def test_the_common_shapes_are_read_here(piece: str) -> None:
         "Mà = 1\n",
         "WIHLE M1\n",
         "ElseIf M1 = 1\n",
-        "M1 = 1 + 2 + 3\n",  # precedence and more than one operator: the parser's
+        "M1 = P(1).X\n",
+        "M1 = 5 .X\n",
+        "M1 = P1.Q\n",
+        "M1 = P1.X.Y\n",
+        "M1 = 1 ^ 2 + 3\n",
+        "M1 = -P1 ^ 2\n",
+        "M1 = A AND$ B\n",
+        "M1 = 2 ANDB\n",
+        "M1 = NOT M2\n",
         "M1 = 2 ^ 3\n",
         "M1 = -2 ^ 2\n",
         "M1 = 1 << 2\n",
