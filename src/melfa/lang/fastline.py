@@ -225,7 +225,7 @@ def _expr(piece: str, pos: int, end: int, line: int, least: int = 0) -> tuple[A.
     if read is None:
         return None
     left, pos = read
-    while pos != end:
+    while pos != end and piece[pos] not in ",)":  # no operator next, without a match
         m = _OPERATOR.match(piece, pos, end)
         if m is None:
             break
