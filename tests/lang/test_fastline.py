@@ -13,7 +13,8 @@ import pytest
 
 from melfa.lang.fastline import read_line
 from melfa.lang.lexer import tokenize
-from melfa.lang.parser import Labels, parse_line
+from melfa.lang.parser import Labels, parse, parse_line
+from melfa.lang.reparse import FAST_FROM, LineCache
 from tests.lang.test_golden import corpus
 
 _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
@@ -203,3 +204,12 @@ def test_the_common_shapes_are_read_here(piece: str) -> None:
 def test_other_lines_are_left_to_the_parser_or_read_alike(piece: str) -> None:
     fast = read_line(piece, 3)
     assert fast is None or repr(fast) == parsed(piece, 3)
+
+
+def test_a_big_text_read_through_the_cache_is_the_parsers_tree() -> None:
+    """Every line of the corpus in one text, so many lines not seen that the cache reads
+    them through the fast path (`melfa.lang.reparse.FAST_FROM`), numbered as written."""
+    lines = [piece for text in corpus().values() for piece in pieces(text) if piece]
+    text = "".join(p if p.endswith(("\n", "\r")) else p + "\n" for p in lines)
+    assert len(lines) > 100 * FAST_FROM
+    assert repr(LineCache().parse(text)) == repr(parse(text))

@@ -32,7 +32,6 @@ from __future__ import annotations
 import re
 
 from melfa.lang import ast as A  # noqa: N812
-from melfa.lang.fastline import read_line
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import Labels, parse, parse_line, parse_lines, step_number
 from melfa.lang.relocate import moved
@@ -44,6 +43,11 @@ _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
 _STEP = re.compile(r"[ \t]*(\d+)(?=[ \t\r\n]|\Z)")
 _STEP_START = " \t0123456789"
 _ZEROS = str.maketrans("123456789", "000000000")
+
+FAST_FROM = 40
+"""Lines not seen from which `melfa.lang.fastline` reads those of its shapes: compiling its
+patterns costs about what lexing and parsing 40 lines does, so `melfa check` of a small
+file (start-up, bench/bench_check.py) and the editor's check after a keystroke do not pay it."""
 
 LINE_LIMIT = 50_000
 """Lines kept by the default cache: a class of 40 with programs of ~1,000 lines."""
@@ -132,10 +136,14 @@ class LineCache:
         lines: list[A.Line | None],
         labels: Labels,
     ) -> None:
-        """Read the lines `fresh` names (key text, index): those of the commonest shapes by
-        `melfa.lang.fastline`, the others lexed in one pass (the lexer is cheapest over many
-        lines at once), each with its own line number, and parsed."""
+        """Read the lines `fresh` names (key text, index): when they are many, those of the
+        commonest shapes by `melfa.lang.fastline`; the others by the lexer and the parser."""
         kept, texts = self._lines, self._texts
+        if len(fresh) < FAST_FROM:
+            self._parse_fresh(fresh, keys, lines, labels)
+            return
+        from melfa.lang.fastline import read_line  # its patterns compile on the first use
+
         rest: list[tuple[str, int]] = []
         for key, n in fresh:
             lineno, piece = keys[n]
@@ -144,9 +152,19 @@ class LineCache:
                 rest.append((key, n))
             else:
                 lines[n] = kept[keys[n]] = texts[key] = line
-        if not rest:
-            return
-        fresh = rest
+        if rest:
+            self._parse_fresh(rest, keys, lines, labels)
+
+    def _parse_fresh(
+        self,
+        fresh: list[tuple[str, int]],
+        keys: list[tuple[int, str]],
+        lines: list[A.Line | None],
+        labels: Labels,
+    ) -> None:
+        """Lex the lines `fresh` names in one pass (the lexer is cheapest over many lines at
+        once), each with its own line number, and parse them."""
+        kept, texts = self._lines, self._texts
         indices = [n for _, n in fresh]
         numbers = [keys[n][0] for n in indices]
         numbers.append(numbers[-1] + 1)  # after the last line end: an empty line, not read
