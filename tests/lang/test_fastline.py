@@ -7,6 +7,7 @@ which the checker's messages show.
 
 from __future__ import annotations
 
+import random
 import re
 
 import pytest
@@ -213,3 +214,28 @@ def test_a_big_text_read_through_the_cache_is_the_parsers_tree() -> None:
     text = "".join(p if p.endswith(("\n", "\r")) else p + "\n" for p in lines)
     assert len(lines) > 100 * FAST_FROM
     assert repr(LineCache().parse(text)) == repr(parse(text))
+
+
+# Operands, operators and statement words, some of them near misses (REM, 1#, 10E3, <<, é).
+_WORDS = "P1 m_in Pa% MX$ 5 0.5 .5 5. 10E3 1# REM rem PLT SIN FNA THEN TO STEP GOSUB *L *l2$ 100 AND mod Or XOR NOT ELSE".split()  # noqa: SIM905, E501
+_MARKS = '+ - * / \\ ^ = <> >< <= =< >= => < > << >> , ( ) .X .z .Q # ; " &H1F _ é'.split()  # noqa: SIM905
+_MARKS += [" ", "\t", "'"]
+_HEADS = "MOV MVS HOPEN DLY OVRD IF FOR WHILE NEXT RETURN END WEND GOSUB GOTO M1 P1 P1.X *L 10 ' ACCEL HLT ELSE".split()  # noqa: SIM905, E501
+_HEADS += ["", "10 *L"]
+
+
+def test_near_misses_are_read_alike_or_left_to_the_parser() -> None:
+    """20,000 seeded lines of statement words, operands and operators, many of them wrong:
+    the fast path never raises, and what it reads is the parser's tree."""
+    rng = random.Random(25)
+    read = 0
+    for _ in range(20_000):
+        parts = [rng.choice(_HEADS)]
+        for _ in range(rng.randint(0, 9)):
+            parts.append(rng.choice(_WORDS) if rng.random() < 0.5 else rng.choice(_MARKS))
+        piece = rng.choice([" ", " ", ""]).join(parts) + rng.choice(["\n", "\r\n", "", " ' c\n"])
+        fast = read_line(piece, 3)
+        if fast is not None:
+            read += 1
+            assert repr(fast) == parsed(piece, 3), piece
+    assert read > 1_000
