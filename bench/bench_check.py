@@ -7,7 +7,8 @@ programs of varied, realistic statements (moves with approach distances, positio
 arithmetic, FOR/NEXT and WHILE loops, GOSUB subroutines with labels, IF/THEN jumps, hand
 and I/O commands, comments with accents), times `check()` (best of N runs) and prints lines
 per second, milliseconds per program and the ratio to the budget, then the time of each
-stage (lexer, parser, checker) on the 1,000-line program. The first line gives the load.
+stage (lexer, parser, checker, and the fast path of `melfa.lang.fastline` tried on every line)
+on the 1,000-line program. The first line gives the load.
 Two cases: a text never seen (the reparse cache, `melfa.lang.reparse`, emptied first), and
 the editor's: the same program checked again after one character was typed into a line
 (only that line is lexed and parsed again; the checker's analysis runs in full). A text
@@ -181,6 +182,11 @@ def edited_check(program: str, repeat: int) -> float:
     return best
 
 
+def read_lines(text: str) -> list[object]:
+    """Each line of `text` read by `melfa.lang.fastline` (None where the parser reads it)."""
+    return [read_line(piece, n) for n, piece in enumerate(text.splitlines(True), 1)]
+
+
 def startup_ratio(repeat: int) -> tuple[float, float]:
     """(CPU seconds of `melfa check` on a 3-line file, of `python -c pass`), best of
     `repeat` runs each, alternating so both see the same machine load. CPU time (user +
@@ -238,6 +244,7 @@ def main() -> None:
         ("tokenize", functools.partial(tokenize, program)),
         ("parse", functools.partial(parse_tokens, tokens)),
         ("check_ast", functools.partial(check_ast, tree, POINTS)),
+        ("fastline (every line tried)", functools.partial(read_lines, program)),
     )
     parts = ", ".join(f"{name} {best_of(run, args.repeat) * 1000:.2f}" for name, run in stages)
     print(f"1,000 lines by stage, ms (garbage collector on, as outside check()): {parts}")
