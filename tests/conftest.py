@@ -1,6 +1,7 @@
 """Shared test settings."""
 
 import os
+import signal
 
 import pytest
 from hypothesis import HealthCheck, settings
@@ -28,6 +29,12 @@ if "MELFA_PROFILE" not in os.environ:
     from pathlib import Path
 
     os.environ["MELFA_PROFILE"] = str(Path(tempfile.mkdtemp(prefix="melfa-test-")) / "p.json")
+
+# Tests press Ctrl-C (SIGINT) on the commands they start. A suite started in the background
+# (`scripts/test &` from a script, nohup) inherits SIGINT ignored, and every command it
+# starts would too and never see the key: the suite takes Python's usual handler, which the
+# commands it starts inherit as the default.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 # Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
 from tests.fixtures_sim import not_strict, sim_pty_path, sim_tcp_url  # noqa: E402, F401

@@ -24,6 +24,10 @@ import pytest
 rospy: Any = pytest.importorskip("rospy", reason="ROS 1 runs under scripts/ros-env only")
 rosgraph: Any = pytest.importorskip("rosgraph")
 
+# roscore and the node are ended with Ctrl-C (SIGINT): a suite started in the background
+# inherits SIGINT ignored and would pass that on (see tests/conftest.py).
+signal.signal(signal.SIGINT, signal.default_int_handler)
+
 START_TIMEOUT_S = 60.0
 ROS_DEPRECATIONS = "ignore::DeprecationWarning:(rospy|rosgraph|genpy|roslib|rospkg)"
 """Noetic's Python code uses APIs Python 3.11 deprecates (``notifyAll``); the warnings come
