@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, BrowserContext, Locator, Page, sync_playwright
+from playwright.sync_api import Browser, BrowserContext, Locator, Page, expect, sync_playwright
 
 from tests.serving import melfa_serve as serving_melfa
 
@@ -44,6 +44,11 @@ SCREENSHOTS = (
     else Path(tempfile.gettempdir()) / "melfa-screenshots"
 )
 VIEWPORT = {"width": 1366, "height": 768}
+
+# How long an `expect` waits for what the page should come to show: a guard against a hang,
+# not a measure (tests never time things). Playwright's 5 s is short for a check or a load
+# answered by a worker process at niceness +10 on two cores busy with the rest of the suite.
+expect.set_options(timeout=15_000)
 
 
 @dataclass(frozen=True)
