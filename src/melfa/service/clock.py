@@ -219,8 +219,9 @@ class FakeClock(Clock):
             with self._lock:
                 if self._threads_waiting():
                     return
-            try:
-                await asyncio.wait_for(wake.wait(), self.STUCK_S)
+            try:  # asyncio.timeout: a cancel that meets a wake-up still cancels
+                async with asyncio.timeout(self.STUCK_S):
+                    await wake.wait()
             except TimeoutError:
                 raise RuntimeError("FakeClock: a thread kept working without waiting") from None
 

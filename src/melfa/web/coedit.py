@@ -190,8 +190,12 @@ class Room:
                 due = min(self.last_edit + settings.save_after_s, started + settings.save_every_s)
                 if due <= loop.time():
                     break
+                # asyncio.timeout_at, not asyncio.wait_for: Python 3.11's wait_for
+                # returns when an edit comes in the moment the room closes and drops the
+                # cancellation, and the saver ran on (the room's close waited for it).
                 with contextlib.suppress(TimeoutError):
-                    await asyncio.wait_for(self.changed.wait(), due - loop.time())
+                    async with asyncio.timeout_at(due):
+                        await self.changed.wait()
             try:
                 await self.save()
             except Exception:  # the store failed: keep the document, try again later

@@ -136,7 +136,7 @@ async def live_document(websocket: WebSocket, workspace_id: int) -> None:
 async def _first(websocket: WebSocket, hub: CoeditHub) -> HelloIn | None:
     """The client's ``hello``, within `CoeditSettings.silent_s`; None (closed) otherwise."""
     try:
-        text = await asyncio.wait_for(websocket.receive_text(), hub.settings.silent_s)
+        text = await _text_within(websocket, hub.settings.silent_s)
         message = _parse(text)
     except (TimeoutError, ValueError, KeyError):
         await websocket.close(code=POLICY_VIOLATION, reason="expected hello")
@@ -145,6 +145,16 @@ async def _first(websocket: WebSocket, hub: CoeditHub) -> HelloIn | None:
         await websocket.close(code=POLICY_VIOLATION, reason="expected hello")
         return None
     return message
+
+
+async def _text_within(websocket: WebSocket, seconds: float) -> str:
+    """The next text, or TimeoutError after ``seconds`` of silence. Cancelling the caller
+    always ends it, even when a message arrives in the same moment: Python 3.11's
+    `asyncio.wait_for` then returns the message and drops the cancellation, and the reader
+    of a socket being closed (its session ended, say) ran on, applying its edits, for as
+    long as its pings kept coming, with the socket's close waiting for it."""
+    async with asyncio.timeout(seconds):
+        return await websocket.receive_text()
 
 
 def _parse(text: str) -> HelloIn | UpdateIn | CursorIn | Flush | PingIn:
@@ -158,7 +168,7 @@ def _parse(text: str) -> HelloIn | UpdateIn | CursorIn | Flush | PingIn:
 
 async def _receive(websocket: WebSocket, hub: CoeditHub, room: Room, peer: PeerConn) -> None:
     while True:
-        text = await asyncio.wait_for(websocket.receive_text(), hub.settings.silent_s)
+        text = await _text_within(websocket, hub.settings.silent_s)
         try:
             message = _parse(text)
         except ValueError:
