@@ -5,55 +5,21 @@ a room's saver cancelled as an edit came in ran on (and the room's close waited 
 and a socket's reader cancelled as a message came in ran on, applying the edits of a
 socket being closed (its session ended, say) for as long as its pings kept coming.
 
-The race is one turn of the event loop, which no client of a real socket can place, so
-the socket here is Starlette's own `WebSocket` on an in-memory ASGI channel (what uvicorn
-hands the app), and the room is the app's `CoeditHub` on a real SQLite store."""
+The socket is Starlette's own on an in-memory ASGI channel (`tests.web.asgi_channel`: the
+race is one turn of the event loop), the room the app's `CoeditHub` on a real SQLite store."""
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
-import json
 from collections.abc import AsyncIterator
 from pathlib import Path
-from typing import Any
-
-from starlette.websockets import WebSocket
 
 from melfa.web.coedit import CoeditHub, CoeditSettings, PeerConn, Room
 from melfa.web.coedit_doc import Contents, SharedDoc
 from melfa.web.routes.coedit import _first, _receive
+from tests.web.asgi_channel import AsgiChannel, turns
 from tests.web.conftest import make_store
-
-
-async def _turns(n: int = 8) -> None:
-    """Let the event loop go round ``n`` times (every task runs what it can)."""
-    for _ in range(n):
-        await asyncio.sleep(0)
-
-
-class _Channel:
-    """The server's side of one socket, in memory: what uvicorn hands the app."""
-
-    def __init__(self) -> None:
-        self.incoming: asyncio.Queue[dict[str, Any]] = asyncio.Queue()
-        self.sent: list[dict[str, Any]] = []
-
-    async def receive(self) -> dict[str, Any]:
-        return await self.incoming.get()
-
-    async def send(self, message: dict[str, Any]) -> None:
-        self.sent.append(message)
-
-    def arrives(self, **message: Any) -> None:
-        self.incoming.put_nowait({"type": "websocket.receive", "text": json.dumps(message)})
-
-    async def accepted(self) -> WebSocket:
-        scope = {"type": "websocket", "path": "/", "headers": [], "query_string": b""}
-        websocket = WebSocket(scope, self.receive, self.send)
-        self.incoming.put_nowait({"type": "websocket.connect"})
-        await websocket.accept()
-        return websocket
 
 
 @contextlib.asynccontextmanager
@@ -79,12 +45,12 @@ def test_a_room_closing_as_an_edit_comes_in_stops_its_saver(tmp_path: Path) -> N
         async with _room(tmp_path) as (hub, room, peer):
             typist = SharedDoc(room.doc.state())
             room.edit(peer, typist.edit_to(Contents("MOV P1\n", "")) or b"")
-            await _turns()  # the saver waits for a pause in the typing
+            await turns()  # the saver waits for a pause in the typing
             saver = room.saver
             assert saver is not None and not saver.done()
             room.edit(peer, typist.edit_to(Contents("MOV P1\nEND\n", "")) or b"")  # an edit...
             saver.cancel()  # ...in the very turn the room closes
-            await _turns()
+            await turns()
             assert saver.cancelled()
             room.saver = None
             await hub.close()  # what was typed is still saved
@@ -96,14 +62,14 @@ def test_a_room_closing_as_an_edit_comes_in_stops_its_saver(tmp_path: Path) -> N
 def test_a_reader_cancelled_as_a_message_comes_in_ends(tmp_path: Path) -> None:
     async def main() -> None:
         async with _room(tmp_path) as (hub, room, peer):
-            channel = _Channel()
+            channel = AsgiChannel()
             reader = asyncio.create_task(_receive(await channel.accepted(), hub, room, peer))
             channel.arrives(type="ping")
-            await _turns()
+            await turns()
             assert peer.outbox.qsize() == 1  # it reads: the ping is answered
             channel.arrives(type="ping")  # a message...
             reader.cancel()  # ...in the very turn the socket is closed
-            await _turns()
+            await turns()
             assert reader.cancelled()
             assert peer.outbox.qsize() == 1  # and it read no more
 
@@ -113,12 +79,12 @@ def test_a_reader_cancelled_as_a_message_comes_in_ends(tmp_path: Path) -> None:
 def test_a_socket_closed_as_its_hello_comes_in_ends(tmp_path: Path) -> None:
     async def main() -> None:
         async with _room(tmp_path) as (hub, _, _):
-            channel = _Channel()
+            channel = AsgiChannel()
             greeting = asyncio.create_task(_first(await channel.accepted(), hub))
-            await _turns()
+            await turns()
             channel.arrives(type="hello", state_vector="AA==")
             greeting.cancel()
-            await _turns()
+            await turns()
             assert greeting.cancelled()
 
     asyncio.run(main())

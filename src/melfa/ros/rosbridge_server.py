@@ -178,8 +178,9 @@ class _Endpoint(Generic[S]):
 
     async def _from_auth_op(self, websocket: WebSocket) -> str | None:
         """The first message must be ``auth`` with a token in ``mac``; its token or None."""
-        try:
-            raw = await asyncio.wait_for(websocket.receive(), self.auth_timeout_s)
+        try:  # asyncio.timeout: a cancel that meets the message still cancels
+            async with asyncio.timeout(self.auth_timeout_s):
+                raw = await websocket.receive()
         except TimeoutError:
             return None
         if raw.get("type") == "websocket.disconnect":
