@@ -6,7 +6,7 @@ import asyncio
 import contextlib
 import os
 import signal
-import time
+import threading
 from pathlib import Path
 
 from melfa.web.pools import WORKER_NICENESS, BoundedPool
@@ -26,10 +26,11 @@ def test_worker_processes_run_at_a_lower_cpu_priority_than_the_server() -> None:
     assert theirs == min(19, ours + WORKER_NICENESS)
 
 
-def work_for_ten_minutes(started: str) -> None:
-    """In a worker: a check that goes on and on (say so first)."""
+def work_that_never_ends(started: str) -> None:
+    """In a worker: a check that never ends. It says it started, then blocks on an event
+    that nothing ever sets, so only the pool's shutdown can end it."""
     Path(started).touch()
-    time.sleep(600)
+    threading.Event().wait()
 
 
 def _gone(pid: int) -> bool:
@@ -52,7 +53,7 @@ def test_a_worker_still_at_work_when_the_server_stops_is_ended_not_waited_for(
 
     async def main() -> None:
         worker = await pool.run(os.getpid)
-        busy = asyncio.ensure_future(pool.run(work_for_ten_minutes, str(started)))
+        busy = asyncio.ensure_future(pool.run(work_that_never_ends, str(started)))
         try:
             await asyncio.to_thread(wait_until, started.exists, 120, "the work to start")
             pool.shutdown()
