@@ -143,7 +143,8 @@ class _Staff:
         return await _act(keeper, self.by, name, lambda: call(keeper, self.by))
 
 
-def _staff(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> _Staff:
+async def _staff(session: StaffDep, context: ContextDep, target: TargetQuery = LAB) -> _Staff:
+    """Async like every dependency: FastAPI runs a plain ``def`` in its shared pool."""
     return _Staff(context, target, actor_of(session))
 
 
