@@ -7,7 +7,8 @@ import pytest
 from melfa.kin import HOME, fk
 from melfa.kin.reach import ReachKind, reach_diagnostics, unreachable_points
 from melfa.lang.diagnostics import Severity
-from melfa.lang.points import PointDef, parse_points
+from melfa.lang.points import PointDef
+from melfa.lang.points_read import parse_points
 
 DOWN = (180.0, 0.0, 180.0)  # hand pointing down
 

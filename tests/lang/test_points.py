@@ -7,14 +7,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from melfa.lang.diagnostics import Severity
-from melfa.lang.points import (
-    PointDef,
-    PointKind,
-    format_points,
-    format_value,
-    parse_points,
-    upload_lines,
-)
+from melfa.lang.points import PointDef, PointKind
+from melfa.lang.points_read import parse_points
+from melfa.lang.points_write import format_points, format_value, upload_lines
 
 # The thesis's points file (§7.2, test 3), verbatim.
 THESIS_POS = """\

@@ -9,7 +9,7 @@ from pathlib import Path
 import melfa
 from melfa.kin.reach import reach_diagnostics
 from melfa.lang.parser import parse
-from melfa.lang.points import parse_points
+from melfa.lang.points_read import parse_points
 from melfa.lang.project import check_project, offset_only
 
 FAR = "PFAR=(3000,0,600,180,0,180)(7,0)\n"

@@ -9,7 +9,7 @@ from __future__ import annotations
 from melfa.kin.reach import reach_diagnostics
 from melfa.lang import check
 from melfa.lang.diagnostics import Diagnostic, Severity
-from melfa.lang.points import parse_points
+from melfa.lang.points_read import parse_points
 from melfa.lang.project import check_project
 
 

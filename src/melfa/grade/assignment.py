@@ -19,7 +19,7 @@ from melfa.grade.model import CHECK_MODELS, AssignmentFile, Avoids, CheckKind, P
 from melfa.grade.statements import STATEMENTS, normalise
 from melfa.grade.variants import Variant, pick
 from melfa.lang.encoding import decode_text
-from melfa.lang.points import parse_points
+from melfa.lang.points_read import parse_points
 from melfa.sim.debug.cell import Cell, CellError
 
 MANIFEST = "assignment.toml"

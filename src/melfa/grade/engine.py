@@ -36,7 +36,9 @@ from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Diagnostic
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
-from melfa.lang.points import PointDef, PointKind, format_points, parse_points
+from melfa.lang.points import PointDef, PointKind
+from melfa.lang.points_read import parse_points
+from melfa.lang.points_write import format_points
 from melfa.lang.project import check_project
 from melfa.sim.debug.cell import Cell
 from melfa.sim.debug.engine import DebugError

@@ -8,7 +8,7 @@ the same way from every entry and every part reads the same answers:
   (`melfa.lang.ascii`, line count unchanged); a program numbered already (every non-blank
   line starts with a step number, *by the tokens*: ``3END`` is step 3) is sent as it is,
   any other is numbered 10, 20, … with its jumps rewritten (`melfa.lang.numbering`);
-  points read by `melfa.lang.points` and written in the controller's ``P1=(…)(7,0)`` form;
+  points read by `melfa.lang.points_read` and written in the controller's ``P1=(…)(7,0)`` form;
 - **the step → line map** (`UploadPlan.step_lines`): which line of the user's own text
   each step number the controller reports is, for the running-line marker;
 - **the diagnostics**: the checker's (`melfa.lang.project.check_program`, against the names
@@ -42,7 +42,8 @@ from melfa.lang.ascii import fold_tokens
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.numbering import number_tokens
-from melfa.lang.points import parse_points, upload_lines
+from melfa.lang.points_read import parse_points
+from melfa.lang.points_write import upload_lines
 from melfa.lang.project import by_position, check_program, declared_points, parse_program
 from melfa.lang.record import Record
 

@@ -1,7 +1,7 @@
 """Checking a project: programs and points files together, as one function.
 
 `check_project` is what `melfa check`, the web API (and through it the IDE and the desktop
-client) call: points files are read (`melfa.lang.points`), programs are checked against the
+client) call: points files are read (`melfa.lang.points_read`), programs are checked against the
 names they define (`melfa.lang.check`, step numbering included), and the points are judged
 against the robot by the `reach` function the caller passes (`melfa.kin.reach`
 .reach_diagnostics: the robot model sits above this package, so it is handed in).
@@ -26,7 +26,8 @@ from melfa.lang.check import check_ast, internal_error
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.lexer import tokenize
 from melfa.lang.parser import parse_tokens
-from melfa.lang.points import PointDef, PointKind, PointsFile, parse_points
+from melfa.lang.points import PointDef, PointKind, PointsFile
+from melfa.lang.points_read import parse_points
 from melfa.lang.record import Record
 from melfa.lang.reparse import EDITOR
 from melfa.lang.tokens import Token

@@ -19,7 +19,8 @@ from dataclasses import dataclass
 from melfa.lang.diagnostics import Diagnostic
 from melfa.lang.encoding import decode_text
 from melfa.lang.numbering import renumber, strip
-from melfa.lang.points import format_points, parse_points
+from melfa.lang.points_read import parse_points
+from melfa.lang.points_write import format_points
 from melfa.store.errors import TransferError, WrongExtension
 
 __all__ = [

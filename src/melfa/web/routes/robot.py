@@ -14,7 +14,8 @@ from typing import Annotated, TypeVar
 from fastapi import APIRouter, Query, Request
 
 from melfa.lang.plan import UploadPlan, plan_upload
-from melfa.lang.points import PointKind, parse_points
+from melfa.lang.points import PointKind
+from melfa.lang.points_read import parse_points
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
 from melfa.service import Actor, InvalidArgument, ServoPolicy

@@ -35,7 +35,7 @@ export function parsePoints(text) {
 
 const fmt = (v) => (v == null || Number.isNaN(v) ? "" : (Math.abs(v) < 0.005 ? 0 : v).toFixed(2));
 
-/** One points-file line in the project's form (as melfa.lang.points.format_points). */
+/** One points-file line in the project's form (as melfa.lang.points_write.format_points). */
 export function formatPoint({ name, kind, values, fl1, fl2 }) {
   const body = `${name}=(${values.map(fmt).join(",")})`;
   if (kind === "JNT") return `DEF JNT ${body}`;
