@@ -143,7 +143,9 @@ def ui(qapp: QApplication, server: Server) -> Iterator[Ui]:
     window.show()
     presenter.start()
     wait_until(
-        lambda: presenter.state is not None and presenter.feed_status is FeedStatus.CONNECTED
+        lambda: (
+            presenter.live.state is not None and presenter.live.feed_status is FeedStatus.CONNECTED
+        )
     )
     wait_until(lambda: not presenter.busy)  # the first state read done: buttons enabled
     yield Ui(window, presenter, dialogs)
@@ -177,8 +179,8 @@ def test_wrong_password_is_shown_in_the_dialog(qapp: QApplication, server: Serve
 
 def test_window_shows_link_and_live_pose(ui: Ui) -> None:
     assert ui.window.link_pill.text() == "Robot connected"
-    assert ui.presenter.link is LinkStatus.CONNECTED
-    state = ui.presenter.state
+    assert ui.presenter.live.link is LinkStatus.CONNECTED
+    state = ui.presenter.live.state
     assert state is not None and state.pose is not None
     assert ui.window.pose_values[0].text() == f"{state.pose[0]:.2f}".replace(",", " ")
     assert ui.window.stop_button.isEnabled()
@@ -256,9 +258,13 @@ def test_load_and_run_reach_the_virtual_controller(
     wait_until(lambda: now.text() == "Running line 4 of numbered.MB4", timeout=60)
     [mark] = ui.window.program_view.extraSelections()
     assert mark.cursor.block().text() == "230 MOV Pb"
-    wait_until(lambda: ui.presenter.state is not None and ui.presenter.state.running is False)
-    wait_until(lambda: ui.presenter.state is not None and ui.presenter.state.moving is False)
-    final = ui.presenter.state
+    wait_until(
+        lambda: ui.presenter.live.state is not None and ui.presenter.live.state.running is False
+    )
+    wait_until(
+        lambda: ui.presenter.live.state is not None and ui.presenter.live.state.moving is False
+    )
+    final = ui.presenter.live.state
     assert final is not None and final.joints is not None and final.pose is not None
     wait_until(lambda: ui.window.joint_values[0].text() == f"{final.joints[0]:.2f}")
     wait_until(lambda: now.text() == "Idle")
@@ -279,12 +285,12 @@ def test_exec_moves_the_arm_and_the_pose_updates(ui: Ui, observer: ApiClient) ->
     assert ui.take_notices() == []
 
     def lowered() -> bool:
-        now = ui.presenter.state
+        now = ui.presenter.live.state
         return now is not None and now.pose is not None and now.pose[2] < z_before - 25
 
     wait_until(lowered, timeout=30)
-    wait_until(lambda: ui.presenter.state is not None and not ui.presenter.state.moving)
-    now = ui.presenter.state
+    wait_until(lambda: ui.presenter.live.state is not None and not ui.presenter.live.state.moving)
+    now = ui.presenter.live.state
     assert now is not None and now.pose is not None
     wait_until(lambda: ui.window.pose_values[2].text() == f"{now.pose[2]:.2f}")
     observed = observer.state().pose
@@ -346,10 +352,10 @@ def test_a_held_jog_button_moves_only_while_held(ui: Ui, observer: ApiClient) ->
         wait_until(lambda: x_of(observer) > before + 2, timeout=30)
         now = ui.window.status_values["activity"]
         wait_until(lambda: now.text() == "Jogging X+ (base)")  # the window, live
-        assert ui.presenter.hold.active
+        assert ui.presenter.live.hold.active
     finally:
         QTest.mouseRelease(button, Qt.MouseButton.LeftButton)
-    assert not ui.presenter.hold.active
+    assert not ui.presenter.live.hold.active
     stays_put(ui, observer)
     assert ui.take_notices() == []
     assert observer.state().servo is True
@@ -362,7 +368,7 @@ def test_a_held_key_jogs_and_its_auto_repeat_is_ignored(ui: Ui, observer: ApiCli
     pad = ui.window.jog_pad
     before = x_of(observer)
     QTest.keyPress(pad, Qt.Key.Key_S)  # S: X−
-    start_id = ui.presenter.hold.start_id
+    start_id = ui.presenter.live.hold.start_id
     assert start_id is not None
     try:
         wait_until(lambda: x_of(observer) < before - 2, timeout=30)
@@ -371,11 +377,11 @@ def test_a_held_key_jogs_and_its_auto_repeat_is_ignored(ui: Ui, observer: ApiCli
             for kind in (QEvent.Type.KeyRelease, QEvent.Type.KeyPress):
                 event = QKeyEvent(kind, Qt.Key.Key_S, Qt.KeyboardModifier.NoModifier, "s", True)
                 QApplication.sendEvent(pad, event)
-        assert ui.presenter.hold.active and ui.presenter.hold.start_id == start_id
+        assert ui.presenter.live.hold.active and ui.presenter.live.hold.start_id == start_id
         assert observer.state().jogging
     finally:
         QTest.keyRelease(pad, Qt.Key.Key_S)
-    wait_until(lambda: not ui.presenter.hold.active, timeout=5)
+    wait_until(lambda: not ui.presenter.live.hold.active, timeout=5)
     stays_put(ui, observer)
 
 
@@ -387,7 +393,7 @@ def test_x_auto_repeat_not_marked_as_repeat_is_still_one_jog(ui: Ui, observer: A
     pad = ui.window.jog_pad
     jogs = log_text(ui).count("Jog X+ (held)")
     QTest.keyPress(pad, Qt.Key.Key_W)
-    start_id = ui.presenter.hold.start_id
+    start_id = ui.presenter.live.hold.start_id
     assert start_id is not None
     try:
         wait_until(lambda: observer.state().jogging, timeout=30)
@@ -396,11 +402,11 @@ def test_x_auto_repeat_not_marked_as_repeat_is_still_one_jog(ui: Ui, observer: A
                 event = QKeyEvent(kind, Qt.Key.Key_W, Qt.KeyboardModifier.NoModifier, "w")
                 QApplication.sendEvent(pad, event)
             QApplication.processEvents()
-        assert ui.presenter.hold.active and ui.presenter.hold.start_id == start_id
+        assert ui.presenter.live.hold.active and ui.presenter.live.hold.start_id == start_id
         assert pad.buttons[(0, 1)].isDown()
     finally:
         QTest.keyRelease(pad, Qt.Key.Key_W)
-    wait_until(lambda: not ui.presenter.hold.active, timeout=5)  # a real let-go stops it
+    wait_until(lambda: not ui.presenter.live.hold.active, timeout=5)  # a real let-go stops it
     assert not pad.buttons[(0, 1)].isDown()
     stays_put(ui, observer)
     assert log_text(ui).count("Jog X+ (held)") == jogs + 1
@@ -412,14 +418,14 @@ def test_losing_the_keyboard_stops_a_held_jog(ui: Ui, observer: ApiClient) -> No
     QTest.keyPress(pad, Qt.Key.Key_A)  # A: Y+
     wait_until(lambda: observer.state().jogging, timeout=30)
     pad.frame_box.setCurrentIndex(1)  # a changed frame lets go of the held key
-    assert not ui.presenter.hold.active
+    assert not ui.presenter.live.hold.active
     stays_put(ui, observer)
     QTest.keyRelease(pad, Qt.Key.Key_A)
     pad.frame_box.setCurrentIndex(0)
     QTest.keyPress(pad, Qt.Key.Key_A)
     wait_until(lambda: observer.state().jogging, timeout=30)
     pad.focusOutEvent(QFocusEvent(QEvent.Type.FocusOut))  # the keyboard went elsewhere
-    assert not ui.presenter.hold.active
+    assert not ui.presenter.live.hold.active
     stays_put(ui, observer)
     QTest.keyRelease(pad, Qt.Key.Key_A)
 
@@ -608,13 +614,13 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
     ui.idle()
 
     def mid_program() -> bool:
-        state = ui.presenter.state
+        state = ui.presenter.live.state
         return state is not None and bool(state.running) and state.line == 50
 
     try:
         wait_until(mid_program, timeout=30)  # the arm is on its way to Pb
     except AssertionError:
-        raise AssertionError((ui.dialogs.notices, ui.presenter.state, log_text(ui))) from None
+        raise AssertionError((ui.dialogs.notices, ui.presenter.live.state, log_text(ui))) from None
     assert ui.take_notices() == []
     ui.window.exec_edit.clear()
     ui.window.tabs.setCurrentIndex(0)  # the program as loaded
@@ -669,14 +675,14 @@ def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> N
         assert message is not None
         return message
 
-    ui.presenter._on_live(progress(300, "someone-else"))
+    ui.presenter.live.on_message(progress(300, "someone-else"))
     assert not ui.window.progress.isVisibleTo(ui.window)  # not ours: no bar
-    ui.presenter._on_live(progress(862, "admin"))
+    ui.presenter.live.on_message(progress(862, "admin"))
     assert ui.window.progress.isVisibleTo(ui.window) and ui.window.progress.value() == 50
     assert ui.window.statusBar().currentMessage() == "Sending to the robot: 50 %"
-    state = ui.presenter.state
+    state = ui.presenter.live.state
     assert state is not None
-    ui.presenter._on_state(state)  # not uploading: the bar goes
+    ui.presenter.live.on_state(state)  # not uploading: the bar goes
     assert not ui.window.progress.isVisibleTo(ui.window)
     ui.window.servo_on_button.click()  # a command: this user holds control
     ui.idle()
@@ -730,7 +736,7 @@ def test_main_signs_in_opens_the_window_and_exits_when_closed(
             for w in QApplication.topLevelWidgets()
             if isinstance(w, MainWindow) and id(w) not in others
         ]
-        live = [w for w in windows if w.isVisible() and w.presenter.state is not None]
+        live = [w for w in windows if w.isVisible() and w.presenter.live.state is not None]
         if not live:
             QTimer.singleShot(20, close_when_live)
             return
@@ -748,7 +754,7 @@ def test_many_updates_keep_none_alive(ui: Ui) -> None:
     below it, and this catches a build that does it again."""
     import sys
 
-    state = ui.presenter.state
+    state = ui.presenter.live.state
     assert state is not None
     before = sys.getrefcount(None)
     for _ in range(2000):

@@ -1,10 +1,10 @@
 """Between the widgets and the API: what each button means, done off the GUI thread.
 
-Every API call runs on a worker thread, so a slow controller (an upload at 9600 baud, a
-`run` that answers when the controller did) never freezes the window. Commands go one at
-a time through one worker; STOP has a worker of its own, so it is never queued behind a
-load. Results, live messages and failures come back to the GUI thread (a zero-time
-`QTimer.singleShot` on an anchor object living there) and go to the `View`.
+Every API call runs on a worker (`tasks.Tasks`: commands one at a time, STOP on a worker of
+its own, so it is never queued behind a load); its answer or failure comes back to the GUI
+thread and goes to the `View`. What the live feed says, and the held jog that rides on it,
+is `live_state.LiveState`; here are the user's intents: choosing files, checking, loading,
+running, the servo, the speed, one instruction, STOP, and the one-click fixes.
 
 The presenter tells its view what to show through plain method calls (a `View`), not Qt
 signals, so it can be tested with any view and stays free of Qt's threading rules.
@@ -14,14 +14,11 @@ from __future__ import annotations
 
 import contextlib
 import logging
-from collections.abc import Callable, Mapping
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Callable
 from datetime import datetime
 from functools import partial
 from pathlib import Path
 from typing import TypeVar
-
-from PySide6.QtCore import QObject, QTimer
 
 from melfa.desktop.api import (
     TARGET_LABELS,
@@ -34,9 +31,8 @@ from melfa.desktop.api import (
 )
 from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import ChosenFile, FileKind, FileRefused, from_workspace, read_file
-from melfa.desktop.hold import JogHold, JogKey
-from melfa.desktop.live import FeedStatus, LiveFeed
-from melfa.desktop.messages import LiveMessage, actor_name, error_fix
+from melfa.desktop.live_state import LiveState
+from melfa.desktop.tasks import Tasks
 from melfa.desktop.view import NoView, View
 from melfa.desktop.words import (
     Loaded,
@@ -44,26 +40,8 @@ from melfa.desktop.words import (
     describe_failure,
     diagnostic_lines,
     jog_label,
-    link_words,
-    queue_line,
-    sentence,
-    upload_progress,
-)
-from melfa.live.messages import (
-    CommandResultMessage,
-    ErrorMessage,
-    Hello,
-    JogHeartbeatAck,
-    JogMessage,
-    LinkMessage,
-    ProgressMessage,
-    QueueMessage,
-    StateOut,
 )
 from melfa.protocol.advice import Fix
-from melfa.vocab.commands import Command, command_label
-from melfa.vocab.jog import JogEnd
-from melfa.vocab.link import LinkStatus
 
 _log = logging.getLogger(__name__)
 FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
@@ -73,54 +51,36 @@ T = TypeVar("T")
 
 
 class Presenter:
-    """One signed-in client's actions and the live state the window shows.
+    """One signed-in client's actions; the live state the window shows is `live`.
 
-    Create it on the GUI thread (its anchor object and jog timer live there)."""
+    Create it on the GUI thread (its workers' anchor and the jog timer live there)."""
 
     def __init__(self, client: ApiClient) -> None:
         self.client = client
         self.view: View = NoView()
         self.program: ChosenFile | None = None
         self.points: ChosenFile | None = None
-        self.state: StateOut | None = None
         self.last_upload: UploadReport | None = None
         self.loaded: Loaded | None = None
         """What this client loaded (the file's name, its step -> line map)."""
-        self.link: LinkStatus | None = None
-        """None until the server has said."""
-        self.feed_status = FeedStatus.CLOSED
         self.busy = ""
-        self._anchor = QObject()
-        self._commands = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-cmd")
-        self._stopper = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-stop")
-        self._reads = ThreadPoolExecutor(1, thread_name_prefix="melfa-desktop-read")
-        self._feed: LiveFeed | None = None
-        self.hold = JogHold(self._send_live)
+        self.tasks = Tasks()
+        self.live = LiveState(client, self.tasks, self._log, self._tell)
         self.workspaces: tuple[WorkspaceInfo, ...] = ()
         """The server's workspaces this user may load from (the IDE's), besides files."""
-        self._closed = False
 
     @property
     def closed(self) -> bool:
-        return self._closed
+        return self.tasks.closed
 
     @property
     def me(self) -> str:
-        return self.client.user.username if self.client.user else ""
+        return self.live.me
 
     def attach(self, view: View) -> None:
-        self.view = view
+        self.view = self.live.view = view
 
     # --- plumbing ------------------------------------------------------------------------
-
-    def _later(self, call: Callable[[], None]) -> None:
-        """Run ``call`` on the GUI thread (safe from any thread); dropped once closed."""
-        if not self._closed:
-            QTimer.singleShot(0, self._anchor, partial(self._deliver, call))
-
-    def _deliver(self, call: Callable[[], None]) -> None:
-        if not self._closed:
-            call()
 
     def _log(self, text: str) -> None:
         self.view.append_log(f"{datetime.now():%H:%M:%S}  {text}")
@@ -134,7 +94,9 @@ class Presenter:
         fix: Fix | None = None,
         retry: Callable[[], object] | None = None,
     ) -> None:
-        """Show a notice; with a ``fix`` the user can choose it (and then ``retry``)."""
+        """Show a notice; with a ``fix`` this client can do (`FIXES_OFFERED`) the user can
+        choose it (and then ``retry``)."""
+        fix = fix if fix in FIXES_OFFERED else None
         on_fix = partial(self.apply_fix, fix, retry) if fix is not None else None
         self.view.show_notice(Notice(kind, title, text, lines, fix), on_fix)
 
@@ -152,22 +114,15 @@ class Presenter:
     ) -> bool:
         """Run ``work`` on the command worker; ``done`` or a failure dialog on the GUI thread
         (offering the API's one-click fix, then ``retry``, where there is one)."""
-        if self._closed:
+        if self.tasks.closed:
             return False
         if self.busy:
             self.view.show_status(f"Still {self.busy.lower()}; wait for it or press STOP.")
             return False
         self._set_busy(what)
-
-        def job() -> None:
-            try:
-                result = work()
-            except Exception as exc:
-                self._later(partial(self._failed, failed_title, exc, retry))
-            else:
-                self._later(partial(self._finished, done, result))
-
-        self._commands.submit(job)
+        self.tasks.command(
+            work, partial(self._finished, done), partial(self._failed, failed_title, retry=retry)
+        )
         return True
 
     def _finished(self, done: Callable[[T], None], result: T) -> None:
@@ -185,7 +140,6 @@ class Presenter:
         self._log(f"{title}: {text}")
         self.view.show_status(f"{title}: {text}")
         fix = exc.fix if isinstance(exc, ApiError) else None
-        fix = fix if fix in FIXES_OFFERED else None
         self._tell(NoticeKind.ERROR, title, text, lines, fix, retry)
 
     def apply_fix(self, fix: Fix, retry: Callable[[], object] | None = None) -> None:
@@ -199,7 +153,7 @@ class Presenter:
         elif fix is Fix.STOP:
             self.stop()
 
-    # --- live feed -----------------------------------------------------------------------
+    # --- the robot to follow -------------------------------------------------------------
 
     def choose_target(self, target: str) -> None:
         """Drive ``target`` (``lab`` or ``mine``) from now on: the live feed follows it."""
@@ -208,136 +162,30 @@ class Presenter:
         self.jog_release()
         self.client.target = target
         self._log(f"Now driving {TARGET_LABELS.get(target, target)}")
-        if self._feed is not None:
-            self._feed.close(timeout=1.0)
-            self._feed = None
+        if self.live.close(timeout=1.0):
             self.start()
 
     def start(self) -> None:
         """Show the latest state and the workspaces now, then follow the WebSocket."""
-        self._submit("Reading the state", self.client.state, self._on_state, "Could not read")
+        self._submit("Reading the state", self.client.state, self.live.on_state, "Could not read")
         self.refresh_workspaces()
-        self._feed = LiveFeed(
-            self.client.websocket_url,
-            self.client.cookie_header(),
-            lambda message: self._later(partial(self._on_live, message)),
-            lambda status, detail: self._later(partial(self._on_feed, status, detail)),
-        )
-        self._feed.start()
+        self.live.open()
 
     def refresh_workspaces(self) -> None:
         """List the workspaces again (off the GUI thread; not queued behind a command)."""
-        if self._closed:
-            return
 
-        def job() -> None:
-            try:
-                found = self.client.workspaces()
-            except (ApiError, ServerUnreachable):
-                return  # an older server, or gone: files only (the feed says if it is gone)
-            self._later(partial(self._on_workspaces, found))
+        def failed(exc: Exception) -> None:
+            # an older server, or gone: files only (the feed says if it is gone)
+            if not isinstance(exc, ApiError | ServerUnreachable):
+                _log.error("unexpected failure in melfa desktop", exc_info=exc)
 
-        self._reads.submit(job)  # never on STOP's worker: a slow reply must not delay STOP
+        # never on STOP's worker: a slow reply must not delay STOP
+        self.tasks.read(self.client.workspaces, self._on_workspaces, failed)
 
     def _on_workspaces(self, found: tuple[WorkspaceInfo, ...]) -> None:
         if found != self.workspaces:
             self.workspaces = found
             self.view.show_workspaces(found)
-
-    def _send_live(self, message: Mapping[str, object]) -> bool:
-        return self._feed is not None and self._feed.send(message)
-
-    def _on_live(self, message: LiveMessage) -> None:
-        if isinstance(message, StateOut):
-            self._on_state(message)
-        elif isinstance(message, LinkMessage):
-            if message.status is not self.link:
-                self._log(link_words(message.status))
-            self._set_link(message.status, message.detail)
-        elif isinstance(message, Hello):
-            self._set_link(message.link, "")
-        elif isinstance(message, CommandResultMessage):
-            # This client logs its own commands when their answer comes; others' here.
-            who = actor_name(message.actor)
-            if who != self.me:
-                result = "done" if message.ok else sentence(message.error)
-                if message.command == Command.RUN and message.ok:
-                    result = "started"
-                self._log(f"{command_label(message.command)} by {who or 'the server'}: {result}")
-        elif isinstance(message, ProgressMessage):
-            if message.total and actor_name(message.actor) == self.me:
-                text, percent = upload_progress(message.sent, message.total)
-                self.view.show_status(text)
-                self.view.show_progress(percent)
-        elif isinstance(message, JogMessage):
-            self._on_jog_changed(message)
-        elif isinstance(message, JogHeartbeatAck):
-            if self.hold.active:
-                self._jog_ended("the server ended it")
-        elif isinstance(message, ErrorMessage):
-            self._on_refused(message)
-        elif isinstance(message, QueueMessage):
-            line, offered = queue_line(message, self.me)
-            self.view.show_queue(line, offered)
-            for step in message.steps:
-                if step.user == self.me:
-                    self._log(step.kind.words(step.user, step.by, step.position, step.seconds))
-
-    def _on_jog_changed(self, message: JogMessage) -> None:
-        if message.active or not self.hold.active:
-            return
-        if actor_name(message.actor) not in (self.me, None):
-            return
-        if message.end is None or message.end.expected or message.end is JogEnd.REFUSED:
-            return  # our own release, or a refusal the error reply explains
-        self._jog_ended(message.end.words(message.by))
-
-    def _jog_ended(self, why: str) -> None:
-        self.hold.ended()
-        self.view.show_jog(None)
-        self._log(f"Jog stopped: {why}")
-        self.view.show_status(f"Jog stopped: {why}.")
-
-    def _on_refused(self, message: ErrorMessage) -> None:
-        if message.id is None or message.id != self.hold.start_id:
-            return
-        self.hold.ended()
-        self.view.show_jog(None)
-        text = sentence(message.error.message)
-        self._log(f"Jog refused: {text}")
-        self.view.show_status(f"Jog refused: {text}")
-        fix = error_fix(message)
-        fix = fix if fix in FIXES_OFFERED else None
-        # With the servo fix, the servo comes on; the student presses the key again to move.
-        self._tell(NoticeKind.ERROR, "Could not jog", text, fix=fix)
-
-    def _on_state(self, state: StateOut) -> None:
-        self.state = state
-        if state.link is not self.link:
-            self._set_link(state.link, "")
-        if not state.busy:
-            self.view.show_progress(None)
-        self.view.show_state(state)
-
-    def _set_link(self, status: LinkStatus | None, detail: str) -> None:
-        self.link = status
-        self.view.show_link(status, detail)
-
-    def _on_feed(self, status: FeedStatus, detail: str) -> None:
-        self.feed_status = status
-        self.view.show_feed(status, detail)
-        if status is not FeedStatus.CONNECTED and self.hold.active:
-            self._jog_ended("the live connection dropped")
-        if status is FeedStatus.REFUSED:
-            self._log("Live updates stopped: the server refused them")
-            self._tell(
-                NoticeKind.ERROR,
-                "Live updates stopped",
-                "The server no longer accepts this session (signed out or expired). "
-                "Close the window and sign in again.",
-            )
-        elif status is FeedStatus.DISCONNECTED:
-            self.view.show_status("Live updates lost; reconnecting…")
 
     # --- files ---------------------------------------------------------------------------
 
@@ -426,7 +274,7 @@ class Presenter:
 
         def work() -> CheckResult:
             program, points = self._fresh(files)
-            self._later(partial(self._took, program, points))
+            self.tasks.later(partial(self._took, program, points))
             return self.client.check(program.text, points.text if points else "")
 
         return self._submit("Checking", work, self._on_checked, "Check failed")
@@ -453,10 +301,10 @@ class Presenter:
 
         def work() -> tuple[ChosenFile, ChosenFile | None, CheckResult | UploadReport]:
             program, points = self._fresh(files)
-            self._later(partial(self._took, program, points))
+            self.tasks.later(partial(self._took, program, points))
             points_text = points.text if points else ""
             result = self.client.check(program.text, points_text)
-            self._later(partial(self._show_check, result))
+            self.tasks.later(partial(self._show_check, result))
             if not result.ok:
                 return program, points, result
             return program, points, self.client.load_project(program.text, points_text)
@@ -486,8 +334,8 @@ class Presenter:
         self.view.show_status(f"Loaded {what}: ready to run.")
         self.last_upload = outcome
         self.loaded = Loaded(program.name, dict(outcome.step_lines))
-        if self.state is not None:
-            self.view.show_state(self.state)  # the line of this file from now on
+        if self.live.state is not None:
+            self.view.show_state(self.live.state)  # the line of this file from now on
 
     def claim(self) -> bool:
         """Take the lab robot's arm the queue offers: the queued program loads and runs."""
@@ -569,20 +417,11 @@ class Presenter:
 
     def jog_press(self, frame: str, axis: int, direction: int) -> bool:
         """A jog key went down: move while it is held (hold-to-move over the WebSocket)."""
-        key = JogKey(frame, axis, direction)
-        if self.hold.held == key:
-            return True
-        if self.feed_status is not FeedStatus.CONNECTED or not self.hold.press(key):
-            self.view.show_status("Jog needs the live connection; it is reconnecting.")
-            return False
-        self._log(f"Jog {jog_label(frame, axis, direction)} (held)")
-        self.view.show_jog(key)
-        return True
+        return self.live.jog_press(frame, axis, direction)
 
     def jog_release(self) -> None:
         """The jog key came up (or the window lost the keyboard): stop now."""
-        if self.hold.release():
-            self.view.show_jog(None)
+        self.live.jog_release()
 
     def exec_statement(self, text: str) -> bool:
         """Send one MELFA BASIC statement (EXEC)."""
@@ -600,21 +439,14 @@ class Presenter:
 
     def stop(self) -> None:
         """STOP: on its own worker, never queued behind a command; always allowed."""
-        if self._closed:
+        if self.tasks.closed:
             return
         self.jog_release()
         self._log("STOP")
         self.view.show_status("STOP sent…")
-
-        def job() -> None:
-            try:
-                self.client.stop()
-            except Exception as exc:
-                self._later(partial(self._failed_stop, exc))
-            else:
-                self._later(partial(self._done, "STOP: the robot stopped"))
-
-        self._stopper.submit(job)
+        self.tasks.stop(
+            self.client.stop, lambda _: self._done("STOP: the robot stopped"), self._failed_stop
+        )
 
     def _failed_stop(self, exc: BaseException) -> None:
         text, _ = describe_failure(exc)
@@ -627,15 +459,11 @@ class Presenter:
 
     def shutdown(self) -> None:
         """Stop any jog, close the feed, drop queued work, sign out (best effort). Idempotent."""
-        if self._closed:
+        if self.tasks.closed:
             return
         self.jog_release()
-        self._closed = True
-        if self._feed is not None:
-            self._feed.close()
-        self._commands.shutdown(wait=False, cancel_futures=True)
-        self._stopper.shutdown(wait=False, cancel_futures=True)
-        self._reads.shutdown(wait=False, cancel_futures=True)
+        self.tasks.close()
+        self.live.close()
         with contextlib.suppress(ApiError, ServerUnreachable):
             self.client.logout()
 

@@ -431,7 +431,7 @@ class MainWindow(QMainWindow):
         p.attach(self)
 
     def _fix_alarm(self) -> None:
-        state = self.presenter.state
+        state = self.presenter.live.state
         if state is not None and state.alarm is not None and state.alarm.fix is not None:
             self.presenter.apply_fix(state.alarm.fix)
 
