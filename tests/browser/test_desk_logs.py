@@ -1,7 +1,8 @@
 """The instructor's desk reads what happened to each robot from the server (issue 26), in
 Debian's Chromium: the lab robot's log (who took control, what they did, who gave it back)
 and a student's own simulator's, apart; the audit log with control changes in plain words
-and a Robot column; the old /audit page leads to it."""
+and a Robot column, a refused queue claim among the queue's entries; the old /audit page
+leads to it."""
 
 from __future__ import annotations
 
@@ -39,6 +40,8 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
         assert tove.request.post(server.url + "/api/lease", headers=csrf).ok
         assert tove.request.post(server.url + "/api/robot/stop", headers=csrf).ok
         assert tove.request.delete(server.url + "/api/lease", headers=csrf).ok
+        claim = tove.request.post(server.url + "/api/queue/claim", headers=csrf, data={})
+        assert claim.status == 409  # not offered to her: refused, and audited
         mine = tove.request.post(server.url + "/api/robot/stop?target=mine", headers=csrf)
         assert mine.ok
     finally:
@@ -53,6 +56,10 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
     expect(took.first).to_contain_text("Lab robot")
     expect(page.locator("#audit-rows tr", has_text="tove gave control back").first).to_be_visible()
     assert "control.changed" not in page.locator("#audit-rows").inner_text()
+    page.select_option("#audit-kind", "queue")  # her refused claim is among the queue's
+    claimed = page.locator("#audit-rows tr", has_text="Claim the arm").filter(has_text="tove")
+    expect(claimed.first).to_contain_text("The arm is not offered to you yet.")
+    sven.screenshot("desk-audit-queue")
     page.select_option("#audit-kind", "all")
     with page.expect_download() as download:
         page.click("#audit-csv")

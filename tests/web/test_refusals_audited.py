@@ -1,12 +1,13 @@
-"""A refused *Take control* and a refused queue join are audited like every other refusal
-(a gate refusal of a load, say): who, what, and why in the refusal's own words
-(`melfa.vocab.refusals`), on the lab robot's log. Their accepted counterparts stay what
-they were: the control change, the queue's step."""
+"""A refused *Take control* and a refused queue request (join, claim, leave, give back) are
+audited like every other refusal (a gate refusal of a load, say): who, what, and why in
+the refusal's own words (`melfa.vocab.refusals`), on the lab robot's log. Their accepted
+counterparts stay what they were: the control change, the queue's step."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
 from tests.web.conftest import Web, assert_error
 
@@ -51,3 +52,39 @@ def test_a_refused_queue_join_is_audited_in_the_refusals_words(web: Web) -> None
     error = assert_error(web.ann.post("/api/queue", json=broken), 422, "program-has-errors")
     last = [e for e in _entries(web, "ann") if e.action == "robot.join_queue"][-1]
     assert last.result == f"refused: {error['message']}" and "Line 2" in last.result
+
+
+def _refused(web: Web, actor: str, command: Command) -> list[tuple[str, str, str]]:
+    return [
+        (e.role, e.result, e.details["robot"])
+        for e in _entries(web, actor)
+        if e.action == f"robot.{command.value}"
+    ]
+
+
+def test_a_refused_claim_leave_and_give_back_are_audited_in_the_refusals_words(
+    web: Web,
+) -> None:
+    body = {"program": PROGRAM, "points": POINTS}
+    assert web.ivy.post("/api/queue/pause").status_code == 200  # nobody is offered the arm
+    assert web.ann.post("/api/queue", json=body).status_code == 200
+
+    error = assert_error(web.ann.post("/api/queue/claim", json={}), 409, "not-your-turn")
+    words = " ".join(Refusal.NOT_YOUR_TURN.words())
+    assert error["message"] == words
+    assert _refused(web, "ann", Command.CLAIM_TURN) == [("student", f"refused: {words}", "lab")]
+
+    error = assert_error(web.bob.delete("/api/queue/me"), 409, "not-queued")
+    words = " ".join(Refusal.NOT_QUEUED.words(user="bob"))
+    assert error["message"] == words
+    assert _refused(web, "bob", Command.LEAVE_QUEUE) == [("student", f"refused: {words}", "lab")]
+
+    error = assert_error(web.ann.post("/api/queue/done", json={}), 409, "not-queued")
+    words = " ".join(Refusal.NOT_QUEUED.words(user="ann"))
+    assert error["message"] == words
+    assert _refused(web, "ann", Command.GIVE_BACK) == [("student", f"refused: {words}", "lab")]
+
+    # Accepted, a leave is the queue's step alone, as a join is.
+    assert web.ann.delete("/api/queue/me").status_code == 200
+    ann = [e.action for e in _entries(web, "ann")]
+    assert "queue.left" in ann and ann.count("robot.leave_queue") == 0

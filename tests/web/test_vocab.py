@@ -20,7 +20,10 @@ def test_the_browsers_vocabulary_is_melfa_vocab(web: Web) -> None:
     tables = {k: json.loads(v) for k, v in re.findall(r"export const (\w+) = (.*);", reply.text)}
     assert set(tables["ACTIVITY"]) == {a.value for a in Activity}
     assert tables["ACTIVITY"]["moving-to"]["said"] == ACTIVITY_WORDS[Activity.MOVING_TO].said
-    assert tables["COMMANDS"]["move_to"] == {"label": "Move to", "moves": True, "detail": False}
+    move_to = {"label": "Move to", "moves": True, "detail": False, "queue": False}
+    assert tables["COMMANDS"]["move_to"] == move_to
+    queue = {c for c, words in tables["COMMANDS"].items() if words["queue"]}
+    assert queue == {"join_queue", "claim_turn", "leave_queue", "give_back"}
     assert set(tables["JOG_ENDS"]) == {e.value for e in JogEnd}
     assert tables["JOG_ENDS"]["stopped"]["words"] == JogEnd.STOPPED.template
     assert tables["LINK_WORDS"]["lost"] == LINK_WORDS[LinkStatus.LOST]

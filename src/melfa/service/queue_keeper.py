@@ -259,20 +259,27 @@ class QueueKeeper:
         self.service.decide(actor, Command.JOIN_QUEUE, join)
 
     def leave(self, actor: Actor) -> None:
-        self._do(lambda q: q.leave(actor.user))
+        """Leave the queue; a refusal is audited as a join's is."""
+        self._decide(actor, Command.LEAVE_QUEUE, lambda q: q.leave(actor.user))
 
     def claim(self, actor: Actor, *, start: bool = True) -> None:
         """The offered student takes the arm: the lease is theirs; with ``start`` their
-        queued text is loaded and run (in attended mode the run waits for *Arm ready*)."""
-        self.service.policy.from_where(actor)  # the lab's networks, before the lease moves
-        self._do(lambda q: q.claim(actor.user, self.clock.now()), actor)
+        queued text is loaded and run (in attended mode the run waits for *Arm ready*). A
+        refusal (not offered to them, outside the lab's networks) is audited."""
+
+        def claim(queue: TurnQueue) -> list[Step]:
+            self.service.policy.from_where(actor)  # the lab's networks, before the lease moves
+            return queue.claim(actor.user, self.clock.now())
+
+        self._decide(actor, Command.CLAIM_TURN, claim)
         turn = self.queue.turn
         if start and turn is not None and turn.entry is not None:
             self._spawn(self._load_and_run(actor, turn.entry))
 
     def finish(self, actor: Actor) -> None:
-        """The student at the arm gives it back before the end of the turn."""
-        self._do(lambda q: q.finish(actor.user))
+        """The student at the arm gives it back before the end of the turn; a refusal is
+        audited."""
+        self._decide(actor, Command.GIVE_BACK, lambda q: q.finish(actor.user))
 
     def workspace_saved(self, workspace_id: int, program: str, points: str) -> None:
         self._do(lambda q: q.workspace_saved(workspace_id, program, points))
@@ -343,6 +350,13 @@ class QueueKeeper:
             self._apply([])
 
     # ------------------------------------------------------------------ inside
+
+    def _decide(
+        self, actor: Actor, command: Command, change: Callable[[TurnQueue], list[Step]]
+    ) -> None:
+        """A student's own queue request: its refusal audited in its own words
+        (`RobotService.decide`), the change itself the queue's step."""
+        self.service.decide(actor, command, lambda: self._do(change, actor))
 
     def _do(self, change: Callable[[TurnQueue], list[Step]], by: Actor | None = None) -> None:
         try:

@@ -51,7 +51,13 @@ class Command(enum.StrEnum):
     control change it makes)."""
     JOIN_QUEUE = "join_queue"
     """Enter the shared robot's queue (the audit keeps a refused one; an accepted one is
-    the queue's step)."""
+    the queue's step). So too the three below."""
+    CLAIM_TURN = "claim_turn"
+    """Claim the arm the queue offers."""
+    LEAVE_QUEUE = "leave_queue"
+    """Leave the queue before one's turn."""
+    GIVE_BACK = "give_back"
+    """Give the arm back before the turn's end."""
 
     @property
     def label(self) -> str:
@@ -69,6 +75,12 @@ class Command(enum.StrEnum):
         the student's own statement); else it is what melfa built for the controller (a
         move's statements, a slot) and logs show the label alone."""
         return self in _DETAIL_IN_WORDS
+
+    @property
+    def queue(self) -> bool:
+        """Whether it is a request of the shared robot's queue (the desk's audit shows a
+        refused one among the queue's steps)."""
+        return self in _QUEUE
 
 
 @dataclass(frozen=True)
@@ -99,12 +111,16 @@ _WORDS: dict[Command, _Words] = {
     Command.READ_POSE: _Words("Read position", False),
     Command.TAKE_CONTROL: _Words("Take control", False),
     Command.JOIN_QUEUE: _Words("Join the queue", False),
+    Command.CLAIM_TURN: _Words("Claim the arm", False),
+    Command.LEAVE_QUEUE: _Words("Leave the queue", False),
+    Command.GIVE_BACK: _Words("Give the arm back", False),
 }
 assert set(_WORDS) == set(Command), "every command has its words"
 
 _DETAIL_IN_WORDS = frozenset(
     {Command.EXEC, Command.SERVO, Command.OVERRIDE, Command.HAND, Command.JOG, Command.JOG_END}
 )
+_QUEUE = frozenset({Command.JOIN_QUEUE, Command.CLAIM_TURN, Command.LEAVE_QUEUE, Command.GIVE_BACK})
 
 
 def command_label(value: str) -> str:

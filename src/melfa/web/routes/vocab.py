@@ -54,7 +54,12 @@ def vocabulary() -> dict[str, Any]:
         "WHERE_WORDS": WHERE_WORDS,
         "LINK_WORDS": {status.value: words for status, words in LINK_WORDS.items()},
         "COMMANDS": {
-            c.value: {"label": c.label, "moves": c.moves, "detail": c.detail_in_words}
+            c.value: {
+                "label": c.label,
+                "moves": c.moves,
+                "detail": c.detail_in_words,
+                "queue": c.queue,
+            }
             for c in Command
         },
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},

@@ -64,7 +64,7 @@ const KINDS = {
   control: (e) => e.action === "control.changed" || e.action === "robot.take_control", // a refused take too
   alarm: (e) => e.action.startsWith("alarm.") || e.action === "link.changed",
   refused: (e) => e.result.startsWith("refused"),
-  queue: (e) => e.action.startsWith("queue.") || e.action === "robot.join_queue", // a refused join too
+  queue: (e) => e.action.startsWith("queue.") || (e.action.startsWith("robot.") && COMMANDS[e.action.slice(6)]?.queue), // a refused request too
   desk: (e) => e.action in AUDIT_ACTIONS && e.action !== "session.sign-in",
   "sign-in": (e) => e.action === "session.sign-in",
 };
