@@ -113,9 +113,8 @@ class Ui:
     def choose(self, kind: FileKind, path: Path) -> None:
         """Click "Choose…" and pick ``path`` in the (recorded) file dialog."""
         self.dialogs.files.append(path)
-        button = (
-            self.window.program_button if kind is FileKind.PROGRAM else self.window.points_button
-        )
+        files = self.window.program_box
+        button = files.program_button if kind is FileKind.PROGRAM else files.points_button
         button.click()
 
     def idle(self) -> None:
@@ -196,8 +195,8 @@ def test_wrong_extensions_are_refused_with_a_dialog(ui: Ui, files: Path) -> None
     assert points.title == "Wrong extension"
     assert "choose a .POS points file" in points.text
     assert ui.presenter.program is None or ui.presenter.program.path.name != "notes.txt"
-    assert "notes.txt" not in ui.window.program_edit.text()
-    assert "sample.MB4" not in ui.window.points_edit.text()
+    assert "notes.txt" not in ui.window.program_box.program_edit.text()
+    assert "sample.MB4" not in ui.window.program_box.points_edit.text()
 
 
 def test_faulty_program_is_refused_with_its_diagnostics(
@@ -207,8 +206,8 @@ def test_faulty_program_is_refused_with_its_diagnostics(
     ui.take_notices()
     ui.choose(FileKind.PROGRAM, files / "faulty.MB4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    assert ui.window.load_button.isEnabled()
-    ui.window.load_button.click()
+    assert ui.window.program_box.load_button.isEnabled()
+    ui.window.program_box.load_button.click()
     ui.idle()
     [notice] = ui.take_notices()
     assert (notice.kind, notice.title) == (NoticeKind.ERROR, "Program has errors")
@@ -218,8 +217,8 @@ def test_faulty_program_is_refused_with_its_diagnostics(
     assert "3:4  " in notice.listing
     # the check panel lists the same findings
     rows = [
-        ui.window.diagnostics.topLevelItem(i)
-        for i in range(ui.window.diagnostics.topLevelItemCount())
+        ui.window.program_box.diagnostics.topLevelItem(i)
+        for i in range(ui.window.program_box.diagnostics.topLevelItemCount())
     ]
     assert [(r.text(0), r.text(1)) for r in rows if r.text(1) == "error"] == [
         ("3:4", "error"),
@@ -234,17 +233,18 @@ def test_load_and_run_reach_the_virtual_controller(
     ui.take_notices()
     ui.choose(FileKind.PROGRAM, files / "numbered.MB4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    assert ui.window.program_edit.text() == "numbered.MB4  ·  5 lines"
-    assert ui.window.program_edit.toolTip() == str(files / "numbered.MB4")  # the whole path
+    assert ui.window.program_box.program_edit.text() == "numbered.MB4  ·  5 lines"
+    shown = ui.window.program_box.program_edit.toolTip()
+    assert shown == str(files / "numbered.MB4")  # the whole path
     ui.presenter.last_upload = None
-    ui.window.load_button.click()
+    ui.window.program_box.load_button.click()
     ui.idle()
     assert ui.take_notices() == []
     assert ui.presenter.last_upload is not None
     assert "Loaded numbered.MB4 and sample.POS into the robot (5 lines" in log_text(ui)
 
     start_joints = observer.state().joints
-    ui.window.run_button.click()
+    ui.window.program_box.run_button.click()
     ui.idle()
     assert ui.take_notices() == []
 
@@ -254,9 +254,9 @@ def test_load_and_run_reach_the_virtual_controller(
     # ...and the window shows, live from the WebSocket, the line of the student's file
     # (numbered 5, 7, 100, 230, 999: step 230 is line 4, not "line 23" or "step 230"),
     # highlighted in the program as it runs.
-    now = ui.window.status_values["activity"]
+    now = ui.window.robot_box.status_values["activity"]
     wait_until(lambda: now.text() == "Running line 4 of numbered.MB4", timeout=60)
-    [mark] = ui.window.program_view.extraSelections()
+    [mark] = ui.window.program_box.program_view.extraSelections()
     assert mark.cursor.block().text() == "230 MOV Pb"
     wait_until(
         lambda: ui.presenter.live.state is not None and ui.presenter.live.state.running is False
@@ -268,8 +268,8 @@ def test_load_and_run_reach_the_virtual_controller(
     assert final is not None and final.joints is not None and final.pose is not None
     wait_until(lambda: ui.window.joint_values[0].text() == f"{final.joints[0]:.2f}")
     wait_until(lambda: now.text() == "Idle")
-    assert ui.window.program_view.extraSelections() == []
-    assert ui.window.status_values["servo"].text() == "On"
+    assert ui.window.program_box.program_view.extraSelections() == []
+    assert ui.window.robot_box.status_values["servo"].text() == "On"
     assert "Run: numbered.MB4 started" in log_text(ui)
 
 
@@ -330,12 +330,12 @@ def test_servo_and_speed_controls(ui: Ui, observer: ApiClient) -> None:
     ui.window.servo_off_button.click()
     ui.idle()
     wait_until(lambda: observer.state().servo is False)
-    wait_until(lambda: ui.window.status_values["servo"].text() == "Off")
+    wait_until(lambda: ui.window.robot_box.status_values["servo"].text() == "Off")
     ui.window.override_spin.setValue(25)
     ui.window.override_button.click()
     ui.idle()
     wait_until(lambda: observer.state().override == 25)
-    wait_until(lambda: ui.window.status_values["override"].text() == "25 %")
+    wait_until(lambda: ui.window.robot_box.status_values["override"].text() == "25 %")
     assert "Servo off" in log_text(ui) and "Speed override: 25 %" in log_text(ui)
 
 
@@ -350,7 +350,7 @@ def test_a_held_jog_button_moves_only_while_held(ui: Ui, observer: ApiClient) ->
     try:
         wait_until(lambda: observer.state().jogging, timeout=30)
         wait_until(lambda: x_of(observer) > before + 2, timeout=30)
-        now = ui.window.status_values["activity"]
+        now = ui.window.robot_box.status_values["activity"]
         wait_until(lambda: now.text() == "Jogging X+ (base)")  # the window, live
         assert ui.presenter.live.hold.active
     finally:
@@ -491,32 +491,32 @@ def test_a_refused_instruction_says_why_and_offers_the_fix(ui: Ui, observer: Api
     assert notice.title == "Instruction refused"
     assert "before it has a value" in notice.text and "(code L3700)" in notice.text
     assert "1;1;" not in notice.text  # never the wire request
-    alarm = ui.window.status_values["alarm"]
+    alarm = ui.window.robot_box.status_values["alarm"]
     wait_until(lambda: alarm.text().startswith("L3700 "))
-    assert ui.window.alarm_fix_button.isVisible()
-    assert ui.window.alarm_fix_button.text() == "Reset alarm"
-    wait_until(lambda: ui.window.status_values["activity"].text() == "Alarm L3700")
-    ui.window.alarm_fix_button.click()
+    assert ui.window.robot_box.alarm_fix_button.isVisible()
+    assert ui.window.robot_box.alarm_fix_button.text() == "Reset alarm"
+    wait_until(lambda: ui.window.robot_box.status_values["activity"].text() == "Alarm L3700")
+    ui.window.robot_box.alarm_fix_button.click()
     ui.idle()
     assert ui.take_notices() == []
     wait_until(lambda: alarm.text() == "None")
-    assert not ui.window.alarm_fix_button.isVisible()
+    assert not ui.window.robot_box.alarm_fix_button.isVisible()
 
 
 def test_stop_stops_a_running_program(ui: Ui, files: Path, observer: ApiClient) -> None:
     ui.take_notices()
     ui.choose(FileKind.PROGRAM, files / "loop.mb4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    ui.window.load_button.click()
+    ui.window.program_box.load_button.click()
     ui.idle()
     assert ui.take_notices() == []
-    ui.window.run_button.click()
+    ui.window.program_box.run_button.click()
     ui.idle()
     wait_until(lambda: observer.state().running is True, timeout=30)
     assert ui.window.stop_button.isEnabled()
     ui.window.stop_button.click()
     wait_until(lambda: observer.state().running is False, timeout=30)
-    now = ui.window.status_values["activity"]
+    now = ui.window.robot_box.status_values["activity"]
     wait_until(lambda: now.text().startswith(("Paused at line", "Idle")))
     assert ui.take_notices() == []
     assert "STOP: the robot stopped" in log_text(ui)
@@ -529,13 +529,13 @@ def test_the_log_speaks_the_students_words(ui: Ui, files: Path, observer: ApiCli
     wait_until(lambda: still(observer))
     ui.choose(FileKind.PROGRAM, files / "sample.MB4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    ui.window.load_button.click()
+    ui.window.program_box.load_button.click()
     ui.idle()
     ui.window.exec_edit.setText("MOV P_NOT_THERE")
     ui.window.exec_button.click()
     ui.idle()
-    wait_until(ui.window.alarm_fix_button.isVisible)  # the alarm's fix: Reset alarm
-    ui.window.alarm_fix_button.click()
+    wait_until(ui.window.robot_box.alarm_fix_button.isVisible)  # the alarm's fix: Reset alarm
+    ui.window.robot_box.alarm_fix_button.click()
     ui.idle()
     ui.window.servo_on_button.click()
     ui.idle()
@@ -553,11 +553,11 @@ def test_the_running_line_is_scrolled_into_view(ui: Ui, files: Path, observer: A
     wait_until(lambda: still(observer))
     ui.choose(FileKind.PROGRAM, files / "long.MB4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    view = ui.window.program_view
+    view = ui.window.program_box.program_view
     assert view.firstVisibleBlock().blockNumber() == 0  # the top shows, the moves do not
-    ui.window.load_button.click()
+    ui.window.program_box.load_button.click()
     ui.idle()
-    ui.window.run_button.click()
+    ui.window.program_box.run_button.click()
     ui.idle()
     assert ui.take_notices() == []
     try:
@@ -595,7 +595,8 @@ def test_notices_keep_coming_after_one_is_closed(qapp: QApplication) -> None:
 def test_stop_stays_enabled_while_busy(ui: Ui) -> None:
     ui.presenter._set_busy("Loading")
     try:
-        assert not ui.window.load_button.isEnabled() and not ui.window.run_button.isEnabled()
+        files = ui.window.program_box
+        assert not files.load_button.isEnabled() and not files.run_button.isEnabled()
         assert ui.window.stop_button.isEnabled()
     finally:
         ui.presenter._set_busy("")
@@ -606,11 +607,11 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
     ui.take_notices()
     ui.choose(FileKind.PROGRAM, files / "sample.MB4")
     ui.choose(FileKind.POINTS, files / "sample.POS")
-    ui.window.check_button.click()
+    ui.window.program_box.check_button.click()
     ui.idle()
-    ui.window.load_button.click()
+    ui.window.program_box.load_button.click()
     ui.idle()
-    ui.window.run_button.click()
+    ui.window.program_box.run_button.click()
     ui.idle()
 
     def mid_program() -> bool:
@@ -623,7 +624,7 @@ def test_screenshot_after_load_with_live_pose(ui: Ui, files: Path, tmp_path: Pat
         raise AssertionError((ui.dialogs.notices, ui.presenter.live.state, log_text(ui))) from None
     assert ui.take_notices() == []
     ui.window.exec_edit.clear()
-    ui.window.tabs.setCurrentIndex(0)  # the program as loaded
+    ui.window.program_box.tabs.setCurrentIndex(0)  # the program as loaded
     ui.window.resize(1366, 700)  # a lab laptop's screen: everything readable
     wait_until(lambda: ui.window.pose_values[0].text() != "—")
     for _ in range(5):
@@ -646,24 +647,25 @@ def test_load_and_run_from_a_workspace(ui: Ui, observer: ApiClient, files: Path)
     )
     name = made["name"]
     ui.presenter.refresh_workspaces()  # as opening the list does
-    box = ui.window.source_box
+    box = ui.window.program_box.source_box
     wait_until(lambda: box.findData(made["id"]) > 0)
     box.setCurrentIndex(box.findData(made["id"]))
     ui.idle()
-    wait_until(lambda: ui.window.program_edit.text() == f"{name} (workspace)  ·  5 lines")
-    assert not ui.window.program_button.isEnabled()  # files are not the source now
-    assert ui.window.points_view.toPlainText() == points
-    ui.window.load_button.click()
+    shown = ui.window.program_box.program_edit
+    wait_until(lambda: shown.text() == f"{name} (workspace)  ·  5 lines")
+    assert not ui.window.program_box.program_button.isEnabled()  # files are not the source now
+    assert ui.window.program_box.points_view.toPlainText() == points
+    ui.window.program_box.load_button.click()
     ui.idle()
     assert ui.take_notices() == []
     assert f"Loaded {name} (workspace) into the robot (5 lines" in log_text(ui)
-    ui.window.run_button.click()
+    ui.window.program_box.run_button.click()
     ui.idle()
-    now = ui.window.status_values["activity"]
+    now = ui.window.robot_box.status_values["activity"]
     wait_until(lambda: now.text() == f"Running line 4 of {name} (workspace)", timeout=60)
     wait_until(lambda: still(observer), timeout=60)
     box.setCurrentIndex(0)  # back to files: nothing chosen yet
-    assert ui.presenter.program is None and ui.window.program_button.isEnabled()
+    assert ui.presenter.program is None and ui.window.program_box.program_button.isEnabled()
 
 
 def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> None:
@@ -686,7 +688,7 @@ def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> N
     assert not ui.window.progress.isVisibleTo(ui.window)
     ui.window.servo_on_button.click()  # a command: this user holds control
     ui.idle()
-    lease = ui.window.status_values["lease"]
+    lease = ui.window.robot_box.status_values["lease"]
     wait_until(lambda: lease.text().startswith("You, since "))
 
 

@@ -2,7 +2,9 @@
 servo, speed and jog pad, and the live position on the right; a STOP button that is always
 there and always enabled. Laid out to fit a 1366×700 laptop screen without scrolling.
 
-Widgets only: every action goes to the `Presenter`, every dialog through `Dialogs`.
+Widgets only: every action goes to the `Presenter`, every dialog through `Dialogs`. The
+window lays the panels out, wires them to the presenter and is its `View`; the panels that
+show most are their own modules (`program_box`, `robot_box`, `position`, `jogpad`).
 """
 
 from __future__ import annotations
@@ -10,25 +12,13 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from PySide6.QtCore import Qt
-from PySide6.QtGui import (
-    QCloseEvent,
-    QColor,
-    QFont,
-    QFontDatabase,
-    QKeySequence,
-    QShortcut,
-    QTextCursor,
-    QTextFormat,
-)
+from PySide6.QtGui import QCloseEvent, QKeySequence, QShortcut
 from PySide6.QtWidgets import (
-    QAbstractItemView,
     QApplication,
     QComboBox,
     QFrame,
-    QGridLayout,
     QGroupBox,
     QHBoxLayout,
-    QHeaderView,
     QLabel,
     QLineEdit,
     QMainWindow,
@@ -37,42 +27,24 @@ from PySide6.QtWidgets import (
     QPushButton,
     QSizePolicy,
     QSpinBox,
-    QTabWidget,
-    QTextEdit,
-    QTreeWidget,
-    QTreeWidgetItem,
     QVBoxLayout,
     QWidget,
 )
 
-from melfa.desktop.api import (
-    PRIVATE_TARGET,
-    TARGET_LABELS,
-    CheckResult,
-    Severity,
-    WorkspaceInfo,
-)
+from melfa.desktop.api import PRIVATE_TARGET, TARGET_LABELS, CheckResult, WorkspaceInfo
 from melfa.desktop.dialogs import Dialogs, Notice
 from melfa.desktop.files import FileKind
 from melfa.desktop.hold import JogKey
 from melfa.desktop.jogpad import JogPad
 from melfa.desktop.live import FeedStatus
-from melfa.desktop.messages import alarm_said
 from melfa.desktop.position import PositionBox
-from melfa.desktop.presenter import FIXES_OFFERED, Presenter
-from melfa.desktop.style import LINK_LEVEL, STYLE, ValueLabel, on_off, set_level
-from melfa.desktop.words import (
-    activity_text,
-    control_text,
-    count,
-    file_line,
-    jog_label,
-    link_words,
-)
+from melfa.desktop.presenter import Presenter
+from melfa.desktop.program_box import ProgramBox
+from melfa.desktop.robot_box import RobotBox
+from melfa.desktop.style import LINK_LEVEL, STYLE, set_level
+from melfa.desktop.words import jog_label, link_words
 from melfa.live.messages import StateOut
 from melfa.protocol import OVERRIDE_PERCENT
-from melfa.protocol.advice import FIX_LABELS
-from melfa.vocab.activity import Activity
 from melfa.vocab.link import LinkStatus
 
 FILE_FILTERS = {
@@ -80,7 +52,6 @@ FILE_FILTERS = {
     FileKind.POINTS: "Points files (*.POS *.pos);;All files (*)",
 }
 LOG_LINES = 500
-FILES_SOURCE = "Files on this computer"
 FEED_WORDS = {
     FeedStatus.CONNECTING: "Live updates: connecting…",
     FeedStatus.CONNECTED: "Live updates: on",
@@ -88,24 +59,6 @@ FEED_WORDS = {
     FeedStatus.REFUSED: "Live updates: refused (sign in again)",
     FeedStatus.CLOSED: "Live updates: off",
 }
-ACTIVITY_LEVEL = {
-    Activity.ALARM: "alarm",
-    Activity.OFFLINE: "alarm",
-    Activity.RUNNING: "running",
-    Activity.IDLE: "",
-}
-
-
-class RefreshingCombo(QComboBox):
-    """A combo box that asks for a fresh list each time it opens (new workspaces appear)."""
-
-    def __init__(self, refresh: Callable[[], object]) -> None:
-        super().__init__()
-        self._refresh = refresh
-
-    def showPopup(self) -> None:  # noqa: N802 (Qt's name)
-        self._refresh()
-        super().showPopup()
 
 
 class MainWindow(QMainWindow):
@@ -135,12 +88,14 @@ class MainWindow(QMainWindow):
         body.setSpacing(10)
         left = QVBoxLayout()
         left.setSpacing(4)
-        left.addWidget(self._program_box(), 1)
+        self.program_box = ProgramBox(presenter.refresh_workspaces)
+        left.addWidget(self.program_box, 1)
         left.addWidget(self._exec_box())
         left.addWidget(self._log_box())
         right = QVBoxLayout()
         right.setSpacing(4)
-        right.addWidget(self._robot_box())
+        self.robot_box = RobotBox()
+        right.addWidget(self.robot_box)
         right.addWidget(self._control_box())
         self.position = PositionBox()
         self.pose_values, self.joint_values = self.position.pose_values, self.position.joint_values
@@ -158,8 +113,6 @@ class MainWindow(QMainWindow):
         self.progress.setVisible(False)
         self.feed_label = QLabel(FEED_WORDS[FeedStatus.CONNECTING])
         self._busy_text = ""
-        self._followed_line: int | None = None
-        """The running line last scrolled into view (scrolled again only when it moves)."""
         self.queue_label = QLabel("")
         self.queue_label.setAccessibleName("Lab robot queue")
         self.claim_button = QPushButton("Claim the arm and run")
@@ -227,92 +180,6 @@ class MainWindow(QMainWindow):
             colour = "#0d4f45" if target == PRIVATE_TARGET else ""
             header.setStyleSheet(f"QFrame#header {{ background: {colour}; }}" if colour else "")
 
-    def _file_row(
-        self, grid: QGridLayout, row: int, kind: FileKind
-    ) -> tuple[QLineEdit, QPushButton]:
-        label = QLabel(  # Alt+P / Alt+O reach the Choose… buttons from the keyboard
-            f"&Program ({kind.value}):" if kind is FileKind.PROGRAM else f"P&oints ({kind.value}):"
-        )
-        edit = QLineEdit()
-        edit.setReadOnly(True)
-        edit.setPlaceholderText("No file chosen")
-        edit.setAccessibleName(f"{kind.label} file")
-        button = QPushButton("Choose…")
-        button.setAccessibleName(f"Choose {kind.label}")
-        label.setBuddy(button)
-        grid.addWidget(label, row, 0)
-        grid.addWidget(edit, row, 1)
-        grid.addWidget(button, row, 2)
-        return edit, button
-
-    def _program_box(self) -> QGroupBox:
-        box = QGroupBox("Program and points")
-        layout = QVBoxLayout(box)
-        layout.setSpacing(4)
-        grid = QGridLayout()
-        grid.setColumnStretch(1, 1)
-        self.source_box = RefreshingCombo(self.presenter.refresh_workspaces)
-        self.source_box.setAccessibleName("Load from files or from a workspace")
-        self.source_box.setToolTip("Files on this computer, or a workspace you wrote in the IDE")
-        self.source_box.addItem(FILES_SOURCE, None)
-        source_label = QLabel("&From:")
-        source_label.setBuddy(self.source_box)
-        grid.addWidget(source_label, 0, 0)
-        grid.addWidget(self.source_box, 0, 1, 1, 2)
-        self.program_edit, self.program_button = self._file_row(grid, 1, FileKind.PROGRAM)
-        self.points_edit, self.points_button = self._file_row(grid, 2, FileKind.POINTS)
-        layout.addLayout(grid)
-
-        buttons = QHBoxLayout()
-        self.check_button = QPushButton("Chec&k")
-        self.check_button.setToolTip("Check the program against the points (sends nothing)")
-        self.load_button = QPushButton("&Load into robot")
-        self.load_button.setObjectName("primary")
-        self.load_button.setToolTip("Check, then load the program and its points into the robot")
-        self.run_button = QPushButton("▶  &Run program")
-        self.run_button.setObjectName("primary")
-        self.run_button.setToolTip("Run the program loaded into the robot")
-        buttons.addWidget(self.check_button)
-        buttons.addStretch(1)
-        buttons.addWidget(self.load_button)
-        buttons.addWidget(self.run_button)
-        layout.addLayout(buttons)
-
-        self.tabs = QTabWidget()
-        mono = QFontDatabase.systemFont(QFontDatabase.SystemFont.FixedFont)
-        self.program_view = QPlainTextEdit()
-        self.points_view = QPlainTextEdit()
-        for view, empty in (
-            (self.program_view, "Choose a program file to see it here."),
-            (self.points_view, "Choose a points file to see it here."),
-        ):
-            view.setReadOnly(True)
-            view.setFont(mono)
-            view.setPlaceholderText(empty)
-            view.setLineWrapMode(QPlainTextEdit.LineWrapMode.NoWrap)
-        self.check_label = QLabel("Check results: not checked yet")
-        self.check_label.setObjectName("muted")
-        self.diagnostics = QTreeWidget()
-        self.diagnostics.setColumnCount(3)
-        self.diagnostics.setHeaderLabels(["Where", "Severity", "Message"])
-        self.diagnostics.setRootIsDecorated(False)
-        self.diagnostics.setAlternatingRowColors(True)
-        self.diagnostics.setSelectionMode(QAbstractItemView.SelectionMode.SingleSelection)
-        header = self.diagnostics.header()
-        header.setSectionResizeMode(0, QHeaderView.ResizeMode.ResizeToContents)
-        header.setSectionResizeMode(1, QHeaderView.ResizeMode.ResizeToContents)
-        header.setStretchLastSection(True)
-        check_page = QWidget()
-        check_layout = QVBoxLayout(check_page)
-        check_layout.setContentsMargins(6, 6, 6, 6)
-        check_layout.addWidget(self.check_label)
-        check_layout.addWidget(self.diagnostics, 1)
-        self.tabs.addTab(self.program_view, "Program")
-        self.tabs.addTab(self.points_view, "Points")
-        self.tabs.addTab(check_page, "Check results")
-        layout.addWidget(self.tabs, 1)
-        return box
-
     def _exec_box(self) -> QGroupBox:
         box = QGroupBox("Single instruction")
         layout = QHBoxLayout(box)
@@ -326,45 +193,6 @@ class MainWindow(QMainWindow):
         layout.addWidget(label)
         layout.addWidget(self.exec_edit, 1)
         layout.addWidget(self.exec_button)
-        return box
-
-    def _robot_box(self) -> QGroupBox:
-        box = QGroupBox("Robot")
-        grid = QGridLayout(box)
-        grid.setHorizontalSpacing(8)
-        grid.setVerticalSpacing(4)
-        grid.setColumnStretch(1, 1)
-        grid.setColumnStretch(3, 1)
-        self.status_values: dict[str, ValueLabel] = {
-            key: ValueLabel() for key in ("activity", "servo", "override", "lease", "alarm")
-        }
-        v = self.status_values
-        v["activity"].setAccessibleName("What the robot does now")
-        v["alarm"].setWordWrap(True)
-        v["alarm"].setMinimumHeight(26)
-        v["lease"].setWordWrap(True)
-
-        def caption(text: str) -> QLabel:
-            label = QLabel(text)
-            label.setAlignment(Qt.AlignmentFlag.AlignRight | Qt.AlignmentFlag.AlignVCenter)
-            return label
-
-        grid.addWidget(caption("Now:"), 0, 0)
-        grid.addWidget(v["activity"], 0, 1, 1, 3)
-        grid.addWidget(caption("Servo:"), 1, 0)
-        grid.addWidget(v["servo"], 1, 1)
-        grid.addWidget(caption("Speed:"), 1, 2)
-        grid.addWidget(v["override"], 1, 3)
-        grid.addWidget(caption("Control:"), 2, 0)
-        grid.addWidget(v["lease"], 2, 1, 1, 3)
-        grid.addWidget(caption("Alarm:"), 3, 0)
-        alarm_row = QHBoxLayout()
-        alarm_row.addWidget(v["alarm"], 1)
-        self.alarm_fix_button = QPushButton("Reset alarm")
-        self.alarm_fix_button.setObjectName("fix")
-        self.alarm_fix_button.setVisible(False)
-        alarm_row.addWidget(self.alarm_fix_button)
-        grid.addLayout(alarm_row, 3, 1, 1, 3)
         return box
 
     def _control_box(self) -> QGroupBox:
@@ -413,15 +241,16 @@ class MainWindow(QMainWindow):
     def _bind(self) -> None:
         p = self.presenter
         self.stop_button.clicked.connect(p.stop)
-        self.program_button.clicked.connect(lambda: self.choose(FileKind.PROGRAM))
-        self.points_button.clicked.connect(lambda: self.choose(FileKind.POINTS))
-        self.check_button.clicked.connect(p.check)
-        self.load_button.clicked.connect(p.load)
-        self.run_button.clicked.connect(p.run)
+        files = self.program_box
+        files.program_button.clicked.connect(lambda: self.choose(FileKind.PROGRAM))
+        files.points_button.clicked.connect(lambda: self.choose(FileKind.POINTS))
+        files.check_button.clicked.connect(p.check)
+        files.load_button.clicked.connect(p.load)
+        files.run_button.clicked.connect(p.run)
         # Running: show the program, where the running line is marked.
-        self.run_button.clicked.connect(lambda: self.tabs.setCurrentWidget(self.program_view))
-        self.alarm_fix_button.clicked.connect(self._fix_alarm)
-        self.source_box.currentIndexChanged.connect(self._source_chosen)
+        files.run_button.clicked.connect(lambda: files.tabs.setCurrentWidget(files.program_view))
+        self.robot_box.alarm_fix_button.clicked.connect(self._fix_alarm)
+        files.source_box.currentIndexChanged.connect(self._source_chosen)
         self.exec_button.clicked.connect(self._send_exec)
         self.exec_edit.returnPressed.connect(self._send_exec)
         self.servo_on_button.clicked.connect(lambda: p.servo(True))
@@ -450,62 +279,29 @@ class MainWindow(QMainWindow):
 
     def show_files(self) -> None:
         p = self.presenter
-        for chosen, edit, view in (
-            (p.program, self.program_edit, self.program_view),
-            (p.points, self.points_edit, self.points_view),
-        ):
-            if chosen is None:
-                edit.clear()
-                edit.setToolTip("")
-                view.clear()
-                continue
-            lines = len(chosen.text.splitlines())
-            edit.setText(f"{chosen.name}  ·  {count(lines, 'line')}")
-            edit.setCursorPosition(0)
-            # The whole path on hover, never clipped.
-            edit.setToolTip(str(chosen.path) if chosen.workspace is None else chosen.name)
-            if view.toPlainText() != chosen.text:
-                view.setPlainText(chosen.text)
-                self.tabs.setCurrentWidget(view)  # show what was just chosen
+        self.program_box.show_files(p.program, p.points)
         self.show_busy(p.busy)
 
     def show_workspaces(self, workspaces: tuple[WorkspaceInfo, ...]) -> None:
-        box = self.source_box
-        chosen = box.currentData()
-        box.blockSignals(True)  # a new list is not a new choice
-        box.clear()
-        box.addItem(FILES_SOURCE, None)
-        for workspace in workspaces:
-            shared = " (shared)" if workspace.shared else ""
-            box.addItem(f"Workspace: {workspace.name}{shared}", workspace.id)
-        box.setCurrentIndex(max(0, box.findData(chosen)) if chosen is not None else 0)
-        box.blockSignals(False)
+        self.program_box.show_workspaces(workspaces)
 
     def _source_chosen(self) -> None:
-        data = self.source_box.currentData()
+        data = self.program_box.source_box.currentData()
         self.presenter.choose_workspace(int(data) if data is not None else None)
         self.show_busy(self.presenter.busy)
 
     def show_busy(self, what: str) -> None:
         idle = not what
-        has_program = self.presenter.program is not None
+        self.program_box.show_busy(idle, self.presenter.program is not None)
         for button in (
-            self.run_button,
             self.exec_button,
-            self.alarm_fix_button,
+            self.robot_box.alarm_fix_button,
             self.servo_on_button,
             self.servo_off_button,
             self.override_button,
         ):
             button.setEnabled(idle)
         self.jog_pad.set_buttons_enabled(idle)
-        # Choosing a file is local: allowed while a command runs (it uses its own copy).
-        from_files = self.source_box.currentData() is None
-        self.program_button.setEnabled(from_files)
-        self.points_button.setEnabled(from_files)
-        self.source_box.setEnabled(idle)
-        self.check_button.setEnabled(idle and has_program)
-        self.load_button.setEnabled(idle and has_program)
         self.stop_button.setEnabled(True)  # never disabled
         bar = self.statusBar()
         if what:
@@ -532,31 +328,7 @@ class MainWindow(QMainWindow):
             )
 
     def show_check(self, result: CheckResult) -> None:
-        self.diagnostics.clear()
-        for source, diags in (("", result.program), ("points ", result.points)):
-            for d in diags:
-                item = QTreeWidgetItem(
-                    [f"{source}{d.line}:{d.column}", d.severity.value, d.message]
-                )
-                if d.suggestion:
-                    item.setToolTip(2, d.suggestion)
-                if d.severity is Severity.ERROR:
-                    item.setForeground(1, Qt.GlobalColor.darkRed)
-                    font = QFont(item.font(1))
-                    font.setBold(True)
-                    item.setFont(1, font)
-                self.diagnostics.addTopLevelItem(item)
-        errors = len(result.program_errors) + len(result.points_errors)
-        total = len(result.program) + len(result.points)
-        self.tabs.setTabText(2, f"Check results ({total})" if total else "Check results")
-        if errors:
-            self.tabs.setCurrentIndex(2)
-        self.check_label.setText(
-            "Check results: no findings"
-            if not total
-            else f"Check results: {count(errors, 'error')}, "
-            f"{count(total - errors, 'warning or note')}"
-        )
+        self.program_box.show_check(result)
 
     def show_link(self, status: LinkStatus | None, detail: str) -> None:
         self.link_pill.setText(link_words(status))
@@ -568,50 +340,12 @@ class MainWindow(QMainWindow):
         self.feed_label.setToolTip(detail)
 
     def show_state(self, state: StateOut) -> None:
+        p = self.presenter
         self.position.show_state(state)
-        v = self.status_values
-        loaded = self.presenter.loaded
-        v["activity"].setText(activity_text(state, loaded))
-        set_level(v["activity"], ACTIVITY_LEVEL.get(state.activity, "busy"))
-        v["servo"].setText(on_off(state.servo))
-        v["override"].setText("—" if state.override is None else f"{state.override} %")
+        self.robot_box.show_state(state, p.loaded, p.me)
         if state.override is not None and not self.override_spin.hasFocus():
             self.override_spin.setValue(state.override)  # what the robot has, until edited
-        v["lease"].setText(control_text(state, self.presenter.me))
-        alarm = state.alarm
-        v["alarm"].setText(alarm_said(alarm) if alarm else "None")
-        v["alarm"].setToolTip(alarm_said(alarm) if alarm else "")
-        set_level(v["alarm"], "alarm" if alarm else "")
-        fix = alarm.fix if alarm and alarm.fix in FIXES_OFFERED else None
-        self.alarm_fix_button.setVisible(fix is not None)
-        if fix is not None:
-            self.alarm_fix_button.setText(FIX_LABELS[fix])
-        self._mark_line(state)
-
-    def _mark_line(self, state: StateOut) -> None:
-        """Highlight the running (or paused) line in the program, when it is the loaded file,
-        and scroll it into view when it changes (a long program's line is followed)."""
-        p = self.presenter
-        shows = state.activity in (Activity.RUNNING, Activity.PAUSED) or bool(
-            state.running and state.line
-        )
-        line = file_line(state.line, p.loaded) if shows else None
-        same_file = p.loaded is not None and p.program is not None
-        same_file = same_file and p.program.path.name == p.loaded.name  # type: ignore[union-attr]
-        selections: list[QTextEdit.ExtraSelection] = []
-        if line is not None and same_file:
-            block = self.program_view.document().findBlockByNumber(line - 1)
-            if block.isValid():
-                mark = QTextEdit.ExtraSelection()
-                mark.format.setBackground(QColor("#fff59d"))
-                mark.format.setProperty(QTextFormat.Property.FullWidthSelection, True)
-                mark.cursor = QTextCursor(block)
-                selections.append(mark)
-                if line != self._followed_line:
-                    self.program_view.setTextCursor(QTextCursor(block))
-                    self.program_view.ensureCursorVisible()
-        self._followed_line = line if selections else None
-        self.program_view.setExtraSelections(selections)
+        self.program_box.mark_line(state, p.loaded, p.program)
 
     def append_log(self, line: str) -> None:
         self.log.appendPlainText(line)
