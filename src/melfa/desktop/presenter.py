@@ -50,6 +50,13 @@ FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT
 T = TypeVar("T")
 
 
+def _log_if_unexpected(exc: BaseException) -> None:
+    """A failure that is neither the API's answer nor the network is a bug in this client:
+    its traceback goes to the terminal (the user is told in words, `describe_failure`)."""
+    if not isinstance(exc, ApiError | ServerUnreachable):
+        _log.error("unexpected failure in melfa desktop", exc_info=exc)
+
+
 class Presenter:
     """One signed-in client's actions; the live state the window shows is `live`.
 
@@ -134,8 +141,7 @@ class Presenter:
     ) -> None:
         self._set_busy("")
         self.view.show_progress(None)
-        if not isinstance(exc, ApiError | ServerUnreachable):
-            _log.error("unexpected failure in melfa desktop", exc_info=exc)
+        _log_if_unexpected(exc)
         text, lines = describe_failure(exc)
         self._log(f"{title}: {text}")
         self.view.show_status(f"{title}: {text}")
@@ -173,14 +179,9 @@ class Presenter:
 
     def refresh_workspaces(self) -> None:
         """List the workspaces again (off the GUI thread; not queued behind a command)."""
-
-        def failed(exc: Exception) -> None:
-            # an older server, or gone: files only (the feed says if it is gone)
-            if not isinstance(exc, ApiError | ServerUnreachable):
-                _log.error("unexpected failure in melfa desktop", exc_info=exc)
-
-        # never on STOP's worker: a slow reply must not delay STOP
-        self.tasks.read(self.client.workspaces, self._on_workspaces, failed)
+        # Never on STOP's worker: a slow reply must not delay STOP. Failed (an older server,
+        # or gone): files only, and the feed says if the server is gone.
+        self.tasks.read(self.client.workspaces, self._on_workspaces, _log_if_unexpected)
 
     def _on_workspaces(self, found: tuple[WorkspaceInfo, ...]) -> None:
         if found != self.workspaces:
