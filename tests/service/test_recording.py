@@ -50,7 +50,7 @@ def test_a_run_is_recorded_with_its_lines_fingerprint_and_end() -> None:
     plan = project(PROGRAM, POINTS)
     assert rec.user == "ann"
     assert rec.started_at == WALL
-    assert rec.loaded is not None and rec.loaded.loaded_by == "bob"
+    assert rec.loaded is not None and rec.loaded.user == "bob"
     assert rec.fingerprint == plan.fingerprint
     assert rec.outcome is RunOutcome.FINISHED
     assert rec.cycle_time is not None and rec.cycle_time > 0.5  # at least the DLY
@@ -83,11 +83,12 @@ def test_nothing_is_recorded_without_a_run_and_a_delete_forgets_what_was_loaded(
         recorder = service.record_runs(done.append)
         async with service:
             await service.load_project(ANN, project(PROGRAM, POINTS))
-            assert recorder.loaded is not None
-            assert recorder.loaded.step_lines == {10: 1, 20: 2, 30: 3, 40: 4, 50: 5}
+            slot = service.state.slot  # what a recording of a run would say was loaded
+            assert slot is not None
+            assert slot.step_lines == {10: 1, 20: 2, 30: 3, 40: 4, 50: 5}
             await clock().sleep(1.0)
             await service.delete(ANN)
-            assert recorder.loaded is None and not recorder.active
+            assert service.state.slot is None and not recorder.active
 
     run(main())
     assert done == []

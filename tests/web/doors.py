@@ -18,6 +18,7 @@ import roslibpy
 
 from melfa.link.wrappers import load_trace
 from tests.serving import free_port, melfa_serve, stop_process
+from tests.waiting import wait_until
 
 ADMIN = "admin-password-1"
 FAST = ("--no-pacing", "--latency", "0")
@@ -88,8 +89,10 @@ class Lab:
 
 
 @contextlib.contextmanager
-def lab_server(data: Path, *options: str) -> Iterator[Lab]:
-    """`melfa serve` with ``options`` on a traced TCP virtual controller, the admin signed in."""
+def lab_server(data: Path, *options: str, preload: str | None = None) -> Iterator[Lab]:
+    """`melfa serve` with ``options`` on a traced TCP virtual controller, the admin signed in.
+    ``preload``: a program (its points `POINTS`) the controller holds before the server
+    starts, loaded by `melfa upload` (the server never loaded it)."""
     sim_port, bridge_port = free_port(), free_port()
     sim = subprocess.Popen(
         [sys.executable, "-m", "melfa", "sim", "--tcp", f"127.0.0.1:{sim_port}", *FAST],
@@ -98,6 +101,8 @@ def lab_server(data: Path, *options: str) -> Iterator[Lab]:
     )
     trace = data / "robot.trace"
     try:
+        if preload is not None:
+            _upload(data, f"tcp://127.0.0.1:{sim_port}", preload)
         with melfa_serve(
             data,
             "--robot",
@@ -115,6 +120,21 @@ def lab_server(data: Path, *options: str) -> Iterator[Lab]:
             yield lab
     finally:
         stop_process(sim)
+
+
+def _upload(data: Path, robot: str, program: str) -> None:
+    """``program`` and `POINTS` into the controller at ``robot`` with `melfa upload`, once
+    the virtual controller listens."""
+    (data / "preload.MB4").write_text(program, encoding="utf-8")
+    (data / "preload.POS").write_text(POINTS, encoding="utf-8")
+    command = [sys.executable, "-m", "melfa", "upload", str(data / "preload.MB4")]
+    command += ["--points", str(data / "preload.POS"), "--robot", robot]
+
+    def uploaded() -> bool:
+        done = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        return done.returncode == 0
+
+    wait_until(uploaded, 60, what="melfa upload to the virtual controller")
 
 
 class Errors:

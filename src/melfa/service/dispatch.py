@@ -5,7 +5,8 @@ the controller answered (datasette's "events after success").
 `Dispatcher.admit` is the one place every command passes before it is queued, whoever
 calls (REST, the WebSocket, rosbridge, the thesis's messages, the ROS node, the desktop
 client): it asks `melfa.service.policy.Policy` (check-before-upload, the instructor's
-gate, the lease), and tells it how a command that carried an upload plan ended.
+gate, the lease). How a command ended is told to its ``done`` (a load's: what the slot now
+holds, `melfa.service.slot`) and to the ``done_hooks`` (the run recorder).
 `Dispatcher.decide` is the same for what is decided at once and never queued (take
 control, join the queue); both audit a refusal in one place (`Dispatcher.refused`).
 """
@@ -93,7 +94,7 @@ class Dispatcher:
         self.moved = False
         """A moving command finished and no poll has looked at the arm since."""
         self.done_hooks: list[DoneHook] = []
-        """Told how every admitted command ended (the run recorder follows loads and runs)."""
+        """Told how every admitted command ended (the run recorder: a run began)."""
 
     def next_id(self) -> int:
         return next(self._ids)
@@ -181,7 +182,7 @@ class Dispatcher:
         done: Done | None = None,
     ) -> Any:
         """Admit, queue, await the controller's answer; audit and publish the outcome
-        (``done`` is told it first)."""
+        (``done`` is told it first, then the ``done_hooks``)."""
         command_id, taken = self.admit(actor, command, detail, command_id, plan, precondition)
         waiting = self._policy.attend(actor, command)
         if waiting is not None:  # attended mode: the supervisor's Arm ready first
@@ -196,17 +197,15 @@ class Dispatcher:
         try:
             result = await asyncio.wrap_future(future)
         except BaseException as exc:
-            self._policy.done(command, plan, ok=False)
-            self._done(actor, command, plan, ok=False)
             if done is not None:
                 done(False)
+            self._done(actor, command, plan, ok=False)
             self.finish(actor, command_id, command, detail, exc)
             self.give_back(actor, taken)
             raise
-        self._policy.done(command, plan, ok=True)
-        self._done(actor, command, plan, ok=True)
         if done is not None:
             done(True)
+        self._done(actor, command, plan, ok=True)
         self.finish(actor, command_id, command, detail, None)
         if command.moves:
             self.moved = True  # until a poll has seen whether it moves

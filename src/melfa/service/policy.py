@@ -21,10 +21,14 @@ What it holds, in the order it asks:
    with errors never reaches the controller.
 2. **The instructor's gate** (`Gate`, on the lab robot with ``--require-simulation``): a
    load is refused unless the same program and points, as sent (`UploadPlan.fingerprint`),
-   passed pre-flight (`Gate.passed`, recorded by the web's pre-flight); a run is refused
-   unless what is loaded, as recorded after each successful load (`Policy.done`), passed.
-   A program and its points loaded separately (the thesis's LOAD PROGRAM then LOAD POINTS)
-   count as the pair they make.
+   passed pre-flight (`Gate.passed`, recorded by the web's pre-flight; a program alone:
+   with some points), and points alone unless they and the program the slot holds did; a
+   run is refused unless what the slot holds passed. What the slot holds is the service's
+   one record of it (`melfa.service.slot.Slot`, the state's ``slot``, read through
+   `Policy.slot`): the gate keeps none of its own. A program and its points loaded
+   separately (the thesis's LOAD PROGRAM then LOAD POINTS) count as the pair they make;
+   a slot not known (nothing loaded since the service started, a failed load, points onto
+   a program not known, a delete) passes nothing.
 3. **The operator lease** (`melfa.service.lease.Lease`): only its holder's commands go;
    with ``auto`` a free lease is taken by the first command (the change is returned for
    the service to publish, and given back if the command fails).
@@ -50,44 +54,32 @@ them.
 from __future__ import annotations
 
 import threading
-from collections.abc import Awaitable
-from dataclasses import dataclass
+from collections.abc import Awaitable, Callable
 from typing import Protocol
 
-from melfa.lang.plan import Part, UploadPlan, digest
+from melfa.lang.plan import Part, UploadPlan
 from melfa.service.errors import Refused
 from melfa.service.events import Actor, Role
 from melfa.service.lab_network import LabNetwork
 from melfa.service.lease import Lease, LeaseChange
+from melfa.service.slot import Slot
 from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
 
-LOADS = frozenset({Command.LOAD_PROJECT, Command.UPLOAD_PROGRAM, Command.UPLOAD_POINTS})
-"""Commands that carry an upload plan."""
 RUNS = frozenset({Command.RUN})
-"""Commands that start the loaded program (the gate asks what is loaded)."""
-NO_POINTS = digest(())
-
-
-@dataclass(frozen=True)
-class Loaded:
-    """What the controller holds, as sent through the policy (program and points digests;
-    None: not known, as after a delete or a failed load)."""
-
-    program: str | None
-    points: str | None
+"""Commands that start the loaded program (the gate asks what the slot holds)."""
 
 
 class Gate:
-    """The instructor's gate: which programs and points passed pre-flight, and what the
-    lab robot holds. Thread-safe (pre-flight records from a worker thread)."""
+    """The instructor's gate: which programs and points passed pre-flight. What the lab
+    robot holds it reads from the one record of the slot (`melfa.service.slot.Slot`).
+    Thread-safe (pre-flight records from a worker thread)."""
 
     def __init__(self, required: bool = False) -> None:
         self.required = required
         self._lock = threading.Lock()
         self._passed: set[tuple[str, str]] = set()
         self._cycles: dict[tuple[str, str], float] = {}
-        self.loaded = Loaded(None, None)
 
     def passed(self, plan: UploadPlan, cycle_s: float | None = None) -> None:
         """``plan``'s program and points passed pre-flight (a simulated run without
@@ -106,36 +98,22 @@ class Gate:
         with self._lock:
             return (plan.program_digest, plan.points_digest) in self._passed
 
-    def allows(self, command: Command, plan: UploadPlan | None) -> bool:
-        """Whether the gate lets ``command`` (with its ``plan``) through."""
+    def allows(self, command: Command, plan: UploadPlan | None, slot: Slot | None) -> bool:
+        """Whether the gate lets ``command`` (with its ``plan``) through while the slot
+        holds ``slot`` (None: nothing known)."""
         if not self.required:
             return True
         with self._lock:
             passed = self._passed
-            loaded = self.loaded
             if command is Command.LOAD_PROJECT and plan is not None:
                 return (plan.program_digest, plan.points_digest) in passed
             if command is Command.UPLOAD_PROGRAM and plan is not None:
                 return any(program == plan.program_digest for program, _ in passed)
             if command is Command.UPLOAD_POINTS and plan is not None:
-                return (loaded.program, plan.points_digest) in passed
+                return slot is not None and (slot.program_digest, plan.points_digest) in passed
             if command in RUNS:
-                return (loaded.program, loaded.points) in passed
+                return slot is not None and (slot.program_digest, slot.points_digest) in passed
         return True
-
-    def record(self, command: Command, plan: UploadPlan | None, ok: bool) -> None:
-        """After a command: what the controller now holds. A failed load leaves it
-        unknown (the gate then refuses a run until the next load)."""
-        with self._lock:
-            loaded = self.loaded
-            if (command is Command.DELETE and ok) or (command in LOADS and not ok):
-                self.loaded = Loaded(None, None)
-            elif command is Command.LOAD_PROJECT and plan is not None:
-                self.loaded = Loaded(plan.program_digest, plan.points_digest)
-            elif command is Command.UPLOAD_PROGRAM and plan is not None:
-                self.loaded = Loaded(plan.program_digest, NO_POINTS)  # ECLR clears positions
-            elif command is Command.UPLOAD_POINTS and plan is not None:
-                self.loaded = Loaded(loaded.program, plan.points_digest)
 
 
 def plan_refusal(plan: UploadPlan) -> Refused | None:
@@ -179,10 +157,16 @@ class Policy:
     """One check for every command before it is queued (see the module doc)."""
 
     def __init__(
-        self, lease: Lease, gate: Gate | None = None, lab: LabNetwork | None = None
+        self,
+        lease: Lease,
+        gate: Gate | None = None,
+        lab: LabNetwork | None = None,
+        slot: Callable[[], Slot | None] = lambda: None,
     ) -> None:
         self.lease = lease
         self.gate = gate
+        self.slot = slot
+        """What the controller's slot holds now (the service's state: the one record)."""
         self.lab = lab
         """The lab's networks (the lab robot's; None: a private simulator, anywhere)."""
         self.turns: Turns | None = None
@@ -207,7 +191,7 @@ class Policy:
         staff = actor.role is Role.INSTRUCTOR
         if self.held_by is not None and not staff:
             raise Refused(Refusal.HELD, who=self.held_by)
-        if self.gate is not None and not self.gate.allows(command, plan):
+        if self.gate is not None and not self.gate.allows(command, plan, self.slot()):
             raise Refused(Refusal.SIMULATION_REQUIRED)
         if staff and command is Command.RESET_ALARM:
             return None  # the staff side resets a student's alarm without taking over
@@ -258,10 +242,5 @@ class Policy:
         if self.gate is not None:
             self.gate.passed(plan, cycle_s)
 
-    def done(self, command: Command, plan: UploadPlan | None, ok: bool) -> None:
-        """A command admitted earlier finished (``ok``) or failed."""
-        if self.gate is not None:
-            self.gate.record(command, plan, ok)
 
-
-__all__ = ["Gate", "Loaded", "Policy", "Turns", "plan_refusal"]
+__all__ = ["Gate", "Policy", "Turns", "plan_refusal"]

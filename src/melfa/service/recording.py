@@ -1,11 +1,11 @@
 """Every run on a shared robot, recorded from the state stream the service already has.
 
-`RunRecorder` is told three things by its service (event loop only):
+`RunRecorder` is told two things by its service (event loop only), and reads a third:
 
-* how each command that loads or deletes ended (`RunRecorder.command_done`): what the
-  controller now holds, as sent (`LoadedProgram`: the fingerprint the instructor's gate
-  compares, the step → line map of the student's own text, who loaded it);
-* a RUN the controller accepted: a `Recording` begins (who ran it, what was loaded);
+* a RUN the controller accepted (`RunRecorder.command_done`): a `Recording` begins, of who
+  ran it and what the slot held then (`melfa.service.slot.Slot`, the service's one record
+  of it, read through ``slot``: the fingerprint the instructor's gate compares, the step →
+  line map of the student's own text, who loaded it; None: not known);
 * every poll read (`RunRecorder.polled`) with the snapshot it made: one `Frame` each,
   timed on the service's clock; the first STATE read showing the program no longer running
   ends the recording (finished, stopped, or with an alarm), as do a lost link, the service
@@ -19,37 +19,20 @@ does I/O.
 from __future__ import annotations
 
 import datetime as dt
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from melfa.lang.plan import UploadPlan, fingerprint_of
+from melfa.lang.plan import UploadPlan
 from melfa.service.clock import Clock
 from melfa.service.events import Actor, LinkStatus, StateSnapshot, utc_now
 from melfa.service.polling import PollResult, StateRead
 from melfa.service.recording_frames import Frame
+from melfa.service.slot import Slot
 from melfa.vocab.commands import Command
 from melfa.vocab.runs import RunOutcome
 
 MAX_RUN_S = 1800.0
 """A run recorded longer than this ends its recording (a program looping for ever)."""
-
-
-@dataclass(frozen=True)
-class LoadedProgram:
-    """What the controller holds, as sent through the service."""
-
-    program_lines: tuple[str, ...]
-    point_lines: tuple[str, ...]
-    step_lines: Mapping[int, int]
-    """Controller step → line of ``program``."""
-    program: str | None
-    """The student's own text (what the running line refers to)."""
-    loaded_by: str
-
-    @property
-    def fingerprint(self) -> str:
-        """The instructor's gate's fingerprint (`melfa.lang.plan.fingerprint_of`)."""
-        return fingerprint_of(self.program_lines, self.point_lines)
 
 
 @dataclass
@@ -61,7 +44,8 @@ class Recording:
     """Wall time (UTC) the controller accepted RUN."""
     started: float
     """The same moment on the service's clock."""
-    loaded: LoadedProgram | None
+    loaded: Slot | None
+    """What the slot held when it began (None: not known)."""
     frames: list[Frame] = field(default_factory=list)
     outcome: RunOutcome | None = None
     ended: float | None = None
@@ -91,14 +75,15 @@ class RunRecorder:
         clock: Clock,
         sink: Sink,
         *,
+        slot: Callable[[], Slot | None] = lambda: None,
         wall: Callable[[], dt.datetime] = utc_now,
         max_s: float = MAX_RUN_S,
     ) -> None:
         self._clock = clock
         self._sink = sink
+        self._slot = slot
         self._wall = wall
         self.max_s = max_s
-        self.loaded: LoadedProgram | None = None
         self.current: Recording | None = None
 
     @property
@@ -110,40 +95,9 @@ class RunRecorder:
     def command_done(
         self, actor: Actor, command: Command, plan: UploadPlan | None, ok: bool
     ) -> None:
-        """A command ended (``ok``): follow what is loaded; a RUN begins a recording."""
-        if command is Command.RUN:
-            if ok:
-                self._begin(actor)
-            return
-        if command is Command.DELETE:
-            if ok:
-                self.loaded = None
-            return
-        if plan is None or command not in (
-            Command.LOAD_PROJECT,
-            Command.UPLOAD_PROGRAM,
-            Command.UPLOAD_POINTS,
-        ):
-            return
-        if not ok:
-            self.loaded = None  # half loaded: unknown
-        elif command is Command.UPLOAD_POINTS:
-            before = self.loaded
-            self.loaded = LoadedProgram(
-                before.program_lines if before else (),
-                plan.point_texts,
-                before.step_lines if before else {},
-                before.program if before else None,
-                actor.user,
-            )
-        else:
-            self.loaded = LoadedProgram(
-                plan.program_texts,
-                plan.point_texts,  # a program alone clears the positions (ECLR)
-                dict(plan.step_lines),
-                plan.program,
-                actor.user,
-            )
+        """A command ended (``ok``): a RUN begins a recording of what the slot holds."""
+        if command is Command.RUN and ok:
+            self._begin(actor)
 
     def polled(self, result: PollResult, snapshot: StateSnapshot) -> None:
         """A poll read made ``snapshot``: a frame; a STATE read may end the run."""
@@ -178,7 +132,7 @@ class RunRecorder:
         now = self._clock.now()
         if self.current is not None:
             self._end(RunOutcome.STOPPED, now)  # started again before a STATE saw it end
-        self.current = Recording(actor.user, self._wall(), now, self.loaded)
+        self.current = Recording(actor.user, self._wall(), now, self._slot())
 
     def _frame(self, run: Recording, s: StateSnapshot, now: float) -> Frame:
         lines = run.loaded.step_lines if run.loaded is not None else {}
@@ -207,4 +161,4 @@ class RunRecorder:
         self._sink(run)
 
 
-__all__ = ["MAX_RUN_S", "LoadedProgram", "Recording", "RunRecorder", "Sink"]
+__all__ = ["MAX_RUN_S", "Recording", "RunRecorder", "Sink"]

@@ -118,6 +118,7 @@ class RobotService(RobotCommands):
             self._lease,
             Gate(self.config.require_simulation) if gated else None,
             LabNetwork(self.config.lab_networks) if gated else None,
+            slot=lambda: self._snapshots.latest.slot,
         )
         """Whether a command may be queued: every command passes `Policy.admit`."""
         self._dispatch = Dispatcher(
@@ -155,7 +156,9 @@ class RobotService(RobotCommands):
     def record_runs(self, sink: Sink, **options: Any) -> RunRecorder:
         """Record every run of this robot from its state stream, each finished recording
         handed to ``sink`` (`melfa.service.recording`)."""
-        recorder = RunRecorder(self.clock, sink, **options)
+        recorder = RunRecorder(
+            self.clock, sink, slot=lambda: self._snapshots.latest.slot, **options
+        )
         self.recorder = recorder
 
         def done(actor: Actor, command: Command, plan: UploadPlan | None, ok: bool) -> None:

@@ -1,16 +1,26 @@
-"""What is in the controller's program slot: whose program, loaded when, its fingerprint,
-from which workspace, and its step → line map.
+"""What is in the controller's program slot, the one record of it every part reads: the
+program and points as sent, whose they are, loaded when, from which workspace, and the
+step → line map.
 
 The lab robot has one slot, shared by thirty students: after bob loads, alice's *Run* runs
 bob's program unless she loads hers. The service notes every load that reached the
-controller (`after_load`), so every client is told, through the state (`StateSnapshot.slot`),
-whose program would run, and a run can name the program it means (`refusal_to_run`: the
-``expect``ed fingerprint, refused when the slot holds another). A run-time error names the
-student's own line through the loaded step map (`Slot.line_of`).
+controller (`after_load`) in the state (`StateSnapshot.slot`), and everything that asks what
+the slot holds reads it there:
 
-A refused load never reached the controller: the slot keeps what it held. A load that
-failed on the way leaves the slot unknown (None), as the instructor's gate does; so does a
-delete (the slot is empty).
+- every client is told whose program would run (the state), and a run can name the program
+  it means (`refusal_to_run`: the ``expect``ed fingerprint, refused when the slot holds
+  another);
+- the instructor's gate (`melfa.service.policy.Gate`) lets a run, or points onto the loaded
+  program, through only when the program and points it would hold passed pre-flight
+  (`Slot.program_digest`, `Slot.points_digest`);
+- the run recorder (`melfa.service.recording`) says what a recorded run had loaded and
+  names the running line through its step map (`Slot.line_of`), as does a run-time error.
+
+A program and its points loaded separately (the thesis's LOAD PROGRAM, then LOAD POINTS)
+are the pair they make: the same fingerprint as the two loaded together. A refused load
+never reached the controller: the slot keeps what it held. A load that failed on the way
+leaves the slot not known (None), and so do points loaded onto a slot not known (its program
+is still not known); a delete empties it (None too: nothing to run).
 
 Pure: no I/O; the service supplies the time.
 """
@@ -21,8 +31,9 @@ import dataclasses
 import datetime as dt
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 
-from melfa.lang.plan import UploadPlan, digest
+from melfa.lang.plan import UploadPlan, digest, fingerprint_of
 from melfa.service.errors import Refused
 from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
@@ -39,23 +50,45 @@ class LoadOrigin:
 
 @dataclass(frozen=True)
 class Slot:
-    """The program melfa loaded into the controller's slot."""
+    """The program and points melfa loaded into the controller's slot, and whose they are."""
 
     user: str
-    """Who loaded it."""
+    """Who loaded it (the last load: points onto a program name who sent the points)."""
     at: dt.datetime
     """When the load finished (UTC)."""
-    fingerprint: str
-    """`UploadPlan.fingerprint` of the program and points as sent."""
+    program_lines: tuple[str, ...] = field(repr=False)
+    """The program's steps as sent (`UploadPlan.program_texts`)."""
+    point_lines: tuple[str, ...] = field(default=(), repr=False)
+    """The points as sent (`UploadPlan.point_texts`): a program alone holds none (ECLR)."""
     workspace_id: int | None = None
     workspace: str = ""
+    """The workspace's name as its owner sees it (``group 3``, ``ann``)."""
     step_lines: Mapping[int, int] = field(default_factory=dict, compare=False, repr=False)
     """The controller's step number → the line of the loaded text (`UploadPlan.step_lines`)."""
+    program: str | None = field(default=None, compare=False, repr=False)
+    """The student's own text (what the running line refers to)."""
+
+    @cached_property
+    def fingerprint(self) -> str:
+        """`UploadPlan.fingerprint` of the program and points it holds: what the client is
+        shown and a run's ``expect`` names."""
+        return fingerprint_of(self.program_lines, self.point_lines)
+
+    @cached_property
+    def program_digest(self) -> str:
+        """`UploadPlan.program_digest` of the program it holds (the gate's key)."""
+        return digest(self.program_lines)
+
+    @cached_property
+    def points_digest(self) -> str:
+        """`UploadPlan.points_digest` of the points it holds (the gate's key)."""
+        return digest(self.point_lines)
 
     def line_of(self, step: int | None) -> int | None:
         """The loaded text's line of a controller step (None: not known).
 
-        >>> Slot("ann", dt.datetime(2026, 1, 1), "f", step_lines={10: 1, 20: 3}).line_of(20)
+        >>> at = dt.datetime(2026, 1, 1)
+        >>> Slot("ann", at, ("10 MOV P1", "20 END"), step_lines={10: 1, 20: 3}).line_of(20)
         3
         """
         return None if step is None else self.step_lines.get(step)
@@ -73,8 +106,9 @@ def after_load(
     """What the slot holds after ``command`` (admitted, so it reached the worker) ended.
 
     ``user`` loaded it. A program (with or without its points) replaces the slot; points
-    alone keep its program and step map under a new fingerprint; a failed load leaves it
-    unknown; a delete empties it. Other commands leave it as it was.
+    alone replace the points of the program it holds (of a program not known: still not
+    known); a failed load leaves it not known; a delete empties it. Other commands leave it
+    as it was.
     """
     if command is Command.DELETE:
         return None if ok else slot
@@ -82,23 +116,20 @@ def after_load(
         return slot
     if not ok or plan is None:
         return None
-    origin = origin or LoadOrigin()
     if command is Command.UPLOAD_POINTS:
         if slot is None:
             return None
-        return dataclasses.replace(
-            slot,
-            user=user,
-            at=at,
-            fingerprint=digest((slot.fingerprint, plan.points_digest)),
-        )
+        return dataclasses.replace(slot, user=user, at=at, point_lines=plan.point_texts)
+    origin = origin or LoadOrigin()
     return Slot(
         user=user,
         at=at,
-        fingerprint=plan.fingerprint,
+        program_lines=plan.program_texts,
+        point_lines=plan.point_texts,
         workspace_id=origin.workspace_id,
         workspace=origin.workspace,
         step_lines=dict(plan.step_lines),
+        program=plan.program,
     )
 
 

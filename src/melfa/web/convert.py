@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.live.messages import SlotOut
 from melfa.protocol.advice import FIX_LABELS, Fix, advice_for, is_user_error
 from melfa.service import Actor, StateSnapshot, event_to_dict
 from melfa.store import Revision, RevisionInfo, User, Workspace, WorkspaceState
@@ -97,7 +99,11 @@ def actor_dict(actor: Actor | None) -> dict[str, str] | None:
 
 def state_dict(snapshot: StateSnapshot) -> dict[str, Any]:
     """A snapshot as JSON (the ``state`` WebSocket message without its ``type``)."""
-    out = event_to_dict(snapshot)
+    slot = snapshot.slot
+    # The slot is told as `SlotOut` says: its lines and step map stay in the service.
+    out = event_to_dict(snapshot if slot is None else dataclasses.replace(snapshot, slot=None))
+    if slot is not None:
+        out["slot"] = SlotOut.model_validate(slot, from_attributes=True).model_dump(mode="json")
     for key in ("name", "actor"):
         out.pop(key, None)
     if snapshot.alarm is not None:
@@ -107,8 +113,6 @@ def state_dict(snapshot: StateSnapshot) -> dict[str, Any]:
         if fix["fix"] is None or fix["fix"] == Fix.SERVO_ON_RETRY.value:
             fix.update(fix=Fix.RESET_ALARM.value, fix_label=FIX_LABELS[Fix.RESET_ALARM])
         out["alarm"].update(fix, own=is_user_error(snapshot.alarm.number))
-    if out.get("slot") is not None:
-        out["slot"].pop("step_lines", None)  # the service's, for naming lines; not sent
     return out
 
 

@@ -112,7 +112,7 @@ class RunKeeper:
                 duration=rec.duration,
                 outcome=(rec.outcome.value if rec.outcome else "unknown"),
                 fingerprint=rec.fingerprint,
-                loaded_by=loaded.loaded_by if loaded else None,
+                loaded_by=loaded.user if loaded else None,
                 program=loaded.program if loaded else None,
                 frame_count=len(rec.frames),
                 frames=frames,
