@@ -689,7 +689,7 @@ def test_upload_progress_and_control_are_shown(ui: Ui, observer: ApiClient) -> N
     ui.window.servo_on_button.click()  # a command: this user holds control
     ui.idle()
     lease = ui.window.robot_box.status_values["lease"]
-    wait_until(lambda: lease.text().startswith("You, since "))
+    wait_until(lambda: lease.text().startswith("you since "))
 
 
 def test_the_queue_and_its_claim(ui: Ui, observer: ApiClient) -> None:

@@ -42,6 +42,7 @@ from melfa.desktop.words import (
     jog_label,
 )
 from melfa.protocol.advice import Fix
+from melfa.vocab.queue import QUEUE_WORDS
 
 _log = logging.getLogger(__name__)
 FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
@@ -340,12 +341,11 @@ class Presenter:
 
     def claim(self) -> bool:
         """Take the lab robot's arm the queue offers: the queued program loads and runs."""
-        return self._submit(
-            "Claiming the arm", self.client.claim, self._on_claimed, "Claim refused"
-        )
+        w = QUEUE_WORDS
+        return self._submit(w.claiming, self.client.claim, self._on_claimed, w.claim_failed)
 
     def _on_claimed(self, _: None) -> None:
-        self._done("Your turn at the lab robot: your queued program loads and runs")
+        self._done(QUEUE_WORDS.claimed)
 
     def run(self) -> bool:
         """Start the program loaded in the robot."""

@@ -17,6 +17,7 @@ from melfa.desktop.words import Loaded, activity_text, control_text
 from melfa.live.messages import StateOut
 from melfa.protocol.advice import FIX_LABELS
 from melfa.vocab.activity import Activity
+from melfa.vocab.lease import CONTROL_WORDS
 
 ACTIVITY_LEVEL = {
     Activity.ALARM: "alarm",
@@ -55,7 +56,7 @@ class RobotBox(QGroupBox):
         grid.addWidget(v["servo"], 1, 1)
         grid.addWidget(_caption("Speed:"), 1, 2)
         grid.addWidget(v["override"], 1, 3)
-        grid.addWidget(_caption("Control:"), 2, 0)
+        grid.addWidget(_caption(CONTROL_WORDS.control), 2, 0)
         grid.addWidget(v["lease"], 2, 1, 1, 3)
         grid.addWidget(_caption("Alarm:"), 3, 0)
         alarm_row = QHBoxLayout()

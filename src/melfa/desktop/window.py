@@ -46,6 +46,7 @@ from melfa.desktop.words import jog_label, link_words
 from melfa.live.messages import StateOut
 from melfa.protocol import OVERRIDE_PERCENT
 from melfa.vocab.link import LinkStatus
+from melfa.vocab.queue import QUEUE_WORDS
 
 FILE_FILTERS = {
     FileKind.PROGRAM: "MELFA BASIC IV programs (*.MB4 *.mb4);;All files (*)",
@@ -114,10 +115,10 @@ class MainWindow(QMainWindow):
         self.feed_label = QLabel(FEED_WORDS[FeedStatus.CONNECTING])
         self._busy_text = ""
         self.queue_label = QLabel("")
-        self.queue_label.setAccessibleName("Lab robot queue")
-        self.claim_button = QPushButton("Claim the arm and run")
+        self.queue_label.setAccessibleName(QUEUE_WORDS.title)
+        self.claim_button = QPushButton(QUEUE_WORDS.claim)
         self.claim_button.setObjectName("claim")
-        self.claim_button.setToolTip("Your turn at the lab robot: claim it before the time ends")
+        self.claim_button.setToolTip(QUEUE_WORDS.claim_hint)
         self.claim_button.setVisible(False)
         self.claim_button.clicked.connect(presenter.claim)
         self.statusBar().addPermanentWidget(self.queue_label)

@@ -16,8 +16,9 @@ from melfa.desktop.api import ApiError, CheckResult, ServerUnreachable
 from melfa.live.messages import QueueOut, StateOut
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.vocab.activity import Activity, jog_detail, said, where
+from melfa.vocab.lease import CONTROL_WORDS, HolderState
 from melfa.vocab.link import LINK_WORDS, LinkStatus
-from melfa.vocab.queue import EntryState
+from melfa.vocab.queue import QUEUE_WORDS, EntryState
 
 JOG_AXES = {"xyz": POSE_NAMES, "tool": POSE_NAMES, "joint": JOINT_NAMES}
 
@@ -114,24 +115,30 @@ def upload_progress(sent: int, total: int) -> tuple[str, int]:
     return f"Sending to the robot: {percent} %", percent
 
 
+_HOLDER_STATES = {h.value: h for h in HolderState}
+
+
 def control_text(state: StateOut, me: str) -> str:
-    """Who holds control (the lease), since when, and the state of their connection.
+    """Who holds control (the lease), since when, and the state of their connection, in
+    the words of the browser's header (`melfa.vocab.lease.CONTROL_WORDS`).
 
     >>> control_text(state_of(), "ann")
-    'Free: your first command takes it'
+    'free — the first to move the robot takes it'
     >>> control_text(state_of(lease_holder="ann"), "ann")
-    'You'
+    'you'
     >>> control_text(state_of(lease_holder="bob", lease_state="no connection"), "ann")
-    'bob — no connection'
+    'bob · no connection'
     """
+    w = CONTROL_WORDS
     holder = state.lease_holder
     if holder is None:
-        return "Free: your first command takes it"
-    text = "You" if holder == me else holder
+        return f"{w.free} — {w.first_takes}"
+    text = w.you if holder == me else holder
     if state.lease_since is not None:
-        text += f", since {state.lease_since.astimezone():%H:%M}"
-    if holder != me and state.lease_state:
-        text += f" — {state.lease_state}"
+        text += " " + w.since.format(time=f"{state.lease_since.astimezone():%H:%M}")
+    connection = _HOLDER_STATES.get(state.lease_state or "")
+    if holder != me and connection is not None and connection is not HolderState.CONNECTED:
+        text += f" · {connection.words}"
     return text
 
 
@@ -208,7 +215,8 @@ __all__ = [
 
 def queue_line(queue: QueueOut, me: str) -> tuple[str, bool]:
     """The lab robot's queue in one line for the status bar, and whether the arm is offered
-    to ``me`` now (the window then shows its claim button).
+    to ``me`` now (the window then shows its claim button); the words are the browser's
+    panel's (`melfa.vocab.queue.QUEUE_WORDS`).
 
     >>> from datetime import datetime, UTC
     >>> at = datetime(2026, 11, 27, 9, 0, tzinfo=UTC)
@@ -216,21 +224,23 @@ def queue_line(queue: QueueOut, me: str) -> tuple[str, bool]:
     >>> q = QueueOut(target="lab", now=at, active=True, paused=False, attended=False,
     ...              turn=None, entries=[entry], claim_s=60, turn_s=240, at_turn_end="stop")
     >>> queue_line(q, "ann")
-    ('Lab robot queue: the arm is offered to you: claim it now', True)
+    ('Lab robot queue · the arm is offered to you: claim it now', True)
     >>> queue_line(q, "bob")
-    ('Lab robot queue: 1 waiting', False)
+    ('Lab robot queue · 1 waiting', False)
     """
+    w = QUEUE_WORDS
     if not queue.active:
-        return "Lab robot queue: empty, the arm is free", False
-    parts = [f"Lab robot queue: {len(queue.entries)} waiting"]
+        return f"{w.title} · {w.empty}", False
+    parts = [f"{w.title} · {w.waiting.format(count=len(queue.entries))}"]
     turn = queue.turn
     if turn is not None:
-        who = "you" if turn.user == me else turn.user
-        parts.insert(0, f"At the arm: {who} ({round(turn.left_s / 60)} min left)")
+        who = w.you if turn.user == me else turn.user
+        left = w.line_turn.format(user=who, minutes=round(turn.left_s / 60))
+        parts.insert(0, f"{w.at_arm}: {left}")
     mine = next((e for e in queue.entries if e.user == me), None)
     if mine is not None and mine.state is EntryState.OFFERED:
-        return "Lab robot queue: the arm is offered to you: claim it now", True
+        return f"{w.title} · {w.line_offered}", True
     if mine is not None:
         wait = max(0, round((mine.estimate - queue.now).total_seconds() / 60))
-        parts.append(f"you are number {mine.position}, in about {wait} min")
+        parts.append(w.line_place.format(position=mine.position, minutes=wait))
     return " · ".join(parts), False

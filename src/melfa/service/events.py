@@ -97,7 +97,7 @@ class StateSnapshot(Event):
     """When the holder took the lease (UTC)."""
     lease_state: str | None = None
     """The holder's connection: ``connected``, ``no connection`` (REST only) or
-    ``disconnected, robot moving`` (`melfa.service.lease.HolderState`)."""
+    ``disconnected, robot moving`` (`melfa.vocab.lease.HolderState`)."""
     program_running: bool | None = None
     """The program runs (``running`` is the controller's RUN bit, also set by an EXEC move)."""
     paused: bool | None = None

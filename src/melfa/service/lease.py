@@ -27,7 +27,6 @@ Every change returns a `LeaseChange` for the service to publish.
 from __future__ import annotations
 
 import datetime as dt
-import enum
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -35,19 +34,8 @@ from dataclasses import dataclass
 from melfa.service.errors import LeaseRequired, NotAllowed
 from melfa.service.events import Actor, Role, utc_now
 from melfa.vocab.commands import Command
-from melfa.vocab.lease import LeaseReason
+from melfa.vocab.lease import HolderState, LeaseReason
 from melfa.vocab.refusals import Refusal
-
-
-class HolderState(enum.Enum):
-    """How the lease holder is connected (shown next to their name)."""
-
-    CONNECTED = "connected"
-    """At least one open connection (IDE tab, desktop, rosbridge)."""
-    NO_CONNECTION = "no connection"
-    """Took the lease over REST and has no socket open (a script); idle expiry applies."""
-    DISCONNECTED_MOVING = "disconnected, robot moving"
-    """The last connection closed while the arm moved on their behalf."""
 
 
 @dataclass(frozen=True)
@@ -76,7 +64,7 @@ class LeaseInfo:
         """``alice — disconnected, robot moving``; ``free`` when nobody holds it."""
         if self.holder is None or self.state is None:
             return "free"
-        return f"{self.holder.user} — {self.state.value}"
+        return f"{self.holder.user} — {self.state.words}"
 
 
 def same_user(a: Actor | None, b: Actor | None) -> bool:

@@ -13,5 +13,9 @@ One module per family of words:
 - ``refusals``: why the service refused a command (the lease, the instructor's gate, a
   program with errors …), with the fix.
 - ``jog``: why a jog ended.
+- ``lease``: control of the robot: why it changed hands, how its holder is connected, the
+  header's words and toasts.
+- ``queue``: the shared robot's queue: its steps, each student's place, every word of its
+  panel, its claim dialog and the desktop's queue line.
 - ``activity``: what the robot is doing, as one word every view shows the same way.
 """

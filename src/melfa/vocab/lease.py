@@ -1,5 +1,6 @@
-"""Why control of the robot (the operator lease) changed hands: one code per cause, with
-the student's words.
+"""Control of the robot (the operator lease) in words: why it changed hands (one code per
+cause), how its holder is connected (`HolderState`), and every other word the header's
+control, its buttons and its toasts show (`ControlWords`, served as ``CONTROL_WORDS``).
 
 The service's ``lease`` event carries the code (``reason``); clients show `LeaseReason.words`
 (the browser from the served vocabulary), never a sentence the server wrote.
@@ -15,6 +16,7 @@ The service's ``lease`` event carries the code (``reason``); clients show `Lease
 from __future__ import annotations
 
 import enum
+from dataclasses import dataclass
 
 
 class LeaseReason(enum.StrEnum):
@@ -55,7 +57,9 @@ class LeaseReason(enum.StrEnum):
 
     def words(self, by: str | None = None, command: str | None = None) -> str:
         """The student's words; ``by`` names the person, ``command`` the command's label."""
-        return _WORDS[self].format(by=by or "someone", command=command or "a command")
+        return _WORDS[self].format(
+            by=by or CONTROL_WORDS.someone, command=command or CONTROL_WORDS.a_command
+        )
 
 
 _WORDS: dict[LeaseReason, str] = {
@@ -76,4 +80,68 @@ _WORDS: dict[LeaseReason, str] = {
 assert set(_WORDS) == set(LeaseReason), "every lease reason has its words"
 
 
-__all__ = ["LeaseReason"]
+class HolderState(enum.StrEnum):
+    """How the lease holder is connected (the state's ``lease_state``, the ``lease``
+    message's ``holder_state``; shown next to their name in its `words`)."""
+
+    CONNECTED = "connected"
+    """At least one open connection (IDE tab, desktop, rosbridge)."""
+    NO_CONNECTION = "no connection"
+    """Took the lease over REST and has no socket open (a script); idle expiry applies."""
+    DISCONNECTED_MOVING = "disconnected, robot moving"
+    """The last connection closed while the arm moved on their behalf."""
+
+    @property
+    def words(self) -> str:
+        return _HOLDER_WORDS[self]
+
+
+_HOLDER_WORDS: dict[HolderState, str] = {
+    HolderState.CONNECTED: "connected",
+    HolderState.NO_CONNECTION: "no connection",
+    HolderState.DISCONNECTED_MOVING: "disconnected, robot moving",
+}
+assert set(_HOLDER_WORDS) == set(HolderState), "every holder state has its words"
+
+
+@dataclass(frozen=True)
+class ControlWords:
+    """Who holds control, the buttons that take and give it, and the toasts when it
+    changes hands under a student (the header of the browser; the desktop's control row).
+    Templates fill ``{user}``, ``{by}``, ``{time}``, ``{state}``, ``{command}``,
+    ``{release}`` (the button's own word)."""
+
+    group: str = "Who controls the robot"
+    """The header's group, for a screen reader (the tab *Robot control* is the jog's)."""
+    someone: str = "someone"
+    """``{by}`` when a change names nobody."""
+    a_command: str = "a command"
+    """``{command}`` when a change does not say which."""
+    control: str = "Control:"
+    you: str = "you"
+    free: str = "free"
+    since: str = "since {time}"
+    you_hold: str = "You hold control"
+    holds: str = "{user} holds control"
+    nobody: str = "Nobody holds control"
+    first_takes: str = "the first to move the robot takes it"
+    """Said after `nobody` (the browser's tooltip) or `free` (the desktop's row)."""
+    take: str = "Take control"
+    release: str = "Release"
+    take_over: str = "Take over"
+    taken_over_title: str = "Control taken over"
+    taken_over: str = "{by} took control of the robot."
+    an_instructor: str = "An instructor"
+    yours_title: str = "You have control of the robot"
+    yours: str = (
+        "Taken when you used {command}. Others can watch; press {release} when you are done."
+    )
+    take_failed: str = "Could not take control"
+    release_failed: str = "Could not release control"
+    take_over_failed: str = "Could not take over"
+
+
+CONTROL_WORDS = ControlWords()
+
+
+__all__ = ["CONTROL_WORDS", "ControlWords", "HolderState", "LeaseReason"]

@@ -1,6 +1,7 @@
 """The queue for a shared robot in words: what happened in it (`QueueStep`), where each
-student stands (`EntryState`), and what a turn's end does to a running program
-(`TurnEnd`).
+student stands (`EntryState`), what a turn's end does to a running program (`TurnEnd`),
+and every other word the queue's panel, its claim dialog and the desktop's queue line
+show (`QueueWords`, served as ``QUEUE_WORDS``).
 
 The service sends codes (the ``queue`` live message, the audit's ``queue.<step>``
 actions); clients show the words of the code (the browser from ``/vocab.js``'s
@@ -16,6 +17,7 @@ actions); clients show the words of the code (the browser from ``/vocab.js``'s
 from __future__ import annotations
 
 import enum
+from dataclasses import dataclass
 
 
 class QueueStep(enum.StrEnum):
@@ -79,8 +81,8 @@ class QueueStep(enum.StrEnum):
         seconds: float | None = None,
     ) -> str:
         return _STEP_WORDS[self].format(
-            user=user or "someone",
-            by=by or "the instructor",
+            user=user or QUEUE_WORDS.someone,
+            by=by or QUEUE_WORDS.the_instructor,
             position=position if position is not None else "?",
             seconds=round(seconds) if seconds is not None else "?",
         )
@@ -146,4 +148,99 @@ class TurnEnd(enum.StrEnum):
     """Let it finish (up to a cap); nothing new may start."""
 
 
-__all__ = ["EntryState", "QueueStep", "TurnEnd"]
+@dataclass(frozen=True)
+class QueueWords:
+    """The queue's words beside its steps: the panel (the browser's, and the desktop
+    client's one line), the claim dialog, the instructor's controls and what a failed
+    request is called. Templates fill ``{user}``, ``{count}``, ``{left}`` (a clock,
+    ``3:05``), ``{minutes}``, ``{seconds}``, ``{position}``, ``{countdown}``."""
+
+    title: str = "Lab robot queue"
+    someone: str = "someone"
+    """``{user}`` when a step names nobody."""
+    the_instructor: str = "the instructor"
+    """``{by}`` when a step does not say who did it."""
+    paused: str = "paused"
+    attended: str = "attended"
+    attended_hint: str = "Each run waits for the supervisor's Arm ready"
+    waiting: str = "{count} waiting"
+    empty: str = "empty: the arm is free"
+    at_arm: str = "At the arm"
+    you: str = "you"
+    mine: str = "{user} (you)"
+    left: str = "{left} left"
+    held: str = "held by the instructor ({left} kept)"
+    away: str = "away"
+    ending: str = "time is up: finishing"
+    run_waiting: str = "run waits for Arm ready"
+    done: str = "Done: give the arm back"
+    join: str = "Run on the lab robot"
+    join_hint: str = (
+        "Queue the editor's program and points for the lab robot (they must pass pre-flight)"
+    )
+    update: str = "Update my queued program"
+    leave: str = "Leave the queue"
+    next: str = "next"
+    starts_in: str = "in ≈ {left}"
+    now: str = "now"
+    """A countdown at zero."""
+    cycle: str = "runs {seconds} s"
+    cycle_hint: str = "Its cycle time in pre-flight"
+    stale: str = "changed since queued"
+    stale_hint: str = (
+        "The program in the workspace changed since it was queued: update it, or the queued "
+        "one runs"
+    )
+    # The instructor's controls
+    controls: str = "Instructor's queue controls"
+    move_up: str = "Move {user} up"
+    move_up_hint: str = "Move {user} up one place"
+    skip: str = "Skip"
+    skip_hint: str = "Take {user} out of the queue"
+    pause: str = "Pause"
+    resume: str = "Resume"
+    take: str = "Take the arm"
+    take_hint: str = "Take the arm now; the queue pauses and the turn keeps its time"
+    extend: str = "+{minutes} min"
+    end_turn: str = "End turn"
+    end_turn_hint: str = "End {user}'s turn"
+    attended_switch: str = "Attended"
+    ready: str = "Arm ready"
+    # The claim: the dialog that cannot be missed, the tab's title, a turn ending soon
+    claim_title: str = "Your turn at the lab robot"
+    claim_text: str = (
+        "The arm is yours if you claim it within {countdown}. Claiming loads your queued "
+        "program and runs it; watch the arm, STOP is always there. If you let the time run "
+        "out you move back one place."
+    )
+    missed_once: str = "You missed it once already."
+    missed_times: str = "You missed it {count} times already."
+    claim: str = "Claim the arm and run"
+    claim_hint: str = "Your turn at the lab robot: claim it before the time ends"
+    later: str = "Not yet"
+    tab_turn: str = "Your turn!"
+    warned_title: str = "Your turn ends soon"
+    claiming: str = "Claiming the arm"
+    claimed: str = "Your turn at the lab robot: your queued program loads and runs"
+    # The desktop client's one line in its status bar
+    line_turn: str = "{user} ({minutes} min left)"
+    line_offered: str = "the arm is offered to you: claim it now"
+    line_place: str = "you are number {position}, in about {minutes} min"
+    # What a refused or failed request is called (the server's reason follows)
+    join_failed: str = "Could not join the queue"
+    leave_failed: str = "Could not leave the queue"
+    claim_failed: str = "Could not claim the arm"
+    done_failed: str = "Could not give the arm back"
+    move_failed: str = "Could not reorder the queue"
+    skip_failed: str = "Could not skip"
+    pause_failed: str = "Could not change the queue"
+    take_failed: str = "Could not take the arm"
+    extend_failed: str = "Could not extend"
+    attended_failed: str = "Could not switch attended mode"
+    ready_failed: str = "Could not say arm ready"
+
+
+QUEUE_WORDS = QueueWords()
+
+
+__all__ = ["QUEUE_WORDS", "EntryState", "QueueStep", "QueueWords", "TurnEnd"]

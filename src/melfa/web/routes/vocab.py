@@ -5,6 +5,7 @@ was sent, filled the same way the desktop client fills them (`melfa.vocab.activi
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from typing import Any
 
@@ -25,9 +26,9 @@ from melfa.vocab.classroom import (
 from melfa.vocab.commands import Command
 from melfa.vocab.desk import ACTION_WORDS, DESK_WORDS, VISIT_WORDS
 from melfa.vocab.jog import JogEnd
-from melfa.vocab.lease import LeaseReason
+from melfa.vocab.lease import CONTROL_WORDS, HolderState, LeaseReason
 from melfa.vocab.link import LINK_WORDS
-from melfa.vocab.queue import EntryState, QueueStep
+from melfa.vocab.queue import QUEUE_WORDS, EntryState, QueueStep
 from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
 from melfa.vocab.runs import RunOutcome
 from melfa.vocab.signout import SIGN_OUT_WORDS
@@ -64,9 +65,12 @@ def vocabulary() -> dict[str, Any]:
         },
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
         "LEASE_REASONS": {r.value: {"words": r.template} for r in LeaseReason},
+        "HOLDER_STATES": {h.value: h.words for h in HolderState},
+        "CONTROL_WORDS": dataclasses.asdict(CONTROL_WORDS),
         "RUN_OUTCOMES": {o.value: {"words": o.words} for o in RunOutcome},
         "QUEUE_STEPS": {q.value: {"words": q.template} for q in QueueStep},
         "QUEUE_STATES": {e.value: {"words": e.words} for e in EntryState},
+        "QUEUE_WORDS": dataclasses.asdict(QUEUE_WORDS),
         "GRADE_WORDS": {kind.value: words for kind, words in GRADE_WORDS.items()},
         "GRADED_WORDS": {kind.value: words for kind, words in GRADED_WORDS.items()},
         "CLASS_COLUMNS": {column.value: words for column, words in COLUMN_WORDS.items()},

@@ -73,7 +73,8 @@ export function linkWords(status) {
   return LINK_WORDS[status] ?? "Robot link unknown";
 }
 
-function fill(template, values) {
+/** A template's `{placeholders}` filled; one not given stays as it is. */
+export function fill(template, values) {
   return template.replace(/\{(\w+)\}/g, (all, key) => (key in values ? String(values[key]) : all));
 }
 

@@ -8,8 +8,8 @@
 import { api, downloadText } from "./api.js";
 import { $, el, showError } from "./ui.js";
 import {
-  AUDIT_ACTIONS, COMMANDS, DESK_WORDS as W, LEASE_REASONS, LINK_WORDS, NOTE_WORDS, QUEUE_STEPS,
-  ROBOT_LOG_WORDS as RL,
+  AUDIT_ACTIONS, COMMANDS, CONTROL_WORDS, DESK_WORDS as W, LEASE_REASONS, LINK_WORDS, NOTE_WORDS,
+  QUEUE_STEPS, ROBOT_LOG_WORDS as RL,
 } from "/vocab.js";
 
 const LIMIT = 500;
@@ -36,7 +36,7 @@ export function said(e) {
   }
   if (e.action === "control.changed") {
     const reason = LEASE_REASONS[d.reason];
-    return reason ? fill(reason.words, { by: d.by || "someone", command: d.command || "a command" }) : "";
+    return reason ? fill(reason.words, { by: d.by || CONTROL_WORDS.someone, command: d.command || CONTROL_WORDS.a_command }) : "";
   }
   if (e.action === "alarm.raised") return fill(NOTE_WORDS[d.line ? "alarm-line" : "alarm.raised"], d);
   if (e.action === "link.changed") return fill(NOTE_WORDS["link.changed"], { words: LINK_WORDS[d.status] || d.status });

@@ -5,6 +5,7 @@
 
 import { api } from "./api.js";
 import { $, onFix, showError, toast } from "./ui.js";
+import { CONTROL_WORDS } from "/vocab.js"; // generated from melfa.vocab.lease
 
 const SERVO_KEY = "melfa.servo-on-for-moves";
 
@@ -56,7 +57,7 @@ export function installFixes(app) {
   onFix("load-project", async () => $("act-load").click());
   onFix("stop", async () => $("estop").click());
   onFix("take-control", async () => {
-    await call(() => api("POST", "/api/lease"), "Could not take control");
+    await call(() => api("POST", "/api/lease"), CONTROL_WORDS.take_failed);
   });
   onFix("add-point", async ({ err }) => {
     const name = err?.detail?.point;

@@ -8,7 +8,8 @@ import { ProgramEditor } from "./editor.js";
 import { PresenceView } from "./coedit-view.js";
 import { ActionLog } from "./actionlog.js";
 import { AssignmentsPanel } from "./assign.js";
-import { commandLabel, describeActivity } from "./activity.js";
+import { describeActivity } from "./activity.js";
+import { renderControl, tellControl, wireControl } from "./control.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, robotBadge, welcome } from "./first.js";
 import { Guide } from "./guide.js";
@@ -119,7 +120,9 @@ async function main() {
   app.slotChip = new SlotChip($("slot-info"));
   app.slotChip.render(null, "none");
   robot.subscribe(onState);
-  lease.subscribe(renderLease);
+  const showControl = (held) => renderControl(held, app.user, app.role === "instructor" || app.role === "admin");
+  lease.subscribe(showControl);
+  showControl(lease.get()); // "Control: free" until the socket says who holds it
   activityLine.subscribe(renderActivity);
   app.live.connect();
 
@@ -178,15 +181,7 @@ function wireLive(live) {
   live.on("state", (m) => robot.set({ state: m }));
   live.on("lease", (m) => {
     setLease(m.holder, m.since, m.holder_state);
-    // Taken from us by someone else (only an instructor's take-over does that).
-    if (m.previous?.user === app.user && m.holder && m.holder.user !== app.user) {
-      toast("Control taken over", { kind: "warning", text: `${m.holder?.user ?? "An instructor"} took control of the robot.` });
-    }
-    // Nothing takes control silently: a command that took the free lease says so (the
-    // shared robot's: My simulator is the user's alone, with no control to give back).
-    if (m.holder?.user === app.user && m.command && !app.targets.isPrivate) {
-      toast("You have control of the robot", { kind: "info", text: `Taken when you used ${commandLabel(m.command)}. Others can watch; press Release when you are done.` });
-    }
+    tellControl(m, app.user, !app.targets.isPrivate);
   });
   live.on("progress", (m) => {
     // Only while our load waits for its answer: the last progress event can arrive after
@@ -219,27 +214,6 @@ function setLease(holder, since = undefined, state = undefined) {
   if (since !== undefined) patch.since = since;
   if (state !== undefined) patch.state = state;
   lease.set(patch);
-}
-
-function renderLease({ holder, since, state }) {
-  const text = $("lease-text");
-  const mine = holder?.user === app.user;
-  const staff = app.role === "instructor" || app.role === "admin";
-  // Who holds control, since when, and their connection (one user's tabs share it).
-  const when = holder && since ? new Date(since) : null;
-  text.replaceChildren(
-    "Control: ",
-    holder ? el("strong", {}, mine ? "you" : holder.user) : el("strong", {}, "free"),
-    holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${holder.role})`) : "",
-    when && !isNaN(when) ? el("span", { class: "lease-since" }, ` since ${when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" })}`) : "",
-    holder && state && state !== "connected" ? el("span", { class: "lease-state" }, ` · ${state}`) : "",
-  );
-  text.title = holder ? `${mine ? "You hold" : holder.user + " holds"} control${state ? " (" + state + ")" : ""}` : "Nobody holds control: the first to move the robot takes it";
-  text.classList.toggle("mine", mine);
-  text.dataset.holder = holder?.user ?? "";
-  $("lease-take").hidden = !!holder;
-  $("lease-release").hidden = !mine;
-  $("lease-takeover").hidden = !(holder && !mine && staff);
 }
 
 let lastRunning = false;
@@ -351,9 +325,7 @@ function wireHeader() {
     if (e.timeStamp - lastEscape < 500) stopAll(); // Esc Esc stops from anywhere
     lastEscape = e.timeStamp;
   });
-  $("lease-take").addEventListener("click", () => leaseCall("POST", "/api/lease", "Could not take control"));
-  $("lease-release").addEventListener("click", () => leaseCall("DELETE", "/api/lease", "Could not release control"));
-  $("lease-takeover").addEventListener("click", () => leaseCall("POST", "/api/lease/takeover", "Could not take over"));
+  wireControl(setLease);
   const button = $("user-button");
   const menu = $("user-menu");
   const toggle = (open) => {
@@ -371,16 +343,6 @@ function wireHeader() {
   $("logout").addEventListener("click", async () => {
     await signOut(app, loaded); // a shared lab PC keeps no copy, once the server has it all
   });
-}
-
-async function leaseCall(method, path, what) {
-  try {
-    const out = await api(method, path);
-    if (out && "holder" in out) setLease(out.holder);
-    else if (method === "DELETE") setLease(null);
-  } catch (err) {
-    showError(what, err);
-  }
 }
 
 /** STOP: over the socket (fastest), and over REST when the socket is not there. */

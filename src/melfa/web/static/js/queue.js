@@ -3,28 +3,37 @@
 // editor's text; pre-flight first when the lab asks for it), the claim prompt when the arm
 // is offered to you (a dialog that cannot be missed, with its countdown), your turn's
 // warning, and the instructor's controls. Every change arrives as a `queue` message on the
-// live socket (whichever robot this tab follows); the words of its steps are the server's
-// (/vocab.js QUEUE_STEPS).
+// live socket (whichever robot this tab follows). Every word is melfa.vocab.queue's
+// (/vocab.js: QUEUE_STEPS for what happened, QUEUE_WORDS for the rest).
 
+import { fill } from "./activity.js";
 import { api } from "./api.js";
 import { $, el, showError, toast } from "./ui.js";
-import { QUEUE_STATES, QUEUE_STEPS } from "/vocab.js"; // generated from melfa.vocab.queue
+import { QUEUE_STATES, QUEUE_STEPS, QUEUE_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.queue
+
+/** How long the instructor's extend button adds (its words say it in minutes). */
+const EXTEND_S = 60;
 
 /** A step's words (`{user}` and friends filled in), as the desktop client fills them. */
 export function stepWords(step) {
   const words = QUEUE_STEPS[step.kind]?.words ?? step.kind;
   return words
-    .replaceAll("{user}", step.user ?? "someone")
-    .replaceAll("{by}", step.by ?? "the instructor")
+    .replaceAll("{user}", step.user ?? W.someone)
+    .replaceAll("{by}", step.by ?? W.the_instructor)
     .replaceAll("{position}", step.position ?? "?")
     .replaceAll("{seconds}", step.seconds != null ? Math.round(step.seconds) : "?");
 }
 
 /** "3:05" for seconds; "now" at zero. */
 export function clock(seconds) {
-  if (seconds <= 0) return "now";
+  if (seconds <= 0) return W.now;
   const s = Math.round(seconds);
   return `${Math.floor(s / 60)}:${String(s % 60).padStart(2, "0")}`;
+}
+
+/** "3:05 left" (the turn's time, counting down). */
+function timeLeft(seconds) {
+  return fill(W.left, { left: clock(seconds) });
 }
 
 export class QueuePanel {
@@ -35,12 +44,24 @@ export class QueuePanel {
     this.box = $("queue");
     this.dialog = $("claim-dialog");
     this.title = document.title;
+    this.words();
     $("claim-go").addEventListener("click", () => this.claim());
     $("claim-later").addEventListener("click", () => this.dialog.close());
     app.live.on("queue", (m) => this.update(m));
     setInterval(() => this.tick(), 1000);
     // The socket's first queue message may have come before this panel was made.
     api("GET", "/api/queue").then((q) => this.queue || this.update({ ...q, steps: [] }), () => {});
+  }
+
+  /** The claim dialog's words (the page holds only its shape). */
+  words() {
+    this.box.setAttribute("aria-label", W.title);
+    $("claim-title").textContent = W.claim_title;
+    const [before, after = ""] = W.claim_text.split("{countdown}");
+    const countdown = $("claim-countdown");
+    $("claim-text").replaceChildren(before, countdown, after);
+    $("claim-later").textContent = W.later;
+    $("claim-go").textContent = W.claim;
   }
 
   get staff() {
@@ -71,7 +92,7 @@ export class QueuePanel {
       skipped: "warning", gone: "warning", stale: "warning",
     }[step.kind];
     if (kind || ["claimed", "ended", "run-waiting", "arm-ready"].includes(step.kind)) {
-      toast(step.kind === "warned" ? "Your turn ends soon" : "Lab robot queue", { kind: kind || "info", text: stepWords(step) });
+      toast(step.kind === "warned" ? W.warned_title : W.title, { kind: kind || "info", text: stepWords(step) });
     }
   }
 
@@ -86,20 +107,20 @@ export class QueuePanel {
     const mine = this.mine();
     const turn = q.turn;
     const head = el("div", { class: "queue-head" },
-      el("h2", {}, "Lab robot queue"),
-      q.paused ? el("span", { class: "pill warn", id: "queue-paused" }, "paused") : null,
-      q.attended ? el("span", { class: "pill", title: "Each run waits for the supervisor's Arm ready" }, "attended") : null,
-      el("span", { class: "queue-count" }, q.active ? `${q.entries.length} waiting` : "empty: the arm is free"),
+      el("h2", {}, W.title),
+      q.paused ? el("span", { class: "pill warn", id: "queue-paused" }, W.paused) : null,
+      q.attended ? el("span", { class: "pill", title: W.attended_hint }, W.attended) : null,
+      el("span", { class: "queue-count" }, q.active ? fill(W.waiting, { count: q.entries.length }) : W.empty),
     );
     const atArm = turn ? el("div", { class: "queue-turn" + (turn.user === me ? " mine" : ""), id: "queue-turn", "data-user": turn.user },
-      el("span", { class: "queue-label" }, "At the arm"),
-      el("strong", {}, turn.user === me ? "you" : turn.user),
+      el("span", { class: "queue-label" }, W.at_arm),
+      el("strong", {}, turn.user === me ? W.you : turn.user),
       el("span", { class: "queue-left", "data-ends": turn.ends, "data-held": turn.held ? "1" : "" },
-        turn.held ? ` · held by the instructor (${clock(turn.left_s)} kept)` : ` · ${clock(this.left(turn.ends))} left`),
-      turn.away ? el("span", { class: "tag" }, "away") : null,
-      turn.ending ? el("span", { class: "tag warn" }, "time is up: finishing") : null,
-      turn.run_waiting ? el("span", { class: "tag warn", id: "queue-run-waiting" }, "run waits for Arm ready") : null,
-      turn.user === me ? el("button", { type: "button", class: "btn btn-sm", id: "queue-done", onclick: () => this.post("/api/queue/done", {}, "Could not give the arm back") }, "Done: give the arm back") : null,
+        " · " + (turn.held ? fill(W.held, { left: clock(turn.left_s) }) : timeLeft(this.left(turn.ends)))),
+      turn.away ? el("span", { class: "tag" }, W.away) : null,
+      turn.ending ? el("span", { class: "tag warn" }, W.ending) : null,
+      turn.run_waiting ? el("span", { class: "tag warn", id: "queue-run-waiting" }, W.run_waiting) : null,
+      turn.user === me ? el("button", { type: "button", class: "btn btn-sm", id: "queue-done", onclick: () => this.post("/api/queue/done", {}, W.done_failed) }, W.done) : null,
     ) : null;
     const list = el("ol", { class: "queue-list", id: "queue-list" },
       q.entries.map((e) => this.row(e)));
@@ -107,10 +128,10 @@ export class QueuePanel {
     if (this.app.role !== "observer") {
       actions.append(el("button", {
         type: "button", class: "btn btn-sm " + (mine ? "" : "btn-primary"), id: "queue-join",
-        title: "Queue the editor's program and points for the lab robot (they must pass pre-flight)",
+        title: W.join_hint,
         onclick: () => this.join(),
-      }, mine ? "Update my queued program" : "Run on the lab robot"));
-      if (mine) actions.append(el("button", { type: "button", class: "btn btn-sm", id: "queue-leave", onclick: () => this.leave() }, "Leave the queue"));
+      }, mine ? W.update : W.join));
+      if (mine) actions.append(el("button", { type: "button", class: "btn btn-sm", id: "queue-leave", onclick: () => this.leave() }, W.leave));
     }
     const controls = this.staff ? this.controls(q) : null;
     this.box.replaceChildren(...[head, atArm, list, actions, controls].filter(Boolean));
@@ -124,36 +145,36 @@ export class QueuePanel {
     const offered = e.state === "offered";
     return el("li", { class: "queue-entry" + (e.user === me ? " mine" : "") + (offered ? " offered" : ""), "data-user": e.user, "data-position": e.position },
       el("span", { class: "queue-pos" }, String(e.position)),
-      el("span", { class: "queue-user" }, e.user === me ? `${e.user} (you)` : e.user),
+      el("span", { class: "queue-user" }, e.user === me ? fill(W.mine, { user: e.user }) : e.user),
       el("span", { class: "queue-when", "data-estimate": e.estimate },
-        offered ? `${QUEUE_STATES.offered.words} · ${clock(this.left(e.offer_ends))}` : start <= 0 ? "next" : `in ≈ ${clock(start)}`),
-      e.cycle_s != null ? el("span", { class: "muted queue-cycle", title: "Its cycle time in pre-flight" }, `runs ${e.cycle_s.toFixed(e.cycle_s < 10 ? 1 : 0)} s`) : null,
-      e.stale ? el("span", { class: "tag warn", title: "The program in the workspace changed since it was queued: update it, or the queued one runs" }, "changed since queued") : null,
-      e.away ? el("span", { class: "tag" }, "away") : null,
+        offered ? `${QUEUE_STATES.offered.words} · ${clock(this.left(e.offer_ends))}` : start <= 0 ? W.next : fill(W.starts_in, { left: clock(start) })),
+      e.cycle_s != null ? el("span", { class: "muted queue-cycle", title: W.cycle_hint }, fill(W.cycle, { seconds: e.cycle_s.toFixed(e.cycle_s < 10 ? 1 : 0) })) : null,
+      e.stale ? el("span", { class: "tag warn", title: W.stale_hint }, W.stale) : null,
+      e.away ? el("span", { class: "tag" }, W.away) : null,
       this.staff ? el("span", { class: "queue-staff" },
-        el("button", { type: "button", class: "btn btn-sm btn-icon", title: `Move ${e.user} up one place`, "aria-label": `Move ${e.user} up`,
-          disabled: e.position === 1, onclick: () => this.post("/api/queue/move", { user: e.user, position: e.position - 1 }, "Could not move") }, "↑"),
-        el("button", { type: "button", class: "btn btn-sm", title: `Take ${e.user} out of the queue`,
-          onclick: () => this.post("/api/queue/skip", { user: e.user }, "Could not skip") }, "Skip"),
+        el("button", { type: "button", class: "btn btn-sm btn-icon", title: fill(W.move_up_hint, { user: e.user }), "aria-label": fill(W.move_up, { user: e.user }),
+          disabled: e.position === 1, onclick: () => this.post("/api/queue/move", { user: e.user, position: e.position - 1 }, W.move_failed) }, "↑"),
+        el("button", { type: "button", class: "btn btn-sm", title: fill(W.skip_hint, { user: e.user }),
+          onclick: () => this.post("/api/queue/skip", { user: e.user }, W.skip_failed) }, W.skip),
       ) : null,
     );
   }
 
   controls(q) {
     const turn = q.turn;
-    return el("div", { class: "queue-controls", role: "group", "aria-label": "Instructor's queue controls" },
+    return el("div", { class: "queue-controls", role: "group", "aria-label": W.controls },
       el("button", { type: "button", class: "btn btn-sm", id: "queue-pause",
-        onclick: () => this.post(q.paused ? "/api/queue/resume" : "/api/queue/pause", {}, "Could not change the queue") }, q.paused ? "Resume" : "Pause"),
-      el("button", { type: "button", class: "btn btn-sm", id: "queue-take", title: "Take the arm now; the queue pauses and the turn keeps its time",
-        onclick: () => this.post("/api/queue/take", {}, "Could not take the arm") }, "Take the arm"),
-      turn ? el("button", { type: "button", class: "btn btn-sm", id: "queue-extend", onclick: () => this.post("/api/queue/extend", { seconds: 60 }, "Could not extend") }, "+1 min") : null,
-      turn ? el("button", { type: "button", class: "btn btn-sm", title: `End ${turn.user}'s turn`, onclick: () => this.post("/api/queue/skip", { user: turn.user }, "Could not skip") }, "End turn") : null,
+        onclick: () => this.post(q.paused ? "/api/queue/resume" : "/api/queue/pause", {}, W.pause_failed) }, q.paused ? W.resume : W.pause),
+      el("button", { type: "button", class: "btn btn-sm", id: "queue-take", title: W.take_hint,
+        onclick: () => this.post("/api/queue/take", {}, W.take_failed) }, W.take),
+      turn ? el("button", { type: "button", class: "btn btn-sm", id: "queue-extend", onclick: () => this.post("/api/queue/extend", { seconds: EXTEND_S }, W.extend_failed) }, fill(W.extend, { minutes: EXTEND_S / 60 })) : null,
+      turn ? el("button", { type: "button", class: "btn btn-sm", title: fill(W.end_turn_hint, { user: turn.user }), onclick: () => this.post("/api/queue/skip", { user: turn.user }, W.skip_failed) }, W.end_turn) : null,
       el("label", { class: "queue-attended" },
         el("input", { type: "checkbox", id: "queue-attended", checked: q.attended,
-          onchange: (ev) => this.post("/api/queue/attended", { on: ev.target.checked }, "Could not switch attended mode", "PUT") }),
-        " Attended"),
+          onchange: (ev) => this.post("/api/queue/attended", { on: ev.target.checked }, W.attended_failed, "PUT") }),
+        " " + W.attended_switch),
       q.attended ? el("button", { type: "button", class: "btn btn-sm " + (turn?.run_waiting ? "btn-primary attention" : ""), id: "queue-ready",
-        disabled: !turn, onclick: () => this.post("/api/queue/ready", {}, "Could not say arm ready") }, "Arm ready") : null,
+        disabled: !turn, onclick: () => this.post("/api/queue/ready", {}, W.ready_failed) }, W.ready) : null,
     );
   }
 
@@ -162,7 +183,7 @@ export class QueuePanel {
     const mine = this.mine();
     const offered = mine?.state === "offered";
     if (offered && !this.dialog.open) {
-      $("claim-position").textContent = mine.missed ? `You missed it ${mine.missed} time${mine.missed > 1 ? "s" : ""} already.` : "";
+      $("claim-position").textContent = !mine.missed ? "" : mine.missed === 1 ? W.missed_once : fill(W.missed_times, { count: mine.missed });
       this.dialog.showModal();
     } else if (!offered && this.dialog.open) {
       this.dialog.close();
@@ -177,12 +198,12 @@ export class QueuePanel {
     if (mine?.state === "offered") {
       const left = this.left(mine.offer_ends);
       $("claim-countdown").textContent = clock(left);
-      document.title = (Math.floor(Date.now() / 1000) % 2 ? "▶ Your turn! " : "▶ ") + this.title;
+      document.title = (Math.floor(Date.now() / 1000) % 2 ? `▶ ${W.tab_turn} ` : "▶ ") + this.title;
     } else if (document.title !== this.title) {
       document.title = this.title;
     }
     for (const node of this.box.querySelectorAll(".queue-left[data-ends]")) {
-      if (!node.dataset.held) node.textContent = ` · ${clock(this.left(node.dataset.ends))} left`;
+      if (!node.dataset.held) node.textContent = " · " + timeLeft(this.left(node.dataset.ends));
     }
   }
 
@@ -196,19 +217,19 @@ export class QueuePanel {
         return this.join(); // pre-flight passed this very text: in it goes
       }
       if (err.code === "program-has-errors" && err.detail?.diagnostics) app.editor.show(err.detail.diagnostics);
-      showError("Could not join the queue", err);
+      showError(W.join_failed, err);
     }
   }
 
   async leave() {
-    await this.post("/api/queue/me", null, "Could not leave the queue", "DELETE");
+    await this.post("/api/queue/me", null, W.leave_failed, "DELETE");
   }
 
   /** Claims the arm: the queued program loads and runs on the lab robot, so the IDE turns
    * to it (a student who queued from My simulator watches the arm they claimed). */
   async claim() {
     this.dialog.close();
-    if (await this.post("/api/queue/claim", { start: true }, "Could not claim the arm")) {
+    if (await this.post("/api/queue/claim", { start: true }, W.claim_failed)) {
       this.app.targets?.choose("lab");
     }
   }
