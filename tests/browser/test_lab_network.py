@@ -11,6 +11,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page, expect
 
+from melfa.vocab.desk import DESK_WORDS
 from tests.browser.conftest import Server, Session
 
 pytestmark = pytest.mark.timeout(300)
@@ -73,3 +74,36 @@ def test_an_instructor_keeps_the_lab_robot_to_the_lab(open_session: Any, server:
     audit = page.request.get(server.url + "/api/audit?action=lab-network.set&actor=una")
     said = [e["details"]["networks"] for e in audit.json()["entries"]]
     assert said[:3] == ["anywhere", "anywhere", "10.0.0.0/8"]  # finally, clear, set
+
+
+def test_the_desk_says_when_only_part_of_its_networks_holds(
+    open_session: Any, server: Server
+) -> None:
+    """A saved list only partly inside the server's ``--lab-network``: the card names what
+    was saved beside the start-up option, and that only the part inside holds (at start),
+    or will after the restart (set live), in melfa.vocab's words."""
+    server.add_user("uri", role="instructor")
+    page = _desk(open_session("uri"))
+    saved, flag = ["10.1.0.0/16", "127.0.0.0/8"], "--lab-network 10.0.0.0/8"
+    origin = {
+        "source": "desk",
+        "by": "ivy",
+        "at": "2026-11-27T08:00:00Z",
+        "command_line": flag,
+        "until_restart": False,
+        "cut_from": saved,
+    }
+    said = page.evaluate(
+        """async (o) => {
+          const { saidFrom } = await import("/static/js/desk.js");
+          const live = { ...o, until_restart: true }, whole = { ...o, cut_from: [] };
+          return [saidFrom(o), saidFrom(live), saidFrom(whole)];
+        }""",
+        origin,
+    )
+    facts = {"saved": ", ".join(saved), "flag": flag}
+    keys = ("from-desk-cut", "from-desk-until-restart-cut", "from-desk")
+    for text, key in zip(said, keys, strict=True):
+        words = DESK_WORDS[key]
+        assert text.startswith("Set by ivy on the desk, "), text
+        assert text.endswith(words[words.index("{when}") + len("{when}") :].format(**facts)), text

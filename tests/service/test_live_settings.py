@@ -28,8 +28,8 @@ def nets(*texts: str) -> Networks:
     return parse_networks(texts)
 
 
-def desk(by: str = "ivy", until_restart: bool = False) -> Origin:
-    return Origin(SettingSource.DESK, by, AT, until_restart)
+def desk(by: str = "ivy", until_restart: bool = False, cut_from: Networks = ()) -> Origin:
+    return Origin(SettingSource.DESK, by, AT, until_restart, cut_from)
 
 
 def test_the_gate_option_is_a_floor_a_saved_off_cannot_lower() -> None:
@@ -52,13 +52,20 @@ def test_saved_networks_are_kept_only_inside_the_options() -> None:
     assert networks_at_start(LAB, Choice((), "ivy", AT)) == (LAB, COMMAND_LINE)  # anywhere
     outside = nets("10.0.0.0/8")
     assert networks_at_start(LAB, Choice(outside, "ivy", AT)) == (LAB, COMMAND_LINE)
+    # Only partly inside: cut to that part, and the origin says what was saved.
     wider = nets("192.168.0.0/16", "10.0.0.0/8")
-    assert networks_at_start(LAB, Choice(wider, "ivy", AT)) == (LAB, desk())
+    assert networks_at_start(LAB, Choice(wider, "ivy", AT)) == (LAB, desk(cut_from=wider))
+    part = nets("192.168.10.0/26", "10.0.0.0/8")
+    assert networks_at_start(LAB, Choice(part, "ivy", AT)) == (room, desk(cut_from=part))
     assert networks_at_start((), Choice((), "ivy", AT)) == ((), desk())  # no option: as saved
     assert networks_at_start((), Choice(outside, "ivy", AT)) == (outside, desk())
     # Live: looser than the option lasts until the restart.
     assert networks_switched(LAB, Choice((), "ivy", AT)) == desk(until_restart=True)
-    assert networks_switched(LAB, Choice(wider, "ivy", AT)) == desk(until_restart=True)
+    assert networks_switched(LAB, Choice(outside, "ivy", AT)) == desk(until_restart=True)
+    # ...and the restart then keeps the part inside.
+    for chosen in (wider, part):
+        looser = desk(until_restart=True, cut_from=chosen)
+        assert networks_switched(LAB, Choice(chosen, "ivy", AT)) == looser
     assert networks_switched(LAB, Choice(room, "ivy", AT)) == desk()
     assert networks_switched((), Choice((), "ivy", AT)) == desk()
 

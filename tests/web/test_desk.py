@@ -79,6 +79,7 @@ def test_the_gate_is_switched_live_and_every_load_obeys(web: Web) -> None:
         "at": None,
         "command_line": None,
         "until_restart": False,
+        "cut_from": [],
     }
     assert ivy.get("/api/desk").json() == {
         "require_simulation": False,

@@ -4,7 +4,9 @@ data directory, as a crash, a reboot or the technician's update would. A gate th
 instructor turned on at the desk still refuses an unsimulated program at REST and
 rosbridge, nothing of it reaches the controller, and the desk says who set it. Started with
 ``--require-simulation --lab-network``, the options are the floor: a saved "off" and a
-saved "anywhere" do not lower them, and the desk says the server's options set them."""
+saved "anywhere" do not lower them, and the desk says the server's options set them; a
+saved list only partly inside the option's networks is cut to that part at start, and the
+desk shows what holds and what was saved."""
 
 from __future__ import annotations
 
@@ -20,7 +22,7 @@ pytestmark = [pytest.mark.timeout(300), pytest.mark.slow]
 
 GATE_TEXT = " ".join(Refusal.SIMULATION_REQUIRED.words())
 OUTSIDE = " ".join(Refusal.OUTSIDE_LAB.words())
-HERE, ELSEWHERE = "127.0.0.0/8", "10.0.0.0/8"
+HERE, ELSEWHERE, INSIDE = "127.0.0.0/8", "10.0.0.0/8", "10.1.0.0/16"
 
 
 def desk(lab: Lab, method: str = "GET", path: str = "", body: Any = None) -> dict[str, Any]:
@@ -78,6 +80,7 @@ def test_the_desks_gate_and_networks_hold_after_a_restart(tmp_path: Path) -> Non
             "at": None,
             "command_line": "--require-simulation",
             "until_restart": False,
+            "cut_from": [],
         }
         networks = floor["lab_networks_from"]
         assert (networks["source"], networks["command_line"]) == (
@@ -92,3 +95,22 @@ def test_the_desks_gate_and_networks_hold_after_a_restart(tmp_path: Path) -> Non
             False,
             True,
         )
+        # Networks only partly inside the option's, live: they hold as set until the
+        # restart, which keeps the part inside; the desk says both.
+        part = desk(lab, "PUT", "/lab-network", {"networks": [INSIDE, HERE]})
+        assert part["lab_networks"] == [INSIDE, HERE]
+        origin = part["lab_networks_from"]
+        assert (origin["until_restart"], origin["cut_from"]) == (True, [INSIDE, HERE])
+
+    with lab_server(data, "--lab-network", ELSEWHERE) as lab:
+        lab.sign_in("ann", "ann-password-12")
+        cut = desk(lab)
+        assert cut["lab_networks"] == [INSIDE]  # what holds: the part inside the option's
+        origin = cut["lab_networks_from"]
+        assert (origin["source"], origin["by"], origin["until_restart"]) == ("desk", "admin", False)
+        assert (origin["command_line"], origin["cut_from"]) == (
+            f"--lab-network {ELSEWHERE}",
+            [INSIDE, HERE],  # what was saved, which the desk names beside it
+        )
+        taken = lab.rest("ann", "POST", "/api/lease")  # from 127.0.0.1: the part cut away
+        assert (taken.status_code, taken.json()["error"]["message"]) == (403, OUTSIDE)

@@ -11,7 +11,9 @@ at start.**
 - The lab's networks: with ``--lab-network``, a saved list is kept only where it lies
   inside the option's networks (`melfa.service.lab_network.within`); a saved "anywhere",
   or a list outside them, gives the option's. Without the option, the saved list (which
-  may be anywhere); with neither, anywhere.
+  may be anywhere); with neither, anywhere. A saved list only partly inside is cut to
+  that part, and the desk says so (`Origin.cut_from`): what holds is not all it shows
+  was saved.
 
 Live, staff switch either way on the desk (saved, audited, at once for every door); a
 choice looser than the floor lasts until the server restarts (`Origin.until_restart`), and
@@ -50,14 +52,18 @@ class Origin:
     at: dt.datetime | None = None
     until_restart: bool = False
     """A desk choice looser than the start-up option: a restart goes back to the option."""
+    cut_from: Networks = ()
+    """The desk's networks when they lie only partly inside the start-up option: only that
+    part holds after a start (cut then; with `until_restart`, at the next one). Empty
+    otherwise."""
 
 
 DEFAULT = Origin(SettingSource.DEFAULT)
 COMMAND_LINE = Origin(SettingSource.COMMAND_LINE)
 
 
-def _desk(choice: Choice[V], until_restart: bool = False) -> Origin:
-    return Origin(SettingSource.DESK, choice.by, choice.at, until_restart)
+def _desk(choice: Choice[V], until_restart: bool = False, cut_from: Networks = ()) -> Origin:
+    return Origin(SettingSource.DESK, choice.by, choice.at, until_restart, cut_from)
 
 
 def gate_at_start(option: bool, saved: Choice[bool] | None) -> tuple[bool, Origin]:
@@ -84,14 +90,14 @@ def networks_at_start(option: Networks, saved: Choice[Networks] | None) -> tuple
     kept = within(saved.value, option)
     if not kept:  # anywhere, or nothing of it inside the option's: the option's
         return option, COMMAND_LINE
-    return kept, _desk(saved)
+    return kept, _desk(saved, cut_from=() if kept == saved.value else saved.value)
 
 
 def networks_switched(option: Networks, choice: Choice[Networks]) -> Origin:
     """Where the networks come from once staff set them (looser than the option: until
     the restart, which keeps only what lies inside)."""
-    at_start, _ = networks_at_start(option, choice)
-    return _desk(choice, until_restart=at_start != choice.value)
+    at_start, then = networks_at_start(option, choice)
+    return _desk(choice, until_restart=at_start != choice.value, cut_from=then.cut_from)
 
 
 __all__ = [

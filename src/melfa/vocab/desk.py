@@ -119,6 +119,14 @@ DESK_WORDS: dict[str, str] = {
         "Set by {who} on the desk, {when}, until the server restarts: it starts with "
         "{flag}, and that applies again then."
     ),
+    "from-desk-cut": (
+        "Set by {who} on the desk, {when}, as {saved}; the server starts with {flag}, so "
+        "only the part inside that holds."
+    ),
+    "from-desk-until-restart-cut": (
+        "Set by {who} on the desk, {when}, until the server restarts: it starts with "
+        "{flag}, and then only the part inside that holds."
+    ),
     "anywhere": "anywhere",
     "audit": "Audit log",
     "audit-all": "everything",
@@ -137,7 +145,8 @@ DESK_WORDS: dict[str, str] = {
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name). Under each
 setting, where it came from (``from-`` and a `SettingSource`; ``{who}`` set it, ``{when}``
-in the browser's local time, ``{flag}`` the server's start-up option as written)."""
+in the browser's local time, ``{flag}`` the server's start-up option as written; ``-cut``:
+the desk's networks, ``{saved}``, lie only partly inside it)."""
 
 VISIT_WORDS: dict[str, str] = {
     "reading": "You are reading {who}'s work ({workspace}): it is read-only.",

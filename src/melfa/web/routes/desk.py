@@ -55,6 +55,11 @@ class SettingFrom(BaseModel):
         description="The desk's choice is looser than the start-up option: a restart "
         "goes back to the option."
     )
+    cut_from: list[str] = Field(
+        description="The desk's networks when they lie only partly inside the start-up "
+        "option: only that part holds after a start (what `lab_networks` shows; with "
+        "until_restart, at the next one). Empty otherwise."
+    )
 
 
 class DeskOut(BaseModel):
@@ -101,6 +106,7 @@ def _from(origin: Origin, command_line: str | None) -> SettingFrom:
         at=origin.at,
         command_line=command_line,
         until_restart=origin.until_restart,
+        cut_from=[str(n) for n in origin.cut_from],
     )
 
 

@@ -206,11 +206,14 @@ function drawGate(on) {
 }
 
 /** Where a setting came from, in words: the default, the server's start-up option, or who
- * chose it on the desk and when (and whether a restart goes back to the option). */
+ * chose it on the desk and when (whether a restart goes back to the option, and whether
+ * only the part of the desk's networks inside the option holds). */
 export function saidFrom(origin) {
-  const facts = { who: origin.by, when: when(origin.at), flag: origin.command_line };
+  const cut = origin.cut_from ?? [];
+  const facts = { who: origin.by, when: when(origin.at), flag: origin.command_line, saved: cut.join(", ") };
   if (origin.source !== "desk") return fill(W[`from-${origin.source}`] ?? "", facts);
-  return fill(W[origin.until_restart ? "from-desk-until-restart" : "from-desk"], facts);
+  const key = origin.until_restart ? "from-desk-until-restart" : "from-desk";
+  return fill(W[key + (cut.length ? "-cut" : "")], facts);
 }
 
 /** The origin's words, the start-up option kept on one line as the technician types it. */
