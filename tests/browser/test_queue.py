@@ -8,6 +8,7 @@ instructor reorders and skips; a restart keeps the queue."""
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -234,3 +235,30 @@ def stops(lab: Lab, user: str) -> set[str]:
         for e in entries
         if e.actor == user
     }
+
+
+def test_the_claim_countdown_runs_in_everyones_list(browser: Browser, lab: Lab) -> None:
+    """The list's "the arm is offered: claim it · 0:59" counts down each second for
+    everyone (it stood at the value of the last queue message). The browser's clock is
+    Playwright's, moved on by the test: nothing waits for time to pass."""
+    server = lab.start()
+    ben = Session(browser, server, "ben")
+    ben.page.clock.install()
+    ben.login_api()
+    amy = ide(browser, server, "amy")
+    try:
+        join(amy)  # the queue was empty: the arm is offered to her at once
+        when = ben.page.locator("#queue-list li[data-user=amy] .queue-when")
+        expect(when).to_contain_text("the arm is offered")
+
+        def seconds() -> int:
+            found = re.search(r"(\d+):(\d\d)$", when.inner_text())
+            assert found, when.inner_text()
+            return int(found[1]) * 60 + int(found[2])
+
+        before = seconds()
+        ben.page.clock.run_for(20_000)
+        assert seconds() <= before - 19
+    finally:
+        amy.close()
+        ben.close()

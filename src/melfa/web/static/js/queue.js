@@ -146,8 +146,8 @@ export class QueuePanel {
     return el("li", { class: "queue-entry" + (e.user === me ? " mine" : "") + (offered ? " offered" : ""), "data-user": e.user, "data-position": e.position },
       el("span", { class: "queue-pos" }, String(e.position)),
       el("span", { class: "queue-user" }, e.user === me ? fill(W.mine, { user: e.user }) : e.user),
-      el("span", { class: "queue-when", "data-estimate": e.estimate },
-        offered ? `${QUEUE_STATES.offered.words} · ${clock(this.left(e.offer_ends))}` : start <= 0 ? W.next : fill(W.starts_in, { left: clock(start) })),
+      el("span", { class: "queue-when", "data-estimate": e.estimate, "data-offer-ends": offered ? e.offer_ends : null },
+        offered ? this.offerLeft(e.offer_ends) : start <= 0 ? W.next : fill(W.starts_in, { left: clock(start) })),
       e.cycle_s != null ? el("span", { class: "muted queue-cycle", title: W.cycle_hint }, fill(W.cycle, { seconds: e.cycle_s.toFixed(e.cycle_s < 10 ? 1 : 0) })) : null,
       e.stale ? el("span", { class: "tag warn", title: W.stale_hint }, W.stale) : null,
       e.away ? el("span", { class: "tag" }, W.away) : null,
@@ -158,6 +158,11 @@ export class QueuePanel {
           onclick: () => this.post("/api/queue/skip", { user: e.user }, W.skip_failed) }, W.skip),
       ) : null,
     );
+  }
+
+  /** "the arm is offered: claim it · 0:42" */
+  offerLeft(ends) {
+    return `${QUEUE_STATES.offered.words} · ${clock(this.left(ends))}`;
   }
 
   controls(q) {
@@ -204,6 +209,10 @@ export class QueuePanel {
     }
     for (const node of this.box.querySelectorAll(".queue-left[data-ends]")) {
       if (!node.dataset.held) node.textContent = " · " + timeLeft(this.left(node.dataset.ends));
+    }
+    // The claim window's countdown in the list too (everyone sees it run, not only the dialog)
+    for (const node of this.box.querySelectorAll(".queue-when[data-offer-ends]")) {
+      node.textContent = this.offerLeft(node.dataset.offerEnds);
     }
   }
 
