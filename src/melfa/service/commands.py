@@ -14,7 +14,7 @@ from typing import Any, TypeVar
 from melfa.lang.plan import UploadPlan
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.protocol.limits import HANDS, OVERRIDE_PERCENT, span_text
-from melfa.robot import JogMethod, Robot, UploadReport
+from melfa.robot import JogMethod, Robot, RobotSettings, UploadReport
 from melfa.service.config import ServiceConfig
 from melfa.service.dispatch import Dispatcher, Done, Precondition, Work
 from melfa.service.errors import InvalidArgument, Refused
@@ -34,6 +34,7 @@ class RobotCommands:
     """The robot's commands, for `RobotService` (which supplies the parts below)."""
 
     config: ServiceConfig
+    robot_settings: RobotSettings
     _dispatch: Dispatcher
     _jog: JogSession
     _snapshots: Snapshots
@@ -84,9 +85,9 @@ class RobotCommands:
 
         def done(ok: bool) -> None:
             at = dt.datetime.now(dt.UTC)
-            slot = after_load(
-                self._snapshots.latest.slot, actor.user, command, plan, ok, at, origin
-            )
+            before = self._snapshots.latest.slot
+            clears = self.robot_settings.clear_with_eclr
+            slot = after_load(before, actor.user, command, plan, ok, at, origin, clears=clears)
             self._snapshots.update(lambda s: dataclasses.replace(s, slot=slot))
 
         return done

@@ -17,7 +17,10 @@ the slot holds reads it there:
   names the running line through its step map (`Slot.line_of`), as does a run-time error.
 
 A program and its points loaded separately (the thesis's LOAD PROGRAM, then LOAD POINTS)
-are the pair they make: the same fingerprint as the two loaded together. A refused load
+are the pair they make: the same fingerprint as the two loaded together. Points loaded onto
+a program that holds points already are added to them, as the controller does: the
+positions they do not name stay, and the slot holds both (a pair no pre-flight of the new
+points alone passed). A refused load
 never reached the controller: the slot keeps what it held. A load that failed on the way
 leaves the slot not known (None), and so do points loaded onto a slot not known (its program
 is still not known); a delete empties it (None too: nothing to run).
@@ -34,6 +37,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 from melfa.lang.plan import UploadPlan, digest, fingerprint_of
+from melfa.lang.points_read import parse_points
 from melfa.service.errors import Refused
 from melfa.vocab.commands import Command
 from melfa.vocab.refusals import Refusal
@@ -102,13 +106,17 @@ def after_load(
     ok: bool,
     at: dt.datetime,
     origin: LoadOrigin | None = None,
+    *,
+    clears: bool = True,
 ) -> Slot | None:
     """What the slot holds after ``command`` (admitted, so it reached the worker) ended.
 
-    ``user`` loaded it. A program (with or without its points) replaces the slot; points
-    alone replace the points of the program it holds (of a program not known: still not
-    known); a failed load leaves it not known; a delete empties it. Other commands leave it
-    as it was.
+    ``user`` loaded it. A program (with or without its points) replaces the slot, when the
+    load ``clears`` the old program first (`RobotSettings.clear_with_eclr`; else old steps
+    and positions it does not overwrite stay: not known). Points alone are sent without
+    clearing: they are added to the program it holds, replacing the positions they name
+    (onto a program not known: still not known). A failed load leaves it not known; a
+    delete empties it. Other commands leave it as it was.
     """
     if command is Command.DELETE:
         return None if ok else slot
@@ -119,7 +127,10 @@ def after_load(
     if command is Command.UPLOAD_POINTS:
         if slot is None:
             return None
-        return dataclasses.replace(slot, user=user, at=at, point_lines=plan.point_texts)
+        kept = _not_named(slot.point_lines, plan.point_texts)
+        return dataclasses.replace(slot, user=user, at=at, point_lines=plan.point_texts + kept)
+    if command is Command.UPLOAD_PROGRAM and not clears:
+        return None
     origin = origin or LoadOrigin()
     return Slot(
         user=user,
@@ -131,6 +142,20 @@ def after_load(
         step_lines=dict(plan.step_lines),
         program=plan.program,
     )
+
+
+def _not_named(held: tuple[str, ...], sent: tuple[str, ...]) -> tuple[str, ...]:
+    """The positions ``held`` (as sent earlier) that the points ``sent`` do not name: the
+    controller keeps them. A line whose name cannot be read is kept (never dropped).
+
+    >>> _not_named(("P1=(1,2,3,4,5,6)(7,0)", "P2=(1,2,3,4,5,6)(7,0)"), ("p1=(0,0,0,0,0,0)(7,0)",))
+    ('P2=(1,2,3,4,5,6)(7,0)',)
+    """
+    if not held:
+        return ()
+    named = {p.key for p in parse_points("\n".join(sent)).points}
+    keys = {p.line: p.key for p in parse_points("\n".join(held)).points}
+    return tuple(line for n, line in enumerate(held, 1) if keys.get(n) not in named)
 
 
 def refusal_to_run(slot: Slot | None, expect: str | None) -> Refused | None:
