@@ -107,9 +107,10 @@ class StateSnapshot(Event):
     activity_detail: str = ""
     """The target of a move (``P1``) or the running line (``line 30``)."""
     slot: Slot | None = None
-    """What melfa loaded into the controller's slot, by whom, when (`melfa.service.slot`);
-    None: nothing known (nothing loaded since the service started, a failed load, a
-    delete)."""
+    """What melfa loaded into the controller's slot, by whom, when (`melfa.service.slot`:
+    the one record of it, which the instructor's gate and the run recorder read too); None:
+    nothing known (nothing loaded since the service started, a failed load, points onto a
+    program not known, a delete)."""
 
 
 @dataclass(frozen=True, kw_only=True)
