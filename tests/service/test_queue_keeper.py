@@ -5,6 +5,7 @@ works for everyone, the stored queue comes back."""
 
 from __future__ import annotations
 
+import asyncio
 from typing import Any
 
 import pytest
@@ -13,7 +14,7 @@ from melfa.service import Refused, RobotService
 from melfa.service.errors import Cancelled, LeaseRequired
 from melfa.service.queue import QueueSettings, Step
 from melfa.service.queue_keeper import QueueChanged, QueueKeeper
-from melfa.vocab.queue import QueueStep
+from melfa.vocab.queue import QueueStep, RunDropped
 from melfa.vocab.refusals import Refusal
 from tests.plans import project
 from tests.service.helpers import (
@@ -171,11 +172,12 @@ def test_attended_mode_holds_each_run_for_arm_ready() -> None:
             assert QueueStep.RUN_WAITING in kinds and QueueStep.ARM_READY in kinds
             # A second run waits again; STOP drops it
             runs = sum(";RUN" in c for c in controller.commands())
-            waiting = service.run(ANN)
-            await clock().sleep(1)
+            waiting = asyncio.ensure_future(service.run(ANN))
+            assert await until(lambda: keeper.view().turn.run_waiting, 5)  # type: ignore[union-attr]
             await service.stop(ANN)
-            with pytest.raises(Cancelled):
+            with pytest.raises(Cancelled) as dropped:
                 await waiting
+            assert str(dropped.value) == RunDropped.STOPPED.words  # the student's words
             assert sum(";RUN" in c for c in controller.commands()) == runs
             await keeper.close()
 

@@ -33,7 +33,7 @@ from melfa.service.queue import Entry, QueueError, QueueSettings, Step, TurnQueu
 from melfa.service.service import RobotService
 from melfa.service.servo import ServoPolicy
 from melfa.vocab.commands import Command
-from melfa.vocab.queue import EntryState, QueueStep, TurnEnd
+from melfa.vocab.queue import EntryState, QueueStep, RunDropped, TurnEnd
 from melfa.vocab.refusals import Refusal
 
 TICK_S = 0.5
@@ -167,7 +167,7 @@ class QueueKeeper:
                 task.cancel()
                 with contextlib.suppress(BaseException):
                     await task
-        self._drop_waiting("the server is shutting down")
+        self._drop_waiting(RunDropped.CLOSING)
         if self.service.policy.turns is self:
             self.service.policy.turns = None
         self.service.policy.lease.queued = False
@@ -339,14 +339,14 @@ class QueueKeeper:
         if turn.ready:
             turn.ready = False
             return None
-        self._drop_waiting("a newer run replaced it")
+        self._drop_waiting(RunDropped.REPLACED)
         future: asyncio.Future[None] = asyncio.get_running_loop().create_future()
         self._waiting = (actor.user, future)
         self._apply([Step(QueueStep.RUN_WAITING, actor.user)])
         return future
 
     def stopped(self) -> None:
-        if self._drop_waiting("STOP was pressed while it waited for the supervisor"):
+        if self._drop_waiting(RunDropped.STOPPED):
             self._apply([])
 
     # ------------------------------------------------------------------ inside
@@ -427,7 +427,7 @@ class QueueKeeper:
                 self.service.grant_lease(self._actor(turn.user, turn.role))
         elif user is not None and kind in _TURN_ENDS and not self.queue.at_arm(user):
             if self._waiting is not None and self._waiting[0] == user:
-                self._drop_waiting("the turn ended")
+                self._drop_waiting(RunDropped.TURN_ENDED)
             if step.stop:
                 self._spawn(self.service.stop(QUEUE_ACTOR))
             self.service.revoke_lease(self._actor(user))
@@ -448,13 +448,13 @@ class QueueKeeper:
             future.set_result(None)
         return True
 
-    def _drop_waiting(self, why: str) -> bool:
+    def _drop_waiting(self, why: RunDropped) -> bool:
         if self._waiting is None:
             return False
         _, future = self._waiting
         self._waiting = None
         if not future.done():
-            future.set_exception(Cancelled(f"the run did not start: {why}"))
+            future.set_exception(Cancelled(why.words))
         return True
 
     def _spawn(self, work: Any) -> None:

@@ -148,6 +148,30 @@ class TurnEnd(enum.StrEnum):
     """Let it finish (up to a cap); nothing new may start."""
 
 
+class RunDropped(enum.StrEnum):
+    """Why a run that waited for the supervisor's *Arm ready* (attended mode) did not start;
+    its `words` are the refusal the student's *Run* gets."""
+
+    CLOSING = "closing"
+    REPLACED = "replaced"
+    """A newer run of theirs waits instead."""
+    STOPPED = "stopped"
+    TURN_ENDED = "turn-ended"
+
+    @property
+    def words(self) -> str:
+        return "the run did not start: " + _DROPPED_WORDS[self]
+
+
+_DROPPED_WORDS: dict[RunDropped, str] = {
+    RunDropped.CLOSING: "the server is shutting down",
+    RunDropped.REPLACED: "a newer run replaced it",
+    RunDropped.STOPPED: "STOP was pressed while it waited for the supervisor",
+    RunDropped.TURN_ENDED: "the turn ended",
+}
+assert set(_DROPPED_WORDS) == set(RunDropped)
+
+
 @dataclass(frozen=True)
 class QueueWords:
     """The queue's words beside its steps: the panel (the browser's, and the desktop
@@ -243,4 +267,4 @@ class QueueWords:
 QUEUE_WORDS = QueueWords()
 
 
-__all__ = ["QUEUE_WORDS", "EntryState", "QueueStep", "QueueWords", "TurnEnd"]
+__all__ = ["QUEUE_WORDS", "EntryState", "QueueStep", "QueueWords", "RunDropped", "TurnEnd"]
