@@ -21,6 +21,7 @@ from pathlib import Path
 
 import pytest
 
+from melfa.protocol.advice import FIX_LABELS, Fix
 from melfa.vocab.lease import CONTROL_WORDS, HolderState, LeaseReason
 from melfa.vocab.queue import QUEUE_WORDS, EntryState, QueueStep
 from melfa.web.routes.vocab import vocab_module, vocabulary
@@ -200,3 +201,10 @@ def test_every_word_a_script_asks_for_is_served() -> None:
                 asked += re.findall(rf"\b{alias}\[\"([^\"]+)\"\]", code)
                 missing += [f"{path.name}: {family}.{k}" for k in asked if k not in table]
     assert not missing, "asked of /vocab.js but not there:\n" + "\n".join(missing)
+
+
+def test_the_refusals_take_control_is_the_headers() -> None:
+    """A refusal's one-click fix (`melfa.protocol.advice`) and the header's button say the
+    same "Take control": protocol and vocab cannot import each other, so the two are held
+    together here."""
+    assert FIX_LABELS[Fix.TAKE_CONTROL] == CONTROL_WORDS.take
