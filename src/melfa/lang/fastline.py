@@ -26,8 +26,9 @@ import re
 from collections.abc import Callable
 
 from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.model import foreign_constructs
 from melfa.lang.parser import _BINARY, _COMMANDS
-from melfa.lang.tokens import KEYWORDS
+from melfa.lang.tokens import FUNCTIONS, KEYWORDS
 
 _new_tuple = tuple.__new__
 _Span = A.Span
@@ -83,9 +84,15 @@ _OPERATOR = re.compile(
 _TARGET = re.compile(r"[ \t]*+(?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)|(?P<int>\d++))")
 _NAME = re.compile(rf"[ \t]*+(?P<name>{_WORD})")
 _COMMA = re.compile(r"[ \t]*+,")
+# ELSE as the lexer reads the word (not inside another word, not a label or an element).
+_ELSE = re.compile(r"(?<![A-Za-z0-9_$%!.#*])(?i:ELSE)(?![A-Za-z0-9_$%!#])")
+_SEPARATOR = re.compile(r"[ \t]*+([,)])")
+_OPEN = re.compile(r"[ \t]*+\(")
+_MAX_NESTING = 16  # parentheses in one line read by `_values` (the parser allows 64 levels)
 _ASSIGN = re.compile(r"[ \t]*+(?:(?P<element>\.[A-Za-z][A-Za-z0-9_]*+)[ \t]*+)?=")
 
 _ELEMENTS = {k.value: k for k in A.ElementKind}
+_FOREIGN = foreign_constructs()
 _INTEGER, _REAL_KIND = A.NumberKind.INTEGER, A.NumberKind.REAL
 _MINUS, _PLUS = A.UnaryOp.MINUS, A.UnaryOp.PLUS
 
@@ -157,6 +164,27 @@ def _items(piece: str, pos: int, end: int, line: int) -> tuple[list[A.Expr], int
             return items, pos
 
 
+def _values(piece: str, pos: int, end: int, line: int) -> tuple[list[A.Expr], int] | None:
+    """After a `(`: expressions up to the `)` (``SIN(RAD(30))``, ``M_IN(MI + 1)``), and the
+    offset after it; or None. Nested at most `_MAX_NESTING` deep, far within the parser's
+    limit (it reports a deeper nesting)."""
+    if piece.count("(", pos, end) > _MAX_NESTING:
+        return None
+    items: list[A.Expr] = []
+    while True:
+        read = _expr(piece, pos, end, line)
+        if read is None:
+            return None
+        node, pos = read
+        m = _SEPARATOR.match(piece, pos, end)
+        if m is None:
+            return None
+        items.append(node)
+        pos = m.end()
+        if m[1] == ")":
+            return items, pos
+
+
 def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | None:
     """An operand at `pos`: a signed name, number, ``M_IN(8)`` or ``(0, 0, -50, 0, 0, 0)``,
     and the offset after it; or None."""
@@ -171,7 +199,7 @@ def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | Non
         return None if node is None else (node, m.end())
     if (name is None and paren is None) or (paren is not None and index is not None):
         return None  # `5 (`, `((`
-    read = _items(piece, m.end(), end, line)
+    read = _items(piece, m.end(), end, line) or _values(piece, m.end(), end, line)
     if read is None:
         return None
     items, after = read
@@ -183,12 +211,17 @@ def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | Non
         node = A.PositionLiteral(tuple(items), None, span)
     else:
         upper = name.upper()
-        if upper in KEYWORDS or upper.startswith("FN"):
-            return None  # a function call
         at = m.start(2)
-        span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name)))
         whole = _new_tuple(_Span, (line, at + 1, line, after + 1))
-        node = A.Index(A.Name(upper, span, name), tuple(items), whole)
+        if upper in KEYWORDS:
+            if upper not in FUNCTIONS:
+                return None
+            node = A.Call(upper, tuple(items), False, whole)
+        elif upper.startswith("FN"):
+            node = A.Call(upper, tuple(items), True, whole)
+        else:
+            span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name)))
+            node = A.Index(A.Name(upper, span, name), tuple(items), whole)
     if sign is not None:
         at = m.start(1)
         span = _new_tuple(_Span, (line, at + 1, line, after + 1))
@@ -253,21 +286,47 @@ _Reader = Callable[[str, int, str, int, int, int], A.Statement | None]
 
 
 def _move(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+    """``MOV target[, close] [WTH action]`` (``MVS`` alike)."""
     read = _expr(piece, pos, end, line)
     if read is None:
         return None
     target, after = read
-    close = None
+    close = appended = None
     if after != end:
         m = _COMMA.match(piece, after, end)
-        if m is None:
-            return None
-        read = _expr(piece, m.end(), end, line)
-        if read is None or read[1] != end:
-            return None
-        close = read[0]
+        if m is not None:
+            read = _expr(piece, m.end(), end, line)
+            if read is None:
+                return None
+            close, after = read
+        if after != end:
+            appended = _with(piece, after, end, line)
+            if appended is None:
+                return None
     kind = A.MoveKind.MOV if word == "MOV" else A.MoveKind.MVS
-    return A.Move(kind, target, close, None, None, _new_tuple(_Span, (line, at + 1, line, end + 1)))
+    span = _new_tuple(_Span, (line, at + 1, line, end + 1))
+    return A.Move(kind, target, close, None, appended, span)
+
+
+def _with(piece: str, pos: int, end: int, line: int) -> A.Appended | None:
+    """``WTH M_OUT(17) = 1`` (with or without a DLY pulse), ``WTH HLT``, ``WTH SKIP`` from
+    `pos` to `end`; or None."""
+    word, after = _word(piece, pos, end)
+    if word != "WTH":
+        return None
+    span = _new_tuple(_Span, (line, after - 2, line, end + 1))  # from WTH to the end
+    action, start = _word(piece, after, end)
+    if action in ("HLT", "SKIP"):
+        if start != end:
+            return None
+        kind = A.CommandKind.HLT if action == "HLT" else A.CommandKind.SKIP
+        command = A.Command(kind, (), _new_tuple(_Span, (line, end + 1 - len(action), line, end + 1)))
+        return A.Appended(None, command, span)
+    if not action or action in KEYWORDS:
+        return None
+    at = start - len(action)
+    assign = _assign(piece, at, piece[at:start], start, end, line)
+    return None if assign is None else A.Appended(None, assign, span)
 
 
 def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
@@ -336,16 +395,24 @@ def _next(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.St
 
 
 def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.Statement | None:
-    """``NAME = value`` or ``NAME.X = value`` (`name` as written)."""
-    m = _ASSIGN.match(piece, pos, end)
-    if m is None:
-        return None
-    read = _expr(piece, m.end(), end, line)
-    if read is None or read[1] != end:
-        return None
+    """``NAME = value``, ``NAME.X = value``, ``M_OUT(17) = 1`` or ``M_OUT(17) = 1 DLY 0.5``
+    (`name` as written)."""
     target: A.AssignTarget = A.Name(
         name.upper(), _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
     )
+    m = _ASSIGN.match(piece, pos, end)
+    if m is None:
+        m = _OPEN.match(piece, pos, end)
+        if m is None:
+            return None
+        read = _items(piece, m.end(), end, line) or _values(piece, m.end(), end, line)
+        if read is None:
+            return None
+        items, pos = read
+        target = A.Index(target, tuple(items), _new_tuple(_Span, (line, at + 1, line, pos + 1)))
+        m = _ASSIGN.match(piece, pos, end)
+        if m is None:
+            return None
     element = m["element"]
     if element is not None:
         kind = _ELEMENTS.get(element[1:].upper())
@@ -353,7 +420,22 @@ def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.
             return None
         stop = m.end("element") + 1
         target = A.Element(target, kind, _new_tuple(_Span, (line, at + 1, line, stop)))
-    return A.Assign(target, read[0], None, _new_tuple(_Span, (line, at + 1, line, end + 1)))
+    if (element is not None or type(target) is A.Index) and name.upper() in _FOREIGN:
+        return None  # a MELFA BASIC V statement (``Print(1) = …``): the parser says so
+    read = _expr(piece, m.end(), end, line)
+    if read is None:
+        return None
+    value, after = read
+    pulse = None
+    if after != end:
+        word, after = _word(piece, after, end)
+        if word != "DLY":
+            return None
+        read = _expr(piece, after, end, line)
+        if read is None or read[1] != end:
+            return None
+        pulse = read[0]
+    return A.Assign(target, value, pulse, _new_tuple(_Span, (line, at + 1, line, end + 1)))
 
 
 def _word(piece: str, pos: int, end: int) -> tuple[str, int]:
@@ -363,7 +445,8 @@ def _word(piece: str, pos: int, end: int) -> tuple[str, int]:
 
 
 def _if(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
-    """``IF condition THEN *L`` (or a step number, GOTO or GOSUB to one)."""
+    """``IF condition THEN branch [ELSE branch]``, a branch a jump target (``*L``, ``100``)
+    or a statement (``GOSUB *L``, ``M_OUT(25) = 1``, ``HLT``); or a block IF's first line."""
     read = _expr(piece, pos, end, line)
     if read is None:
         return None
@@ -374,13 +457,27 @@ def _if(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Stat
     whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
     if after == end:
         return A.If(condition, None, None, whole)
-    branch: A.JumpTarget | A.Statement | None
-    jump, start = _word(piece, after, end)
-    if jump in ("GOTO", "GOSUB"):
-        branch = _jump(piece, start - len(jump), jump, start, end, line)
-    else:
-        branch = _target(piece, after, end, line)
-    return None if branch is None else A.If(condition, branch, None, whole)
+    m = _ELSE.search(piece, after, end)
+    stop = end if m is None else len(piece[:m.start()].rstrip(" \t"))
+    branch = _branch(piece, after, stop, line) if stop > after else None
+    if branch is None:
+        return None
+    if m is None:
+        return A.If(condition, branch, None, whole)
+    other = _branch(piece, m.end(), end, line) if m.end() != end else None
+    return None if other is None else A.If(condition, branch, other, whole)
+
+
+def _branch(piece: str, pos: int, end: int, line: int) -> A.JumpTarget | A.Statement | None:
+    """What THEN or ELSE does, from `pos` to `end`: a jump target or a statement; or None."""
+    word, start = _word(piece, pos, end)
+    if not word:
+        return _target(piece, pos, end, line)
+    at = start - len(word)
+    if word in KEYWORDS:
+        reader = _BRANCH_READERS.get(word)
+        return None if reader is None else reader(piece, at, word, start, end, line)
+    return _assign(piece, at, piece[at:start], start, end, line)
 
 
 def _for(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
@@ -446,6 +543,13 @@ def _readers() -> dict[str, _Reader]:
 
 
 _READERS = _readers()
+# What a THEN or ELSE branch may do here: the statements whose parser stops at ELSE (not a
+# nested IF, which would take the ELSE, nor NEXT, FOR or the block words: the parser's).
+_BRANCH_READERS = {
+    word: _READERS[word]
+    for word in (*_COMMANDS, "MOV", "MVS", "GOTO", "GOSUB", "RETURN", "END")
+    if word in _READERS
+}
 
 
 def read_line(piece: str, line: int) -> A.Line | None:
