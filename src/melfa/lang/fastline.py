@@ -5,12 +5,14 @@ Lexing a line token by token and parsing it by recursive descent costs about 120
 machine instructions a line in CPython, most of it the interpreter's work per token and per
 call, not the language's (bench/bench_check.py). Most lines of real programs have one of a
 few shapes: a comment, a label, ``MOV P1, -50``, ``MVS P2 * (0, 0, -50, 0, 0, 0)``,
-``HOPEN 1``, ``DLY 0.5``, ``GOSUB *PICK``, ``RETURN``, ``M1 = M1 + 1``, ``P1.Z = P2.Z +
-MALT * MI``, ``IF M_IN(8) = 1 THEN *L``, ``FOR MI = 1 TO 3``, ``WHILE MC < 10``, ``NEXT
-MI``. `read_line` reads such a line with a few regular-expression matches (one for the
-line, one for each operand and operator) and builds its tree directly, and returns None for
-every other line (a function call, ``^``, a string, ``WTH``, ``DEF``, a mistake…), which
-the lexer and the parser then read as before (`melfa.lang.reparse`).
+``MVS P3, -80 WTH M_OUT(17) = 1``, ``HOPEN 1``, ``DLY 0.5``, ``GOSUB *PICK``, ``RETURN``,
+``M1 = M1 + 1``, ``P1.Z = P2.Z + MALT * MI``, ``MX = SIN(RAD(30)) * MD``, ``M_OUT(17) = 1
+DLY 0.5``, ``IF M_IN(8) = 1 THEN *L``, ``IF M_IN(3) = 1 THEN M_OUT(25) = 1 ELSE HLT``,
+``FOR MI = 1 TO 3``, ``WHILE MC < 10``, ``NEXT MI``. `read_line` reads such a line with a
+few regular-expression matches (one for the line, one for each operand and operator) and
+builds its tree directly, and returns None for every other line (``^``, a string, ``DEF``,
+``TYPE``, ``WTHIF``, a mistake…), which the lexer and the parser then read as before
+(`melfa.lang.reparse`).
 
 The tree is the parser's, field for field (``tests/lang/test_fastline.py`` compares the two
 on every line of the golden corpus written ten ways, and on lines made to be near misses):
@@ -125,24 +127,22 @@ def _atom(m: re.Match[str], line: int) -> A.Expr | None:
         upper = name.upper()
         if upper in KEYWORDS:
             return None
-        at = m.start(2)
-        node: A.Expr = A.Name(
-            upper, _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
-        )
+        at, after = m.span(2)
+        node: A.Expr = A.Name(upper, _new_tuple(_Span, (line, at + 1, line, after + 1)), name)
+    elif integer is not None:
+        at, after = m.span(4)
+        value = int(integer) if after - at <= 40 else 10**40  # as the parser reads it
+        span = _new_tuple(_Span, (line, at + 1, line, after + 1))
+        node = A.Number(value, _INTEGER, integer, span)
     else:
-        value: float
-        if integer is not None:
-            text, at, value, kind = integer, m.start(4), _to_int(integer), _INTEGER
-        else:
-            text, at, value, kind = real, m.start(3), float(real), _REAL_KIND
-        span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(text)))
-        node = A.Number(value, kind, text, span)
+        at, after = m.span(3)
+        span = _new_tuple(_Span, (line, at + 1, line, after + 1))
+        node = A.Number(float(real), _REAL_KIND, real, span)
     if sign is not None:
-        at = m.start(1)
         node = A.Unary(
             _MINUS if sign == "-" else _PLUS,
             node,
-            _new_tuple(_Span, (line, at + 1, line, node.span[3])),
+            _new_tuple(_Span, (line, m.start(1) + 1, line, after + 1)),
         )
     return node
 
@@ -204,11 +204,14 @@ def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | Non
         return None
     items, after = read
     if paren is not None:
-        if len(items) < 2 or piece[after:end].lstrip(" \t")[:1] == "(":
-            return None  # a value in parentheses, or a constant with flags: the parser's
-        at = m.start(5)
-        span = _new_tuple(_Span, (line, at + 1, line, after + 1))
-        node = A.PositionLiteral(tuple(items), None, span)
+        if piece[after:end].lstrip(" \t")[:1] == "(":
+            return None  # a constant with flags: the parser's
+        if len(items) == 1:
+            node = items[0]  # a value in parentheses is the value (its span without them)
+        else:
+            at = m.start(5)
+            span = _new_tuple(_Span, (line, at + 1, line, after + 1))
+            node = A.PositionLiteral(tuple(items), None, span)
     else:
         upper = name.upper()
         at = m.start(2)
@@ -320,7 +323,8 @@ def _with(piece: str, pos: int, end: int, line: int) -> A.Appended | None:
         if start != end:
             return None
         kind = A.CommandKind.HLT if action == "HLT" else A.CommandKind.SKIP
-        command = A.Command(kind, (), _new_tuple(_Span, (line, end + 1 - len(action), line, end + 1)))
+        where = _new_tuple(_Span, (line, end + 1 - len(action), line, end + 1))
+        command = A.Command(kind, (), where)
         return A.Appended(None, command, span)
     if not action or action in KEYWORDS:
         return None
@@ -397,19 +401,18 @@ def _next(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.St
 def _assign(piece: str, at: int, name: str, pos: int, end: int, line: int) -> A.Statement | None:
     """``NAME = value``, ``NAME.X = value``, ``M_OUT(17) = 1`` or ``M_OUT(17) = 1 DLY 0.5``
     (`name` as written)."""
-    target: A.AssignTarget = A.Name(
-        name.upper(), _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name
-    )
+    base = A.Name(name.upper(), _new_tuple(_Span, (line, at + 1, line, at + 1 + len(name))), name)
+    target: A.AssignTarget = base
     m = _ASSIGN.match(piece, pos, end)
     if m is None:
         m = _OPEN.match(piece, pos, end)
         if m is None:
             return None
-        read = _items(piece, m.end(), end, line) or _values(piece, m.end(), end, line)
-        if read is None:
+        listed = _items(piece, m.end(), end, line) or _values(piece, m.end(), end, line)
+        if listed is None:
             return None
-        items, pos = read
-        target = A.Index(target, tuple(items), _new_tuple(_Span, (line, at + 1, line, pos + 1)))
+        items, pos = listed
+        target = A.Index(base, tuple(items), _new_tuple(_Span, (line, at + 1, line, pos + 1)))
         m = _ASSIGN.match(piece, pos, end)
         if m is None:
             return None
@@ -458,7 +461,7 @@ def _if(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Stat
     if after == end:
         return A.If(condition, None, None, whole)
     m = _ELSE.search(piece, after, end)
-    stop = end if m is None else len(piece[:m.start()].rstrip(" \t"))
+    stop = end if m is None else len(piece[: m.start()].rstrip(" \t"))
     branch = _branch(piece, after, stop, line) if stop > after else None
     if branch is None:
         return None
