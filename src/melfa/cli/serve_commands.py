@@ -6,7 +6,8 @@ password once), takes its ports (a busy one fails before anything says "serving"
 is a free one, printed), builds the app (`melfa.web.create_app`) and runs it under uvicorn.
 Ctrl+C shuts down cleanly: a program still running on the robot is stopped, the service
 stops polling, ends the lease and closes the link; then "melfa stopped" and exit status
-130, as every command's Ctrl-C.
+130, as every command's Ctrl-C (started with SIGINT ignored, by a script's ``&``, too).
+SIGTERM, a service manager's stop, shuts down the same way and exits 0, as `melfa sim`.
 """
 
 from __future__ import annotations
@@ -16,9 +17,11 @@ import contextlib
 import errno
 import ipaddress
 import os
+import signal
 import socket
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING, Annotated
 
 import typer
@@ -318,16 +321,46 @@ def serve(
             _out.print(line)
 
     try:
-        asyncio.run(_serve_all(served, announce))
+        with _stop_signals():
+            asyncio.run(_serve_all(served, announce))
     except KeyboardInterrupt:
         # uvicorn re-raises Ctrl+C after its clean shutdown: said, then exit 130 (melfa.cli).
         _out.print("melfa stopped")
         raise typer.Exit(EXIT_INTERRUPTED) from None
+    except _Terminated:
+        pass  # a service manager's stop, after the same clean shutdown: exit 0
     finally:
         store.close()
         for taken in sockets:
             taken.close()
     _out.print("melfa stopped")
+
+
+class _Terminated(Exception):
+    """SIGTERM (a service manager's stop), re-raised by uvicorn after its clean shutdown."""
+
+
+@contextlib.contextmanager
+def _stop_signals() -> Iterator[None]:
+    """SIGINT and SIGTERM each end the server as uvicorn does (a clean shutdown), whatever
+    its parent set, and its status then says which: Ctrl-C 130, SIGTERM 0 (as `melfa sim`).
+
+    uvicorn takes both while it serves and, once shut down, raises the signal again under
+    the handler it found. A script's ``&`` starts a command with SIGINT ignored: the server
+    still stopped on SIGINT but exited 0. And SIGTERM's default handler killed the process
+    there, before its store was closed, with a warning about leaked semaphores; so SIGINT
+    gets Python's usual handler and SIGTERM one that ends it like Ctrl-C, with status 0."""
+
+    def terminated(signum: int, frame: FrameType | None) -> None:
+        raise _Terminated
+
+    before_int = signal.signal(signal.SIGINT, signal.default_int_handler)
+    before_term = signal.signal(signal.SIGTERM, terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, before_int)
+        signal.signal(signal.SIGTERM, before_term)
 
 
 def _listen(host: str, port: int) -> socket.socket:
