@@ -42,8 +42,8 @@ class RobotCommands:
     # ================================================================== commands
 
     def decide(self, actor: Actor, command: Command, decision: Callable[[], T]) -> T:
-        """A request of ``actor``'s decided at once, never queued (take control, join the
-        queue): a refusal is audited as a command's is (`Dispatcher.decide`)."""
+        """A request of ``actor``'s decided at once, never queued (take control, a queue
+        request): a refusal is audited as a command's is (`Dispatcher.decide`)."""
         return self._dispatch.decide(actor, command, decision)
 
     async def _move(

@@ -129,8 +129,8 @@ class Dispatcher:
         return command_id, taken
 
     def decide(self, actor: Actor, command: Command, decision: Callable[[], T]) -> T:
-        """A request decided at once, never queued to the worker (take control, join the
-        queue): ``decision``'s `Refused` is audited as a command's refusal is, then raised.
+        """A request decided at once, never queued to the worker (take control, a queue
+        request): ``decision``'s `Refused` is audited as a command's refusal is, then raised.
         An accepted one is audited by what it changed (the control note, the queue's step)."""
         self._life.check_open()
         try:
