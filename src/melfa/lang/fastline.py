@@ -191,12 +191,18 @@ def _term(piece: str, pos: int, end: int, line: int) -> tuple[A.Expr, int] | Non
     m = _TERM.match(piece, pos, end)
     if m is None:
         return None
-    sign, name, paren, index, element = m.group(1, 2, 5, 6, 7)
+    sign, name, _, _, paren, index, element = m.groups()
     if element is not None:
         return _element(m, name, index, element, line)
     if paren is None and index is None:
-        node = _atom(m, line)
-        return None if node is None else (node, m.end())
+        if sign is not None or name is None:
+            node = _atom(m, line)
+            return None if node is None else (node, m.end())
+        upper = name.upper()  # an unsigned name, the commonest operand: `_atom`'s, inline
+        if upper in KEYWORDS:
+            return None
+        at, after = m.span(2)
+        return A.Name(upper, _new_tuple(_Span, (line, at + 1, line, after + 1)), name), m.end()
     if (name is None and paren is None) or (paren is not None and index is not None):
         return None  # `5 (`, `((`
     read = _items(piece, m.end(), end, line) or _values(piece, m.end(), end, line)

@@ -30,6 +30,7 @@ True
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.lexer import tokenize
@@ -45,9 +46,10 @@ _STEP_START = " \t0123456789"
 _ZEROS = str.maketrans("123456789", "000000000")
 
 FAST_FROM = 40
-"""Lines not seen from which `melfa.lang.fastline` reads those of its shapes: compiling its
-patterns costs about what lexing and parsing 40 lines does, so `melfa check` of a small
-file (start-up, bench/bench_check.py) and the editor's check after a keystroke do not pay it."""
+"""Lines not seen on their line number from which `melfa.lang.fastline` reads those of its
+shapes: compiling its patterns costs about what lexing and parsing 40 lines does, so `melfa
+check` of a small file (start-up, bench/bench_check.py) and the editor's check after a
+keystroke do not pay it."""
 
 LINE_LIMIT = 50_000
 """Lines kept by the default cache: a class of 40 with programs of ~1,000 lines."""
@@ -63,6 +65,14 @@ def _key(piece: str) -> tuple[str, int | None]:
     digits = step.group(1)
     at = step.start(1)
     return piece[:at] + digits.translate(_ZEROS) + piece[step.end(1) :], step_number(digits)
+
+
+def _fast_reader() -> Callable[[str, int], A.Line | None]:
+    """`melfa.lang.fastline.read_line`, imported on the first use: its patterns compile on
+    import, which a small file's check (start-up) and a keystroke's do not pay."""
+    from melfa.lang.fastline import read_line
+
+    return read_line
 
 
 class LineCache:
@@ -99,25 +109,32 @@ class LineCache:
         return A.Program(tuple(lines)), repeats  # type: ignore[arg-type]  # no None left
 
     def _read(self, text: str, keys: list[tuple[int, str]], lines: list[A.Line | None]) -> None:
-        """Fill the Nones of `lines`: move the trees of texts seen, read the others."""
+        """Fill the Nones of `lines`: move the trees of texts seen, read the others (when
+        they are many, those of the commonest shapes by `melfa.lang.fastline` as they come,
+        the rest by the lexer and the parser in one pass)."""
         kept, texts = self._lines, self._texts
         labels = Labels(lambda: tokenize(text))  # the file's, only if a line asks
-        fresh: dict[str, int] = {}  # key text -> index of its first line not seen before
+        fast = _fast_reader() if lines.count(None) >= FAST_FROM else None
+        fresh: dict[str, int] = {}  # key text -> index of its first line for the parser
         again: list[tuple[int, str, int | None]] = []  # lines whose text is in `fresh`
         for n, line in enumerate(lines):
             if line is not None:
                 continue
-            lineno, piece = keys[n]
+            lineno, piece = key_line = keys[n]
             key, number = _key(piece) if piece[:1] in _STEP_START else (piece, None)
             model = texts.get(key)
             if model is not None:
-                lines[n] = kept[keys[n]] = moved(model, lineno, number, model.number)
+                lines[n] = kept[key_line] = moved(model, lineno, number, model.number)
             elif key in fresh:
                 again.append((n, key, number))
             else:
-                fresh[key] = n
+                line = fast(piece, lineno) if fast is not None else None
+                if line is None:
+                    fresh[key] = n
+                else:
+                    lines[n] = kept[key_line] = texts[key] = line
         if fresh:
-            self._read_fresh(list(fresh.items()), keys, lines, labels)
+            self._parse_fresh(list(fresh.items()), keys, lines, labels)
         for n, key, number in again:
             model = texts.get(key)
             lineno, piece = keys[n]
@@ -128,32 +145,6 @@ class LineCache:
                 lines[n] = line = parse_line(tokenize(piece, lineno), labels)
                 if not labels.asked:
                     kept[keys[n]] = line
-
-    def _read_fresh(
-        self,
-        fresh: list[tuple[str, int]],
-        keys: list[tuple[int, str]],
-        lines: list[A.Line | None],
-        labels: Labels,
-    ) -> None:
-        """Read the lines `fresh` names (key text, index): when they are many, those of the
-        commonest shapes by `melfa.lang.fastline`; the others by the lexer and the parser."""
-        kept, texts = self._lines, self._texts
-        if len(fresh) < FAST_FROM:
-            self._parse_fresh(fresh, keys, lines, labels)
-            return
-        from melfa.lang.fastline import read_line  # its patterns compile on the first use
-
-        rest: list[tuple[str, int]] = []
-        for key, n in fresh:
-            lineno, piece = keys[n]
-            line = read_line(piece, lineno)
-            if line is None:
-                rest.append((key, n))
-            else:
-                lines[n] = kept[keys[n]] = texts[key] = line
-        if rest:
-            self._parse_fresh(rest, keys, lines, labels)
 
     def _parse_fresh(
         self,
