@@ -262,3 +262,25 @@ def test_the_claim_countdown_runs_in_everyones_list(browser: Browser, lab: Lab) 
     finally:
         amy.close()
         ben.close()
+
+
+def test_while_anyone_waits_the_header_offers_no_take_control(browser: Browser, lab: Lab) -> None:
+    """While anyone waits only the queue gives control, so the header's *Take control*
+    (which the service would refuse) goes and it says control is given by the queue; it
+    comes back when the queue is empty."""
+    server = lab.start()
+    amy, ben = ide(browser, server, "amy"), ide(browser, server, "ben")
+    try:
+        expect(ben.page.locator("#lease-take")).to_be_visible()
+        join(amy)
+        expect(amy.page.locator("#claim-dialog")).to_have_attribute("open", "")
+        for s in (amy, ben):
+            expect(s.page.locator("#lease-take")).to_be_hidden()
+            expect(s.page.locator("#lease-text")).to_contain_text("by the queue")
+        amy.page.click("#claim-later")
+        amy.page.click("#queue-leave")
+        expect(ben.page.locator("#lease-take")).to_be_visible()
+        expect(ben.page.locator("#lease-text")).to_contain_text("free")
+    finally:
+        amy.close()
+        ben.close()

@@ -31,22 +31,22 @@ export function wireControl(setLease) {
 }
 
 /** Who holds control, since when, and their connection (one user's tabs share it). */
-export function renderControl({ holder, since, state }, me, staff) {
+export function renderControl({ holder, since, state, queued }, me, staff) {
   const text = $("lease-text");
   const mine = holder?.user === me;
   const when = holder && since ? new Date(since) : null;
   const connection = state && HOLDER_STATES[state];
   text.replaceChildren(
     W.control + " ",
-    el("strong", {}, holder ? (mine ? W.you : holder.user) : W.free),
+    el("strong", {}, holder ? (mine ? W.you : holder.user) : queued ? W.by_queue : W.free),
     holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${holder.role})`) : "",
     when && !isNaN(when) ? el("span", { class: "lease-since" }, " " + fill(W.since, { time: when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" }) })) : "",
     holder && connection && state !== "connected" ? el("span", { class: "lease-state" }, ` · ${connection}`) : "",
   );
-  text.title = holder ? (mine ? W.you_hold : fill(W.holds, { user: holder.user })) + (connection ? ` (${connection})` : "") : `${W.nobody}: ${W.first_takes}`;
+  text.title = holder ? (mine ? W.you_hold : fill(W.holds, { user: holder.user })) + (connection ? ` (${connection})` : "") : `${W.nobody}: ${queued ? W.queue_gives : W.first_takes}`;
   text.classList.toggle("mine", mine);
   text.dataset.holder = holder?.user ?? "";
-  $("lease-take").hidden = !!holder;
+  $("lease-take").hidden = !!holder || queued; // the queue gives it: a take would be refused
   $("lease-release").hidden = !mine;
   $("lease-takeover").hidden = !(holder && !mine && staff);
 }

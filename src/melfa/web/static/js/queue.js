@@ -8,6 +8,7 @@
 
 import { fill } from "./activity.js";
 import { api } from "./api.js";
+import { lease } from "./stores.js";
 import { $, el, showError, toast } from "./ui.js";
 import { QUEUE_STATES, QUEUE_STEPS, QUEUE_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.queue
 
@@ -79,6 +80,7 @@ export class QueuePanel {
   update(m) {
     this.offset = Date.parse(m.now) - Date.now();
     this.queue = m;
+    if (lease.get().queued !== !!m.active) lease.set({ queued: !!m.active }); // the header's control
     for (const step of m.steps || []) this.tell(step);
     this.render();
   }

@@ -37,8 +37,12 @@ export const session = new Store({ user: "", role: "" });
  */
 export const robot = new Store({ state: null, virtual: null, debugging: false, replay: false });
 
-/** Who holds control, since when, and their connection (`lease` messages and snapshots). */
-export const lease = new Store({ holder: null, since: null, state: null });
+/**
+ * Who holds control, since when, and their connection (`lease` messages and snapshots);
+ * `queued`: someone waits in the lab robot's queue, so only the queue gives control (the
+ * queue's panel says so).
+ */
+export const lease = new Store({ holder: null, since: null, state: null, queued: false });
 
 /**
  * The activity line of the toolbar: one owner at a time. `task` is an operation of this
