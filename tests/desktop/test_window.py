@@ -702,6 +702,8 @@ def test_the_queue_and_its_claim(ui: Ui, observer: ApiClient) -> None:
     assert joined["entries"][0]["state"] == "offered"  # the same user, another session
     wait_until(lambda: ui.window.claim_button.isVisible())
     assert "offered to you" in ui.window.queue_label.text()
+    lease = ui.window.robot_box.status_values["lease"]  # free, but the queue's to give
+    wait_until(lambda: lease.text().startswith("by the queue"))
     ui.window.claim_button.click()
     wait_until(lambda: not ui.window.claim_button.isVisible())
     wait_until(lambda: "At the arm: you" in ui.window.queue_label.text())

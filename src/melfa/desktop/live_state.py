@@ -63,6 +63,8 @@ class LiveState:
         self.state: StateOut | None = None
         self.link: LinkStatus | None = None
         """None until the server has said."""
+        self.queued = False
+        """Someone waits in the lab robot's queue: only the queue gives control."""
         self.feed_status = FeedStatus.CLOSED
         self.hold = JogHold(self._send)
         self._feed: LiveFeed | None = None
@@ -146,6 +148,7 @@ class LiveState:
         elif isinstance(message, ErrorMessage):
             self._on_refused(message)
         elif isinstance(message, QueueMessage):
+            self.queued = message.active
             line, offered = queue_line(message, self.me)
             self.view.show_queue(line, offered)
             for step in message.steps:

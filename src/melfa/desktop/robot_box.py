@@ -67,15 +67,18 @@ class RobotBox(QGroupBox):
         alarm_row.addWidget(self.alarm_fix_button)
         grid.addLayout(alarm_row, 3, 1, 1, 3)
 
-    def show_state(self, state: StateOut, loaded: Loaded | None, me: str) -> None:
+    def show_state(
+        self, state: StateOut, loaded: Loaded | None, me: str, queued: bool = False
+    ) -> None:
         """``loaded``: the file this client loaded (its lines, not step numbers); ``me``: the
-        user signed in here (control held by them reads *You*)."""
+        user signed in here (control held by them reads *you*); ``queued``: someone waits
+        in the lab robot's queue (free control is the queue's to give)."""
         v = self.status_values
         v["activity"].setText(activity_text(state, loaded))
         set_level(v["activity"], ACTIVITY_LEVEL.get(state.activity, "busy"))
         v["servo"].setText(on_off(state.servo))
         v["override"].setText("—" if state.override is None else f"{state.override} %")
-        v["lease"].setText(control_text(state, me))
+        v["lease"].setText(control_text(state, me, queued))
         alarm = state.alarm
         v["alarm"].setText(alarm_said(alarm) if alarm else "None")
         v["alarm"].setToolTip(alarm_said(alarm) if alarm else "")

@@ -343,7 +343,7 @@ class MainWindow(QMainWindow):
     def show_state(self, state: StateOut) -> None:
         p = self.presenter
         self.position.show_state(state)
-        self.robot_box.show_state(state, p.loaded, p.me)
+        self.robot_box.show_state(state, p.loaded, p.me, p.live.queued)
         if state.override is not None and not self.override_spin.hasFocus():
             self.override_spin.setValue(state.override)  # what the robot has, until edited
         self.program_box.mark_line(state, p.loaded, p.program)

@@ -118,12 +118,15 @@ def upload_progress(sent: int, total: int) -> tuple[str, int]:
 _HOLDER_STATES = {h.value: h for h in HolderState}
 
 
-def control_text(state: StateOut, me: str) -> str:
+def control_text(state: StateOut, me: str, queued: bool = False) -> str:
     """Who holds control (the lease), since when, and the state of their connection, in
-    the words of the browser's header (`melfa.vocab.lease.CONTROL_WORDS`).
+    the words of the browser's header (`melfa.vocab.lease.CONTROL_WORDS`); ``queued``:
+    someone waits in the lab robot's queue, which alone gives free control.
 
     >>> control_text(state_of(), "ann")
     'free — the first to move the robot takes it'
+    >>> control_text(state_of(), "ann", queued=True)
+    'by the queue — while anyone waits, the queue gives it in turn'
     >>> control_text(state_of(lease_holder="ann"), "ann")
     'you'
     >>> control_text(state_of(lease_holder="bob", lease_state="no connection"), "ann")
@@ -132,7 +135,7 @@ def control_text(state: StateOut, me: str) -> str:
     w = CONTROL_WORDS
     holder = state.lease_holder
     if holder is None:
-        return f"{w.free} — {w.first_takes}"
+        return f"{w.by_queue} — {w.queue_gives}" if queued else f"{w.free} — {w.first_takes}"
     text = w.you if holder == me else holder
     if state.lease_since is not None:
         text += " " + w.since.format(time=f"{state.lease_since.astimezone():%H:%M}")
