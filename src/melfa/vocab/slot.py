@@ -34,6 +34,7 @@ SLOT_WORDS: dict[str, str] = {
     "program_error": "Error {code} at line {line}",
     "program_error_theirs": "Error {code} at line {line} of {user}'s program",
     "program_error_step": "Error {code} at the line numbered {step}",
+    "stopped_when_left_title": "Your run was stopped",
     "stopped_when_left": "Your run was stopped at {time} because every page of yours had "
     "closed (a reload or a closed tab stops the robot, for safety).",
 }

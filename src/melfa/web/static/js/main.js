@@ -32,6 +32,7 @@ import { SlotChip, adoptSlot, askBeforeRun, programErrorText, slotOwner, stopped
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
 import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
+import { SLOT_WORDS } from "/vocab.js"; // generated from melfa.vocab
 
 // The IDE's parts, wired once in main(); what changes lives in the stores (stores.js), and
 // the getters below read them for the parts that were handed `app`.
@@ -174,7 +175,7 @@ function wireLive(live) {
     setLease(m.lease_holder);
     if (m.jog_override_ceiling) app.jog.setCeiling(m.jog_override_ceiling);
     if (m.stopped_when_you_left) {
-      toast("Your run was stopped", { kind: "warning", text: stoppedWhenLeftText(m.stopped_when_you_left), timeout: 0 });
+      toast(SLOT_WORDS.stopped_when_left_title, { kind: "warning", text: stoppedWhenLeftText(m.stopped_when_you_left), timeout: 0 });
     }
   });
   live.on("link", (m) => setLink(m.status, m.detail));
