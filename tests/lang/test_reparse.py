@@ -96,3 +96,33 @@ def test_skipping_repeated_lines_changes_no_finding() -> None:
         rng.shuffle(lines)
         for variant in (text, text + text, "".join(lines)):
             assert check(variant, POINTS) == check_ast(parse(variant), POINTS)
+
+
+@given(
+    st.lists(
+        st.sampled_from(
+            [
+                "10 MOV P1",
+                "M1 = 2",
+                "'c",
+                "",
+                "\r",
+                "\n",
+                "\r\n",
+                "\v",
+                "\f",
+                "\x1c",
+                "\x85",
+                "\u2028",
+                " ",
+            ]
+        ),
+        max_size=12,
+    ),
+    st.booleans(),
+)
+def test_lines_end_where_the_lexer_ends_them(parts: list[str], many: bool) -> None:
+    """Only CR, LF and CR LF end a line, as the lexer reads it (str.splitlines would end one
+    at a form feed or U+2028 too), for a few lines and for many (fastline's way)."""
+    text = "".join(parts) * (30 if many else 1)
+    assert LineCache().parse(text) == parse(text)
