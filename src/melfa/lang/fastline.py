@@ -284,11 +284,6 @@ def _expr(piece: str, pos: int, end: int, line: int, least: int = 0) -> tuple[A.
     return left, pos
 
 
-def _span(line: int, start: int, last: A.Expr | None, end: int) -> A.Span:
-    """From column `start` to the end of `last` (or to column `end`)."""
-    return _new_tuple(_Span, (line, start, line, end if last is None else last.span[3]))
-
-
 # A statement reader: (piece, word's offset, word upper-cased, rest's start, rest's end,
 # line number) -> the statement, or None.
 _Reader = Callable[[str, int, str, int, int, int], A.Statement | None]
@@ -344,8 +339,8 @@ def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
         args = _args(piece, pos, end, line) if pos < end else []
         if args is None or not lo <= len(args) <= hi:
             return None
-        last = args[-1] if args else None
-        return A.Command(kind, tuple(args), _span(line, at + 1, last, at + 1 + len(word)))
+        # The last value ends the line's statement (at `end`), as the word does without one.
+        return A.Command(kind, tuple(args), _new_tuple(_Span, (line, at + 1, line, end + 1)))
 
     return read
 
@@ -377,7 +372,7 @@ def _return(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.
     args = _args(piece, pos, end, line)
     if args is None or len(args) != 1:
         return None
-    return A.Return(args[0], _span(line, at + 1, args[0], 0))
+    return A.Return(args[0], _new_tuple(_Span, (line, at + 1, line, end + 1)))
 
 
 def _bare(make: Callable[[A.Span], A.Statement]) -> _Reader:
@@ -574,11 +569,11 @@ def read_line(piece: str, line: int) -> A.Line | None:
     if word is not None:
         at = m.start(3)
         upper = word.upper()
-        if upper in KEYWORDS:
-            reader = _READERS.get(upper)
-            if reader is None:
-                return None
+        reader = _READERS.get(upper)
+        if reader is not None:
             statement = reader(piece, at, upper, pos, end, line)
+        elif upper in KEYWORDS:
+            return None
         else:
             statement = _assign(piece, at, word, pos, end, line)
         if statement is None:
