@@ -12,6 +12,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page, expect
 
+from melfa.vocab.queue import QueueStep
 from tests.browser.conftest import Server, Session, free_the_robot
 
 pytestmark = pytest.mark.timeout(300)
@@ -60,6 +61,13 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
     claimed = page.locator("#audit-rows tr", has_text="Claim the arm").filter(has_text="tove")
     expect(claimed.first).to_contain_text("The arm is not offered to you yet.")
     sven.screenshot("desk-audit-queue")
+    # A queue step is said in the vocabulary's words, from its code and facts, not in the
+    # sentence the server stored with it
+    said = page.evaluate(
+        """async () => (await import('/static/js/desk-audit.js')).said({action: 'queue.missed',
+             details: {user: 'tove', words: 'written by the server'}})"""
+    )
+    assert said == QueueStep.MISSED.words(user="tove")
     page.select_option("#audit-kind", "all")
     with page.expect_download() as download:
         page.click("#audit-csv")

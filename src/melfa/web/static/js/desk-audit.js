@@ -6,6 +6,7 @@
 // robot, or a user's simulator). Every word comes from /vocab.js (melfa.vocab).
 
 import { api, downloadText } from "./api.js";
+import { stepWords } from "./queue.js";
 import { $, el, showError } from "./ui.js";
 import {
   AUDIT_ACTIONS, COMMANDS, CONTROL_WORDS, DESK_WORDS as W, LEASE_REASONS, LINK_WORDS, NOTE_WORDS,
@@ -41,7 +42,12 @@ export function said(e) {
   if (e.action === "alarm.raised") return fill(NOTE_WORDS[d.line ? "alarm-line" : "alarm.raised"], d);
   if (e.action === "link.changed") return fill(NOTE_WORDS["link.changed"], { words: LINK_WORDS[d.status] || d.status });
   if (e.action in NOTE_WORDS) return fill(NOTE_WORDS[e.action], d);
-  if (e.action.startsWith("queue.")) return d.words || QUEUE_STEPS[e.action.slice(6)]?.words || "";
+  if (e.action.startsWith("queue.")) {
+    // The step's words from its code and facts; the sentence stored with an entry only for
+    // a step the vocabulary no longer has.
+    const kind = e.action.slice(6);
+    return kind in QUEUE_STEPS ? stepWords({ ...d, kind }) : d.words || "";
+  }
   const words = AUDIT_ACTIONS[e.action];
   return words ? fill(words, d) : e.action;
 }
