@@ -29,7 +29,7 @@ from melfa.web.routes.vocab import vocab_module, vocabulary
 SRC = Path(__file__).resolve().parents[2] / "src" / "melfa"
 STATIC = SRC / "web" / "static"
 
-SPEAKS_ONLY_VOCAB = ("queue.js", "control.js", "slot.js", "signout.js", "startopts.js")
+SPEAKS_ONLY_VOCAB = ("queue.js", "control.js", "slot.js", "signout.js", "startopts.js", "assign.js")
 """The scripts whose every word comes from /vocab.js: no sentence in them."""
 
 
