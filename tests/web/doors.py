@@ -122,6 +122,20 @@ def lab_server(data: Path, *options: str, preload: str | None = None) -> Iterato
         stop_process(sim)
 
 
+@contextlib.contextmanager
+def ann_holding(lab: Lab) -> Iterator[Lab]:
+    """A new student, ann, holds the lab robot with the servo on, her first command (the
+    lease is taken by it); she keeps a rosbridge connection open all along, as a student
+    with the IDE open (a lease ends with its holder's last connection)."""
+    lab.add_students(("ann",))
+    holder = lab.ros("ann", "melfa")
+    try:
+        assert lab.rest("ann", "POST", "/api/robot/servo", {"on": True}).is_success
+        yield lab
+    finally:
+        holder.close()
+
+
 def _upload(data: Path, robot: str, program: str) -> None:
     """``program`` and `POINTS` into the controller at ``robot`` with `melfa upload`, once
     the virtual controller listens."""

@@ -18,7 +18,7 @@ import roslibpy
 from melfa.lang.plan import plan_upload
 from melfa.vocab.refusals import Refusal
 from tests.waiting import wait_until
-from tests.web.doors import POINTS, Errors, Lab, lab_server
+from tests.web.doors import POINTS, Errors, Lab, ann_holding, lab_server
 from tests.web.doors import call as ros_call
 
 pytestmark = pytest.mark.timeout(300)
@@ -31,14 +31,11 @@ OTHER_POINTS = "DEF POS P1=(360.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
 @pytest.fixture(scope="module")
 def lab(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Lab]:
     data = tmp_path_factory.mktemp("lab")
-    with lab_server(data, "--require-simulation", preload=PRELOADED) as served:
-        served.add_students(("ann",))
-        holder = served.ros("ann", "melfa")  # her lease lasts while a connection is open
-        try:
-            assert served.rest("ann", "POST", "/api/robot/servo", {"on": True}).is_success
-            yield served
-        finally:
-            holder.close()
+    with (
+        lab_server(data, "--require-simulation", preload=PRELOADED) as served,
+        ann_holding(served) as held,
+    ):
+        yield held
 
 
 def call(lab: Lab, name: str, args: dict[str, Any] | None = None) -> dict[str, Any]:

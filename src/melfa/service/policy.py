@@ -28,7 +28,9 @@ What it holds, in the order it asks:
    `Policy.slot`): the gate keeps none of its own. A program and its points loaded
    separately (the thesis's LOAD PROGRAM then LOAD POINTS) count as the pair they make;
    a slot not known (nothing loaded since the service started, a failed load, points onto
-   a program not known, a delete) passes nothing.
+   a program not known, a delete) passes nothing. A pass counts only in the version of
+   the lab's cell it ran in (`Gate.cell`): after an instructor edits the cell, what passed
+   before is refused (`Refusal.CELL_CHANGED`) until it passes pre-flight again.
 3. **The operator lease** (`melfa.service.lease.Lease`): only its holder's commands go;
    with ``auto`` a free lease is taken by the first command (the change is returned for
    the service to publish, and given back if the command fails).
@@ -71,49 +73,71 @@ RUNS = frozenset({Command.RUN})
 
 
 class Gate:
-    """The instructor's gate: which programs and points passed pre-flight. What the lab
-    robot holds it reads from the one record of the slot (`melfa.service.slot.Slot`).
+    """The instructor's gate: which programs and points passed pre-flight, and in which
+    version of the lab's cell (`melfa.sim.debug.cell.Cell.digest`). A pass counts only in
+    the cell as it is now (`cell`): once an instructor moves a fixture, a program that
+    passed around the old one needs a new pre-flight (`Refusal.CELL_CHANGED`). What the
+    lab robot holds it reads from the one record of the slot (`melfa.service.slot.Slot`).
     Thread-safe (pre-flight records from a worker thread)."""
 
     def __init__(self, required: bool = False) -> None:
         self.required = required
+        self.cell: Callable[[], str] = lambda: ""
+        """The version of the cell pre-flight runs in now: the web, which keeps the cell
+        (`melfa.web.preflight.Preflight.version`), sets it; without one, one cell ("")."""
         self._lock = threading.Lock()
-        self._passed: set[tuple[str, str]] = set()
-        self._cycles: dict[tuple[str, str], float] = {}
+        self._passed: dict[tuple[str, str], dict[str, float | None]] = {}
+        """(program, points) digests -> each cell version they passed in -> cycle time."""
 
-    def passed(self, plan: UploadPlan, cycle_s: float | None = None) -> None:
+    def passed(self, plan: UploadPlan, cycle_s: float | None = None, cell: str = "") -> None:
         """``plan``'s program and points passed pre-flight (a simulated run without
-        errors), in ``cycle_s`` simulated seconds when it ended."""
+        errors) in version ``cell`` of the cell, in ``cycle_s`` simulated seconds."""
         with self._lock:
             key = (plan.program_digest, plan.points_digest)
-            self._passed.add(key)
-            if cycle_s is not None:
-                self._cycles[key] = cycle_s
+            self._passed.setdefault(key, {})[cell] = cycle_s
 
     def cycle_time(self, plan: UploadPlan) -> float | None:
+        """``plan``'s pre-flight cycle time: in the cell as it is now, else the last known."""
         with self._lock:
-            return self._cycles.get((plan.program_digest, plan.points_digest))
+            cells = self._passed.get((plan.program_digest, plan.points_digest), {})
+            now = cells.get(self.cell())
+            if now is not None:
+                return now
+            return next((c for c in reversed(cells.values()) if c is not None), None)
 
-    def has_passed(self, plan: UploadPlan) -> bool:
-        with self._lock:
-            return (plan.program_digest, plan.points_digest) in self._passed
-
-    def allows(self, command: Command, plan: UploadPlan | None, slot: Slot | None) -> bool:
-        """Whether the gate lets ``command`` (with its ``plan``) through while the slot
-        holds ``slot`` (None: nothing known)."""
+    def refusal(
+        self, command: Command, plan: UploadPlan | None, slot: Slot | None
+    ) -> Refusal | None:
+        """Why the gate holds ``command`` (with its ``plan``) back while the slot holds
+        ``slot`` (None: nothing known), or None: it may go. A load of a whole project
+        (and a plan entering the queue) needs its pair passed; a program alone, with some
+        points; points alone, with the program the slot holds; a run, what the slot holds.
+        Passed in an earlier cell only: `Refusal.CELL_CHANGED`."""
         if not self.required:
-            return True
+            return None
+        now = self.cell()
         with self._lock:
-            passed = self._passed
-            if command is Command.LOAD_PROJECT and plan is not None:
-                return (plan.program_digest, plan.points_digest) in passed
-            if command is Command.UPLOAD_PROGRAM and plan is not None:
-                return any(program == plan.program_digest for program, _ in passed)
-            if command is Command.UPLOAD_POINTS and plan is not None:
-                return slot is not None and (slot.program_digest, plan.points_digest) in passed
-            if command in RUNS:
-                return slot is not None and (slot.program_digest, slot.points_digest) in passed
-        return True
+            wanted = self._wanted(command, plan, slot)
+            if wanted is None:
+                return None
+            cells = {c for pair in wanted for c in self._passed.get(pair, {})}
+        if now in cells:
+            return None
+        return Refusal.CELL_CHANGED if cells else Refusal.SIMULATION_REQUIRED
+
+    def _wanted(
+        self, command: Command, plan: UploadPlan | None, slot: Slot | None
+    ) -> list[tuple[str, str]] | None:
+        """The (program, points) pairs of which one must have passed (None: not gated)."""
+        if command is Command.LOAD_PROJECT and plan is not None:
+            return [(plan.program_digest, plan.points_digest)]
+        if command is Command.UPLOAD_PROGRAM and plan is not None:
+            return [pair for pair in self._passed if pair[0] == plan.program_digest]
+        if command is Command.UPLOAD_POINTS and plan is not None:
+            return [] if slot is None else [(slot.program_digest, plan.points_digest)]
+        if command in RUNS:
+            return [] if slot is None else [(slot.program_digest, slot.points_digest)]
+        return None
 
 
 def plan_refusal(plan: UploadPlan) -> Refused | None:
@@ -191,8 +215,9 @@ class Policy:
         staff = actor.role is Role.INSTRUCTOR
         if self.held_by is not None and not staff:
             raise Refused(Refusal.HELD, who=self.held_by)
-        if self.gate is not None and not self.gate.allows(command, plan, self.slot()):
-            raise Refused(Refusal.SIMULATION_REQUIRED)
+        gated = None if self.gate is None else self.gate.refusal(command, plan, self.slot())
+        if gated is not None:
+            raise Refused(gated)
         if staff and command is Command.RESET_ALARM:
             return None  # the staff side resets a student's alarm without taking over
         change = self.lease.check(actor)
@@ -221,12 +246,14 @@ class Policy:
 
     def may_queue(self, plan: UploadPlan) -> None:
         """Whether ``plan`` may enter the queue: no error (the checker's, the points'),
-        and with the gate on, the same text passed pre-flight. Raises `Refused`."""
+        and with the gate on, the same text passed pre-flight in the cell as it is now.
+        Raises `Refused`."""
         refused = plan_refusal(plan)
         if refused is not None:
             raise refused
-        if self.simulation_required and self.gate is not None and not self.gate.has_passed(plan):
-            raise Refused(Refusal.SIMULATION_REQUIRED)
+        gated = None if self.gate is None else self.gate.refusal(Command.LOAD_PROJECT, plan, None)
+        if gated is not None:
+            raise Refused(gated)
 
     def cycle_time(self, plan: UploadPlan) -> float | None:
         """``plan``'s pre-flight cycle time, when it ran."""
@@ -237,10 +264,11 @@ class Policy:
         """Whether the instructor's gate is on."""
         return self.gate is not None and self.gate.required
 
-    def gate_passed(self, plan: UploadPlan, cycle_s: float | None = None) -> None:
-        """``plan`` passed pre-flight (the web's pre-flight records it; no gate: nothing)."""
+    def gate_passed(self, plan: UploadPlan, cycle_s: float | None = None, cell: str = "") -> None:
+        """``plan`` passed pre-flight in version ``cell`` of the cell (the web's pre-flight
+        records it; no gate: nothing)."""
         if self.gate is not None:
-            self.gate.passed(plan, cycle_s)
+            self.gate.passed(plan, cycle_s, cell)
 
 
 __all__ = ["Gate", "Policy", "Turns", "plan_refusal"]

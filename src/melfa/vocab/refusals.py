@@ -36,6 +36,10 @@ class Refusal(enum.StrEnum):
     SIMULATION_REQUIRED = "simulation-required"
     """The instructor's gate: the lab robot loads and runs only a program and points that
     passed pre-flight (a simulated run without errors)."""
+    CELL_CHANGED = "cell-changed"
+    """The instructor's gate: the program and points passed pre-flight, but in an earlier
+    version of the lab's cell (an instructor moved or added a fixture, a part, the table
+    since); a pass counts only in the cell as it is now."""
     SLOT_CHANGED = "slot-changed"
     """A run named the program it meant (its fingerprint), and the controller's slot holds
     another: someone loaded in between."""
@@ -101,6 +105,13 @@ _WORDS: dict[Refusal, _Words] = {
         "This lab runs a program on the robot only after the same program and points "
         "passed pre-flight (a simulated run without errors).",
         "Run Pre-flight (or debug it on My simulator), then load and run it again.",
+        "preflight",
+        "Run pre-flight",
+    ),
+    Refusal.CELL_CHANGED: _Words(
+        "The lab's cell (its table, fixtures or parts) was changed after this program and "
+        "points passed pre-flight, so that pre-flight no longer counts.",
+        "Run Pre-flight again in the cell as it is now, then load and run it.",
         "preflight",
         "Run pre-flight",
     ),

@@ -160,6 +160,8 @@ def create_app(
             async def save(target: str, name: str, value: object, by: str) -> SavedSetting:
                 return await context.db(the_store.robot_settings.save, target, name, value, by)
 
+            if the_service.policy.gate is not None:  # a pass counts in the cell as it is
+                the_service.policy.gate.cell = lambda: context.preflight.version
             # What staff chose on the desk before a restart, on the start-up options' floor
             # (a service given by the caller brings its own: its gate, its networks).
             policy = the_service.policy

@@ -203,6 +203,7 @@ REFUSAL_STATUS: dict[Refusal, int] = {
     Refusal.PROGRAM_HAS_ERRORS: 422,
     Refusal.POINTS_HAVE_ERRORS: 422,
     Refusal.SIMULATION_REQUIRED: 409,
+    Refusal.CELL_CHANGED: 409,
     Refusal.SLOT_CHANGED: 409,
     Refusal.SLOT_UNKNOWN: 409,
     Refusal.QUEUE_ACTIVE: 423,

@@ -2,7 +2,8 @@
 instructors; each edit audited here, its one place). The check itself is
 `melfa.sim.debug.preflight`; the instructor's gate that a pass opens
 (`WebSettings.require_simulation`) is the lab service's policy
-(`melfa.service.policy.Gate`), which every door passes, not only the web's."""
+(`melfa.service.policy.Gate`), which every door passes, not only the web's. The gate reads
+the cell's version here (`Preflight.version`): a pass in an earlier cell no longer counts."""
 
 from __future__ import annotations
 
@@ -28,6 +29,9 @@ class Preflight:
         self.audit = audit
         self._lock = threading.Lock()
         self.cell = self._read()
+        self.version = self.cell.digest()
+        """`Cell.digest` of the cell as it is now: the instructor's gate counts a pre-flight
+        only in this version (`melfa.service.policy.Gate.cell` reads it)."""
 
     def _read(self) -> Cell:
         try:
@@ -45,7 +49,7 @@ class Preflight:
             tmp = self.path.with_suffix(".tmp")
             tmp.write_text(json.dumps(cell.to_json(), indent=2) + "\n", encoding="utf-8")
             tmp.replace(self.path)
-            self.cell = cell
+            self.cell, self.version = cell, cell.digest()
         if self.audit is not None:
             self.audit.record(
                 AuditEvent(

@@ -93,8 +93,9 @@ async def join(
     target: TargetQuery = LAB,
 ) -> QueueOut:
     """Queue the exact program and points (from the body, else the workspace). Refused
-    unless they pass the checker and, with the gate on, passed pre-flight
-    (409 ``simulation-required``). Joining again replaces the text and keeps the place."""
+    unless they pass the checker and, with the gate on, passed pre-flight in the cell as it
+    is (409 ``simulation-required``, ``cell-changed``). Joining again replaces the text and
+    keeps the place."""
     keeper = keeper_of(context, target)
     program, points, origin = await sources(context, session, body)
     assert program is not None and points is not None

@@ -224,7 +224,7 @@ export class QueuePanel {
     try {
       this.update({ ...(await api("POST", "/api/queue", body)), steps: [] });
     } catch (err) {
-      if (err.code === "simulation-required" && (await app.preflight.run())) {
+      if (err.detail?.fix === "preflight" && (await app.preflight.run())) {
         return this.join(); // pre-flight passed this very text: in it goes
       }
       if (err.code === "program-has-errors" && err.detail?.diagnostics) app.editor.show(err.detail.diagnostics);
