@@ -1,8 +1,8 @@
 """The instructor's desk reads what happened to each robot from the server (issue 26), in
 Debian's Chromium: the lab robot's log (who took control, what they did, who gave it back)
 and a student's own simulator's, apart; the audit log with control changes in plain words
-and a Robot column, a refused queue claim among the queue's entries; the old /audit page
-leads to it."""
+and a Robot column, a refused take among the control changes and a refused queue claim
+among the queue's entries; the old /audit page leads to it."""
 
 from __future__ import annotations
 
@@ -13,9 +13,11 @@ import pytest
 from playwright.sync_api import Page, expect
 
 from melfa.vocab.queue import QueueStep
+from melfa.vocab.refusals import Refusal
 from tests.browser.conftest import Server, Session, free_the_robot
 
 pytestmark = pytest.mark.timeout(300)
+LEASE_TEXT = Refusal.LEASE_REQUIRED.words(holder="tove")[0]
 
 
 def _as(page: Page, server: Server, user: str) -> Any:
@@ -32,13 +34,17 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
 ) -> None:
     server.add_user("sven", role="instructor")
     server.add_user("tove")
+    server.add_user("ulla")
     sven: Session = open_session("sven", login=False)
     sven.login_api()
     page = sven.page
     free_the_robot(page, server)
     tove, csrf = _as(page, server, "tove")
+    ulla, ulla_csrf = _as(page, server, "ulla")
     try:
         assert tove.request.post(server.url + "/api/lease", headers=csrf).ok
+        taken = ulla.request.post(server.url + "/api/lease", headers=ulla_csrf)
+        assert taken.status == 423  # tove holds it: refused, and audited
         assert tove.request.post(server.url + "/api/robot/stop", headers=csrf).ok
         assert tove.request.delete(server.url + "/api/lease", headers=csrf).ok
         claim = tove.request.post(server.url + "/api/queue/claim", headers=csrf, data={})
@@ -47,6 +53,7 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
         assert mine.ok
     finally:
         tove.close()
+        ulla.close()
 
     page.goto(server.url + "/audit")  # the old page leads to the desk's audit log
     page.wait_for_selector("body[data-ready=true]")
@@ -57,6 +64,8 @@ def test_each_robot_s_log_and_the_audit_log_on_the_desk(
     expect(took.first).to_contain_text("Lab robot")
     expect(page.locator("#audit-rows tr", has_text="tove gave control back").first).to_be_visible()
     assert "control.changed" not in page.locator("#audit-rows").inner_text()
+    refused = page.locator("#audit-rows tr", has_text="Take control").filter(has_text="ulla")
+    expect(refused.first).to_contain_text(LEASE_TEXT)  # a refused take is a control change too
     page.select_option("#audit-kind", "queue")  # her refused claim is among the queue's
     claimed = page.locator("#audit-rows tr", has_text="Claim the arm").filter(has_text="tove")
     expect(claimed.first).to_contain_text("The arm is not offered to you yet.")

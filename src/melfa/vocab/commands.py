@@ -82,6 +82,12 @@ class Command(enum.StrEnum):
         refused one among the queue's steps)."""
         return self in _QUEUE
 
+    @property
+    def control(self) -> bool:
+        """Whether it asks for control of the robot (the desk's audit shows a refused one
+        among the control changes)."""
+        return self is Command.TAKE_CONTROL
+
 
 @dataclass(frozen=True)
 class _Words:

@@ -60,6 +60,7 @@ def vocabulary() -> dict[str, Any]:
                 "moves": c.moves,
                 "detail": c.detail_in_words,
                 "queue": c.queue,
+                "control": c.control,
             }
             for c in Command
         },

@@ -67,7 +67,7 @@ export function robotName(robot) {
 const KINDS = {
   all: () => true,
   robot: (e) => e.action.startsWith("robot."),
-  control: (e) => e.action === "control.changed" || e.action === "robot.take_control", // a refused take too
+  control: (e) => e.action === "control.changed" || (e.action.startsWith("robot.") && COMMANDS[e.action.slice(6)]?.control), // a refused take too
   alarm: (e) => e.action.startsWith("alarm.") || e.action === "link.changed",
   refused: (e) => e.result.startsWith("refused"),
   queue: (e) => e.action.startsWith("queue.") || (e.action.startsWith("robot.") && COMMANDS[e.action.slice(6)]?.queue), // a refused request too
