@@ -62,6 +62,24 @@ def test_upload_program_and_points_from_the_request(web: Web) -> None:
     assert_error(ann.post("/api/robot/points", json={"points": ""}), 422, "no-points")
 
 
+def test_a_points_load_replies_with_what_the_slot_then_holds(web: Web) -> None:
+    """As a program's load does: the fingerprint a run's ``expect`` names, and the steps'
+    lines; here the program with the positions it kept and the ones sent."""
+    ann = web.ann
+    program = ok(ann.post("/api/robot/program", json={"program": PROGRAM}))
+    first, more = POINTS.splitlines()[0] + "\n", POINTS.splitlines()[1] + "\n"
+    for points in (first, more):  # points onto a program, then onto those points
+        loaded = ok(ann.post("/api/robot/points", json={"points": points}))
+        slot = ok(ann.get("/api/robot/state"))["slot"]
+        assert loaded["fingerprint"] == slot["fingerprint"] != program["fingerprint"]
+        assert loaded["step_lines"] == program["step_lines"] != {}
+    held = {"program": PROGRAM, "points": more + first}  # the last sent, then those kept
+    both = ok(ann.post("/api/robot/slot/match", json=held))
+    assert both["same"] is True and both["fingerprint"] == loaded["fingerprint"]
+    ok(ann.post("/api/robot/run", json={"servo_on": True, "expect": loaded["fingerprint"]}))
+    ok(ann.post("/api/robot/stop"))
+
+
 def test_program_with_errors_is_refused_before_sending(web: Web) -> None:
     response = web.ann.post(
         "/api/robot/project", json={"program": "MOV P1\nGOTO 99\n", "points": POINTS}

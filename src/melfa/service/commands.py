@@ -21,7 +21,7 @@ from melfa.service.errors import InvalidArgument, Refused
 from melfa.service.events import Actor, JogFrame
 from melfa.service.jogging import JogSession
 from melfa.service.servo import ServoPolicy
-from melfa.service.slot import LoadOrigin, after_load, refusal_to_run
+from melfa.service.slot import LoadOrigin, Slot, after_load, refusal_to_run
 from melfa.service.snapshots import Snapshots
 from melfa.service.statements import move_statements
 from melfa.vocab.activity import Motion, MotionKind
@@ -79,9 +79,15 @@ class RobotCommands:
             raise
 
     def _loaded(
-        self, actor: Actor, command: Command, plan: UploadPlan | None, origin: LoadOrigin | None
+        self,
+        actor: Actor,
+        command: Command,
+        plan: UploadPlan | None,
+        origin: LoadOrigin | None,
+        made: Callable[[Slot | None], None] | None = None,
     ) -> Done:
-        """What a load or a delete tells the slot when it ends (`melfa.service.slot`)."""
+        """What a load or a delete tells the slot when it ends (`melfa.service.slot`), and
+        ``made``, when given."""
 
         def done(ok: bool) -> None:
             at = dt.datetime.now(dt.UTC)
@@ -89,6 +95,8 @@ class RobotCommands:
             clears = self.robot_settings.clear_with_eclr
             slot = after_load(before, actor.user, command, plan, ok, at, origin, clears=clears)
             self._snapshots.update(lambda s: dataclasses.replace(s, slot=slot))
+            if made is not None:
+                made(slot)
 
         return done
 
@@ -113,9 +121,13 @@ class RobotCommands:
             actor, Command.UPLOAD_PROGRAM, lambda r, p: r.upload_program(plan, p), plan, done
         )
 
-    async def upload_points(self, actor: Actor, plan: UploadPlan) -> UploadReport:
-        """Add or replace the plan's positions, keeping the steps."""
-        done = self._loaded(actor, Command.UPLOAD_POINTS, plan, None)
+    async def upload_points(
+        self, actor: Actor, plan: UploadPlan, made: Callable[[Slot | None], None] | None = None
+    ) -> UploadReport:
+        """Add or replace the plan's positions, keeping the steps. ``made`` is told what the
+        slot then holds (the program with the positions it kept and these: a pair of its
+        own, `Slot.fingerprint`), as the state is; None: not known."""
+        done = self._loaded(actor, Command.UPLOAD_POINTS, plan, None, made)
         return await self._dispatch.upload(
             actor, Command.UPLOAD_POINTS, lambda r, p: r.upload_points(plan, p), plan, done
         )

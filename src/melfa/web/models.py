@@ -266,8 +266,10 @@ class UploadOut(BaseModel):
     )
     fingerprint: str | None = Field(
         None,
-        description="The program and points as sent: the state's `slot.fingerprint` while "
-        "the slot holds them, and what `run`'s `expect` names.",
+        description="What the slot holds after the load: the program and points as sent "
+        "(after points alone, the program with the positions it kept and these; null when "
+        "that program is not known): the state's `slot.fingerprint` while the slot holds "
+        "them, and what `run`'s `expect` names.",
     )
 
 

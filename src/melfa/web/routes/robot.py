@@ -20,7 +20,7 @@ from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.robot import ControllerError
 from melfa.service import Actor, InvalidArgument, ServoPolicy
 from melfa.service.policy import plan_refusal
-from melfa.service.slot import LoadOrigin
+from melfa.service.slot import LoadOrigin, Slot
 from melfa.vocab.commands import Command
 from melfa.web.context import WebContext
 from melfa.web.convert import state_out, workspace_info
@@ -124,12 +124,14 @@ def checked_program(plan: UploadPlan, check: bool) -> None:
         raise from_refusal(refused)
 
 
-def _upload_out(report: object, plan: UploadPlan | None = None) -> UploadOut:
+def _upload_out(report: object, loaded: UploadPlan | Slot | None = None) -> UploadOut:
+    """The reply of a load: what was sent, and what the slot holds now (``loaded``: the
+    plan of a program, with or without its points; the slot after points onto it)."""
     out = UploadOut.model_validate(report, from_attributes=True)
-    if plan is not None:
+    if loaded is not None:
         # The controller reports step numbers; the IDE shows the student's own lines.
-        out.step_lines = dict(plan.step_lines)
-        out.fingerprint = plan.fingerprint
+        out.step_lines = dict(loaded.step_lines)
+        out.fingerprint = loaded.fingerprint
     return out
 
 
@@ -172,6 +174,10 @@ async def upload_program(
 async def upload_points(
     body: SourceIn, session: SessionDep, drive: DriveDep, context: ContextDep
 ) -> UploadOut:
+    """The points alone (from the body, else the workspace), added to the program the slot
+    holds as the controller keeps them: the positions they name replaced, the others kept.
+    The reply's ``fingerprint`` and ``step_lines`` are what the slot holds then, the program
+    with both (the state's ``slot``); null when that program is not known."""
     actor = drive.actor
     _, points, _ = await sources(context, session, body)
     assert points is not None
@@ -179,8 +185,11 @@ async def upload_points(
     if plan.blocker is None and not plan.items:
         raise ApiError(422, "no-points", "there are no points to upload")
     service = drive.service
-    report = await operate(actor, Command.UPLOAD_POINTS, lambda: service.upload_points(actor, plan))
-    return _upload_out(report)
+    made: list[Slot | None] = []
+    report = await operate(
+        actor, Command.UPLOAD_POINTS, lambda: service.upload_points(actor, plan, made.append)
+    )
+    return _upload_out(report, made[-1] if made else None)
 
 
 @router.post("/slot/match", response_model=SlotMatchOut, summary="Is this text in the slot?")
