@@ -32,6 +32,7 @@ from melfa.desktop.messages import LiveMessage, parse_message
 from melfa.desktop.presenter import Presenter
 from melfa.desktop.window import MainWindow
 from melfa.vocab.activity import Activity
+from melfa.vocab.jog import JogEnd
 from melfa.vocab.link import LinkStatus
 from tests.desktop.conftest import EXAMPLES, Server
 
@@ -383,6 +384,26 @@ def test_a_held_key_jogs_and_its_auto_repeat_is_ignored(ui: Ui, observer: ApiCli
         QTest.keyRelease(pad, Qt.Key.Key_S)
     wait_until(lambda: not ui.presenter.live.hold.active, timeout=5)
     stays_put(ui, observer)
+
+
+def test_the_status_bar_says_the_jog_stopped_once_the_key_is_let_go(
+    ui: Ui, observer: ApiClient
+) -> None:
+    """While D is held it says how to stop; once let go, what is true then (it went on
+    saying "let go to stop" after the arm had stopped)."""
+    wait_until(lambda: still(observer))
+    pad, bar = ui.window.jog_pad, ui.window.statusBar()
+    QTest.keyPress(pad, Qt.Key.Key_D)  # D: Y-
+    try:
+        wait_until(lambda: observer.state().jogging, timeout=30)
+        held = bar.currentMessage()
+        assert held.startswith("Jogging Y") and held.endswith("let go to stop."), held
+    finally:
+        QTest.keyRelease(pad, Qt.Key.Key_D)
+    wait_until(lambda: not ui.presenter.live.hold.active, timeout=5)
+    assert bar.currentMessage() == f"Jog stopped: {JogEnd.RELEASED.words()}."
+    stays_put(ui, observer)
+    assert bar.currentMessage() == f"Jog stopped: {JogEnd.RELEASED.words()}."
 
 
 def test_x_auto_repeat_not_marked_as_repeat_is_still_one_jog(ui: Ui, observer: ApiClient) -> None:

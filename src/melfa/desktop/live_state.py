@@ -112,9 +112,11 @@ class LiveState:
         return True
 
     def jog_release(self) -> None:
-        """The jog key came up (or the window lost the keyboard): stop now."""
+        """The jog key came up (or the window lost the keyboard): stop now, and say so in
+        place of "Jogging …: let go to stop"."""
         if self.hold.release():
             self.view.show_jog(None)
+            self.view.show_status(_stopped(JogEnd.RELEASED.words()) + ".")
 
     # --- what the feed says --------------------------------------------------------------
 
@@ -167,8 +169,8 @@ class LiveState:
     def _jog_ended(self, why: str) -> None:
         self.hold.ended()
         self.view.show_jog(None)
-        self._log(f"Jog stopped: {why}")
-        self.view.show_status(f"Jog stopped: {why}.")
+        self._log(_stopped(why))
+        self.view.show_status(_stopped(why) + ".")
 
     def _on_refused(self, message: ErrorMessage) -> None:
         if message.id is None or message.id != self.hold.start_id:
@@ -208,6 +210,11 @@ class LiveState:
             )
         elif status is FeedStatus.DISCONNECTED:
             self.view.show_status("Live updates lost; reconnecting…")
+
+
+def _stopped(why: str) -> str:
+    """What the status bar and the log say when a jog ended (``why``: `JogEnd.words`)."""
+    return f"Jog stopped: {why}"
 
 
 __all__ = ["LiveState", "Tell"]
