@@ -107,3 +107,25 @@ def test_a_run_is_compared_with_the_runners_own_simulation_else_a_partners(
     found = store.runs.simulation("ann", fp)
     assert found is not None and found.path == b"ann's again"
     assert store.runs.simulation("ann", "b" * 64) is None
+
+
+def test_a_run_is_compared_with_a_simulation_in_the_cell_it_ran_in_first(
+    store: Store, clock: FakeClock
+) -> None:
+    """Hers from before the instructor's edit of the cell loses to a partner's after it;
+    with none in that cell, one from an earlier cell (hers first) is still the one."""
+    fp = "c" * 64
+    store.runs.record_simulation("ann", fp, 9.0, b"ann's, old cell", cell="old")
+    clock.advance(minutes=1)
+    store.runs.record_simulation("bob", fp, 9.4, b"bob's, new cell", cell="new")
+    clock.advance(minutes=1)
+    store.runs.record_simulation("cyd", fp, 9.2, b"cyd's, old cell", cell="old")
+    found = store.runs.simulation("ann", fp, cell="new")
+    assert found is not None and found.path == b"bob's, new cell"
+    found = store.runs.simulation("ann", fp, cell="old")
+    assert found is not None and found.path == b"ann's, old cell"
+    found = store.runs.simulation("ann", fp, cell="newer still")
+    assert found is not None and found.path == b"ann's, old cell"
+    store.runs.record_simulation("ann", fp, 9.3, b"ann's, new cell", cell="new")  # again
+    found = store.runs.simulation("ann", fp, cell="new")
+    assert found is not None and found.path == b"ann's, new cell"

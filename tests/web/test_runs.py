@@ -89,6 +89,16 @@ def test_students_see_their_own_runs_and_instructors_everyones(web: Web) -> None
     assert ok(web.ivy.put(f"/api/runs/{anns}/kept", json={"kept": True}))["kept"] is True
 
 
+def test_a_run_is_compared_with_the_preflight_of_the_cell_it_ran_in(web: Web) -> None:
+    """ann's pass from before the instructor moved things in the cell is not what her run
+    in the new cell is compared with: bob's pass of the same text in the new cell is."""
+    ok(web.ann.post("/api/preflight", json=BODY))
+    feeder = {"boxes": [{"name": "feeder", "min": [-600, -600, 0], "max": [-500, -500, 80]}]}
+    ok(web.ivy.put("/api/preflight/cell", json=feeder))
+    assert ok(web.bob.post("/api/preflight", json=BODY))["passed"] is True
+    assert _run_once(web, "ann")["simulated_by"] == "bob"
+
+
 def test_a_full_pool_delays_a_runs_record_and_never_loses_it() -> None:
     """A class checking as it types fills the CPU pool for moments: storing a run waits
     for room (pauses growing to a ceiling) instead of dropping the record."""

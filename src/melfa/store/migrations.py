@@ -363,6 +363,13 @@ _ROBOT_SETTINGS = Migration(
 JSON, who chose it and when; read at start so a restart keeps them (`store.robot_settings`;
 the rule against the start-up options: `melfa.service.live_settings`)."""
 
+_SIMULATION_CELLS = Migration(
+    "0016_simulation_cells",
+    ("ALTER TABLE simulations ADD COLUMN cell TEXT NOT NULL DEFAULT ''",),
+)
+"""The version of the lab's cell each passed pre-flight ran in (`Cell.digest`; '' for
+those kept before): a real run is compared with a simulation in the cell it ran in first."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -379,5 +386,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _LIVE_DOCS,
     _AUDIT_ROBOT,
     _ROBOT_SETTINGS,
+    _SIMULATION_CELLS,
 )
 """Every migration, in the order they apply. Append only."""

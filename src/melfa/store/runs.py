@@ -132,28 +132,38 @@ class Runs:
     # --- simulated paths ------------------------------------------------------------------
 
     def record_simulation(
-        self, username: str, fingerprint: str, cycle_time: float | None, path: bytes
+        self,
+        username: str,
+        fingerprint: str,
+        cycle_time: float | None,
+        path: bytes,
+        *,
+        cell: str = "",
     ) -> None:
-        """``username``'s passed pre-flight of ``fingerprint`` (replaces their older one)."""
+        """``username``'s passed pre-flight of ``fingerprint`` in version ``cell`` of the
+        lab's cell (`Cell.digest`; replaces their older one, in whichever cell)."""
         now = to_text(self.db.clock())
         self.db.write(
             lambda c: c.execute(
-                "INSERT INTO simulations (username, fingerprint, created, cycle_time, path)"
-                " VALUES (?, ?, ?, ?, ?) ON CONFLICT (username, fingerprint) DO UPDATE SET"
-                " created = excluded.created, cycle_time = excluded.cycle_time,"
-                " path = excluded.path",
-                (username, fingerprint, now, cycle_time, path),
+                "INSERT INTO simulations (username, fingerprint, created, cycle_time, path,"
+                " cell) VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (username, fingerprint) DO UPDATE"
+                " SET created = excluded.created, cycle_time = excluded.cycle_time,"
+                " path = excluded.path, cell = excluded.cell",
+                (username, fingerprint, now, cycle_time, path, cell),
             )
         )
 
-    def simulation(self, username: str, fingerprint: str) -> Simulation | None:
-        """The simulated run a real run of ``fingerprint`` by ``username`` is compared
-        with: their own passed pre-flight, else the newest anyone passed (a partner's)."""
+    def simulation(self, username: str, fingerprint: str, *, cell: str = "") -> Simulation | None:
+        """The simulated run a real run of ``fingerprint`` by ``username`` in version
+        ``cell`` of the lab's cell is compared with: a pre-flight passed in that cell (their
+        own, else the newest a partner passed), else one from an earlier cell (the same
+        order). The cell can change the run (its sensors, conveyors, parts), and the gate
+        lets a run go only after a pass in the cell as it is: that pass is the one."""
         row = self.db.read(
             lambda c: c.execute(
-                "SELECT * FROM simulations WHERE fingerprint = ?"
-                " ORDER BY username = ? COLLATE NOCASE DESC, created DESC LIMIT 1",
-                (fingerprint, username),
+                "SELECT * FROM simulations WHERE fingerprint = ? ORDER BY cell = ? DESC,"
+                " username = ? COLLATE NOCASE DESC, created DESC LIMIT 1",
+                (fingerprint, cell, username),
             ).fetchone()
         )
         if row is None:

@@ -94,8 +94,9 @@ class RunKeeper:
             simulation = None
             fingerprint = rec.fingerprint
             if fingerprint is not None:
+                cell = context.preflight.version  # the cell the arm ran in
                 simulation = await patiently(
-                    lambda: context.db(store.runs.simulation, rec.user, fingerprint)
+                    lambda: context.db(store.runs.simulation, rec.user, fingerprint, cell=cell)
                 )
             simulated: SimulatedRun | None = (
                 unpack(simulation.path) if simulation is not None else None
@@ -129,16 +130,19 @@ class RunKeeper:
 
 
 async def simulation_passed(
-    context: WebContext, user: str, fingerprint: str, report: Report
+    context: WebContext, user: str, fingerprint: str, report: Report, cell: str
 ) -> None:
-    """``user``'s pre-flight of ``fingerprint`` passed: keep its path for later real runs."""
+    """``user``'s pre-flight of ``fingerprint`` passed in version ``cell`` of the lab's
+    cell: keep its path for later real runs (compared first with one of their cell)."""
     path = [(p.time, p.x, p.y, p.z, p.line) for p in report.path]
     run = simulated_run(path, report.cycle_time)
     # A full pool delays it: the pre-flight passed, so its answer must not become a 503.
     data = await patiently(lambda: context.cpu(pack, run))
     runs = context.store.runs
     await patiently(
-        lambda: context.db(runs.record_simulation, user, fingerprint, report.cycle_time, data)
+        lambda: context.db(
+            runs.record_simulation, user, fingerprint, report.cycle_time, data, cell=cell
+        )
     )
 
 

@@ -102,9 +102,10 @@ async def run_preflight(
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
         # In the cell it ran in: an edit made meanwhile makes the pass not count.
-        context.service.policy.gate_passed(plan, report.cycle_time, cell.digest())
+        version = cell.digest()
+        context.service.policy.gate_passed(plan, report.cycle_time, version)
         # What a later real run of the same text is compared with (its ghost and report).
-        await simulation_passed(context, session.user.username, plan.fingerprint, report)
+        await simulation_passed(context, session.user.username, plan.fingerprint, report, version)
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
 
 
