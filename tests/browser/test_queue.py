@@ -284,3 +284,52 @@ def test_while_anyone_waits_the_header_offers_no_take_control(browser: Browser, 
     finally:
         amy.close()
         ben.close()
+
+
+def test_not_yet_keeps_the_claim_dialog_closed_for_that_offer(browser: Browser, lab: Lab) -> None:
+    """*Not yet* (or Esc) puts the claim dialog away for the offer it was said to: the
+    queue's next updates do not open it again (they did, each time). The panel still shows
+    the offer with its countdown and a *Claim the arm and run*; a new offer opens the dialog
+    again."""
+    server = lab.start()
+    amy, ben = ide(browser, server, "amy"), ide(browser, server, "ben")
+    dialog = amy.page.locator("#claim-dialog")
+    claim = amy.page.locator("#queue-claim")
+    try:
+        join(amy)  # the queue was empty: the arm is offered to her at once
+        expect(dialog).to_have_attribute("open", "")
+        amy.page.click("#claim-later")
+        expect(dialog).not_to_have_attribute("open", "")
+
+        join(ben)  # the queue changes under her: the same offer, still declined
+        wait_until(lambda: queue_users(amy) == ["amy", "ben"], what="ben in amy's list")
+        expect(dialog).not_to_have_attribute("open", "")
+        when = amy.page.locator("#queue-list li[data-user=amy] .queue-when")
+        expect(when).to_contain_text(re.compile(r"the arm is offered: claim it · \d:\d\d$"))
+        expect(claim).to_have_text("Claim the arm and run")
+        amy.screenshot("queue-not-yet", toasts=False)
+
+        # Her window runs out: she moves back one place, ben is offered; then his does
+        lab.advance(SETTINGS.claim_s + 1)
+        wait_until(lambda: queue_users(amy) == ["ben", "amy"], what="amy moved back")
+        expect(claim).to_have_count(0)
+        expect(ben.page.locator("#claim-dialog")).to_have_attribute("open", "")
+        lab.advance(SETTINGS.claim_s + 1)
+        wait_until(lambda: queue_users(amy) == ["amy", "ben"], what="ben moved back")
+
+        # A new offer: the dialog again; Esc declines it as Not yet does
+        expect(dialog).to_have_attribute("open", "")
+        amy.page.keyboard.press("Escape")
+        expect(dialog).not_to_have_attribute("open", "")
+        ben.page.click("#queue-leave")
+        wait_until(lambda: queue_users(amy) == ["amy"], what="ben out of amy's list")
+        expect(dialog).not_to_have_attribute("open", "")
+
+        # The panel's Claim does what the dialog's does
+        claim.click()
+        expect(amy.page.locator("#lease-text")).to_contain_text("you")
+        wait_until(lambda: runs(lab) == ["amy"], what="amy's program run")
+        expect(claim).to_have_count(0)
+    finally:
+        amy.close()
+        ben.close()

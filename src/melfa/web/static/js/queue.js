@@ -1,8 +1,9 @@
 // The lab robot's queue in the IDE: who is at the arm and until when, everyone waiting
 // with their place and an estimate of their turn, "Run on the lab robot" (join with the
 // editor's text; pre-flight first when the lab asks for it), the claim prompt when the arm
-// is offered to you (a dialog that cannot be missed, with its countdown), your turn's
-// warning, and the instructor's controls. Every change arrives as a `queue` message on the
+// is offered to you (a dialog that cannot be missed, with its countdown; "Not yet" closes
+// it for that offer, and the panel keeps the offer's countdown and a Claim button), your
+// turn's warning, and the instructor's controls. Every change arrives as a `queue` message on the
 // live socket (whichever robot this tab follows). Every word is melfa.vocab.queue's
 // (/vocab.js: QUEUE_STEPS for what happened, QUEUE_WORDS for the rest).
 
@@ -44,10 +45,12 @@ export class QueuePanel {
     this.offset = 0; // server time − this browser's time, from the last message
     this.box = $("queue");
     this.dialog = $("claim-dialog");
+    this.declined = null; // the end of the offer the student said "Not yet" to (ms)
     this.title = document.title;
     this.words();
     $("claim-go").addEventListener("click", () => this.claim());
-    $("claim-later").addEventListener("click", () => this.dialog.close());
+    $("claim-later").addEventListener("click", () => { this.decline(); this.dialog.close(); });
+    this.dialog.addEventListener("cancel", () => this.decline()); // Esc says "Not yet" too
     app.live.on("queue", (m) => this.update(m));
     setInterval(() => this.tick(), 1000);
     // The socket's first queue message may have come before this panel was made.
@@ -128,6 +131,10 @@ export class QueuePanel {
       q.entries.map((e) => this.row(e)));
     const actions = el("div", { class: "queue-actions" });
     if (this.app.role !== "observer") {
+      if (mine?.state === "offered") { // the dialog's claim, for when it was put away
+        actions.append(el("button", { type: "button", class: "btn btn-sm btn-primary", id: "queue-claim",
+          title: W.claim_hint, onclick: () => this.claim() }, W.claim));
+      }
       actions.append(el("button", {
         type: "button", class: "btn btn-sm " + (mine ? "" : "btn-primary"), id: "queue-join",
         title: W.join_hint,
@@ -185,11 +192,25 @@ export class QueuePanel {
     );
   }
 
-  /** The arm is offered to me: the dialog (modal, with its countdown) and the tab's title. */
+  /** The offer's end in ms (one offer, one end: a new offer ends later), or null. */
+  offer() {
+    const mine = this.mine();
+    return mine?.state === "offered" ? Date.parse(mine.offer_ends) : null;
+  }
+
+  /** "Not yet": the dialog stays closed for this offer (the panel still shows it, its
+   * countdown and Claim); a new offer opens it again. */
+  decline() {
+    this.declined = this.offer();
+  }
+
+  /** The arm is offered to me: the dialog (modal, with its countdown, unless declined) and
+   * the tab's title. */
   prompt() {
     const mine = this.mine();
-    const offered = mine?.state === "offered";
-    if (offered && !this.dialog.open) {
+    const offer = this.offer();
+    const offered = offer != null;
+    if (offered && offer !== this.declined && !this.dialog.open) {
       $("claim-position").textContent = !mine.missed ? "" : mine.missed === 1 ? W.missed_once : fill(W.missed_times, { count: mine.missed });
       this.dialog.showModal();
     } else if (!offered && this.dialog.open) {
