@@ -1,6 +1,6 @@
 """Pre-flight in the browser: an instructor's table flags a move below it (the line in the
 report, the path coloured in 3D), and the gate refuses an unsimulated program on the lab
-robot, offering the simulation."""
+robot, offering the simulation, and asks for it again once the instructor edited the cell."""
 
 from __future__ import annotations
 
@@ -10,7 +10,9 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, expect
 
+from melfa.vocab.refusals import Refusal
 from tests.browser.conftest import Server, Session, serving
+from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(180)
 
@@ -91,3 +93,56 @@ def test_the_gate_refuses_an_unsimulated_program_on_the_lab_robot(
         expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
     finally:
         s.close()
+
+
+def test_an_edited_cell_asks_for_preflight_again_before_a_run(
+    browser: Browser, gated: Server
+) -> None:
+    """bob's program passed and is loaded; an instructor adds a fixture to the cell; his
+    Run is refused in the student's words (the pass was in the old cell) with the one-click
+    Run pre-flight, and runs once it passed again in the cell as it is."""
+    bob, admin = Session(browser, gated, "bob"), Session(browser, gated, "admin")
+    try:
+        bob.login_api()
+        admin.login_api()
+        page = bob.page
+        bob.set_program(PROGRAM)
+        bob.set_points(POINTS)
+        page.click("#act-preflight")
+        expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")
+        page.click("#act-load")
+        expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
+        edit_cell(admin, FAR_FIXTURE)
+        bob.eval("() => document.getElementById('toasts').replaceChildren()")
+        page.click("#act-run")
+        says, fix = Refusal.CELL_CHANGED.words()
+        refusal = page.locator(".toast", has_text=says)
+        expect(refusal).to_be_visible()
+        expect(refusal).to_contain_text(fix)
+        bob.screenshot("gate-cell-changed")
+        # The report below no longer says the lab robot may run it (its pass no longer counts)
+        expect(page.locator("#preflight")).to_have_attribute("data-may-run", "false")
+        expect(page.locator("#preflight-summary")).not_to_contain_text("may run")
+        assert not ran_by(admin, "bob")
+        refusal.get_by_role("button", name="Run pre-flight").click()
+        expect(page.locator(".toast", has_text="Pre-flight passed")).to_be_visible()
+        expect(page.locator("#preflight")).to_have_attribute("data-may-run", "true")
+        page.click("#act-run")
+        wait_until(lambda: ran_by(admin, "bob"), what="bob's run to be accepted")
+    finally:
+        edit_cell(admin, '{"floor_z": 0, "boxes": []}')
+        bob.close()
+        admin.close()
+
+
+FAR_FIXTURE = (
+    '{"floor_z": 0, "boxes": [{"name": "jig", "min": [-600, -600, 0], "max": [-500, -500, 80]}]}'
+)
+"""A box far from the program's path: the program still passes pre-flight in it."""
+
+
+def ran_by(staff: Session, user: str) -> bool:
+    """Whether ``user``'s Run was audited as accepted (the policy let it through)."""
+    reply = staff.context.request.get(staff.server.url + "/api/audit?action=robot.run&limit=20")
+    entries = reply.json()["entries"]
+    return any(e["actor"] == user and e["result"] == "accepted" for e in entries)

@@ -26,6 +26,9 @@ export class PreflightPanel {
     this.build();
     this.load();
     onFix("preflight", () => this.offer()); // the gate's refusal: its button runs this
+    // The gate refused (an instructor edited the cell since): the report's pass is no
+    // longer what lets the lab robot run it.
+    document.addEventListener("melfa:fix-offered", (e) => e.detail === "preflight" && this.report && this.summarize(false));
   }
 
   build() {
@@ -81,14 +84,21 @@ export class PreflightPanel {
     }
   }
 
+  /** The report's one line; `mayRun`: the gate is on and this pass opens it. */
+  summarize(mayRun) {
+    const report = this.report;
+    const errors = report.findings.filter((f) => f.severity === "error").length;
+    const warnings = report.findings.length - errors;
+    const cycle = report.cycle_time != null ? `cycle time ${report.cycle_time.toFixed(2)} s` : "did not reach END";
+    this.summary.textContent = `${errors ? `${errors} error${errors > 1 ? "s" : ""}` : "no errors"}, ${warnings} warning${warnings === 1 ? "" : "s"} · ${cycle}` + (mayRun ? " · the lab robot may run it" : "");
+    this.panel.dataset.mayRun = String(mayRun);
+  }
+
   show(report, passed) {
     this.report = report;
     this.panel.hidden = false;
     this.panel.dataset.passed = String(passed);
-    const errors = report.findings.filter((f) => f.severity === "error").length;
-    const warnings = report.findings.length - errors;
-    const cycle = report.cycle_time != null ? `cycle time ${report.cycle_time.toFixed(2)} s` : "did not reach END";
-    this.summary.textContent = `${errors ? `${errors} error${errors > 1 ? "s" : ""}` : "no errors"}, ${warnings} warning${warnings === 1 ? "" : "s"} · ${cycle}` + (passed && this.gate ? " · the lab robot may run it" : "");
+    this.summarize(passed && this.gate);
     const tight = report.joints.filter((j) => j.margin != null && j.margin < 15).map((j) => `J${j.joint} comes within ${j.margin.toFixed(1)}° of its limit`);
     this.list.replaceChildren(
       ...report.findings.map((f) => {

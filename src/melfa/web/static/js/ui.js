@@ -87,6 +87,8 @@ export function showError(what, err, { retry = null } = {}) {
   const text = items.length ? err?.message || String(err) : errorText(err);
   const actions = [];
   const fix = err?.detail?.fix;
+  // What the refusal says is no longer so (pre-flight's "the lab robot may run it") goes.
+  if (fix) document.dispatchEvent(new CustomEvent("melfa:fix-offered", { detail: fix }));
   if (fix && fixHandlers.has(fix)) {
     actions.push({ label: err.detail.fix_label || "Fix", run: () => fixHandlers.get(fix)({ err, retry }) });
   }
