@@ -113,6 +113,8 @@ def test_an_edited_cell_asks_for_preflight_again_before_a_run(
         page.click("#act-load")
         expect(page.locator(".toast", has_text="Project loaded")).to_be_visible()
         edit_cell(admin, FAR_FIXTURE)
+        saved = admin.page.locator(".toast", has_text="Cell saved")
+        expect(saved).to_contain_text("passes pre-flight again in this cell")  # the gate is on
         bob.eval("() => document.getElementById('toasts').replaceChildren()")
         page.click("#act-run")
         says, fix = Refusal.CELL_CHANGED.words()

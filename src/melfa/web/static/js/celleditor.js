@@ -128,7 +128,10 @@ export class CellEditor {
       const out = await api("PUT", "/api/preflight/cell", this.draft);
       this.close(out.cell);
       this.onSaved(out.cell);
-      toast("Cell saved", { kind: "ok", text: "Pre-flight and the simulators use it from now on." });
+      const gate = out.require_simulation // what passed in the old cell no longer counts (the gate)
+        ? " The gate is on: a program that passed before runs on the lab robot only once it passes pre-flight again in this cell."
+        : "";
+      toast("Cell saved", { kind: "ok", text: "Pre-flight and the simulators use it from now on." + gate });
     } catch (err) {
       this.problem.textContent = err.message;
     }
