@@ -48,9 +48,18 @@ def test_an_instructor_manages_accounts_from_the_desk(
     expect(page.locator("#acc-rows tr[data-user=admin]")).to_have_count(0)  # staff: admins'
     expect(page.locator("#acc-note")).to_contain_text("you manage students")
 
+    # A list with a problem imports nothing and says where, in the desk's words
+    bad_list = tmp_path / "bad.csv"
+    bad_list.write_text("username,name,group\nzed,Zed Z,G3\nzed,Zed Y,G3\n", encoding="utf-8")
+    page.click("#acc-import")
+    page.set_input_files("#import-file", str(bad_list))
+    page.click("#import-ok")
+    expect(page.locator("#import-problems li").nth(1)).to_have_text(
+        "line 3: 'zed' is already on line 2", timeout=HASHING
+    )
+
     class_list = tmp_path / "class.csv"
     class_list.write_text(CLASS_LIST, encoding="utf-8")
-    page.click("#acc-import")
     page.set_input_files("#import-file", str(class_list))
     page.click("#import-ok")
     once = page.locator("#once-dialog")

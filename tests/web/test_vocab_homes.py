@@ -4,8 +4,8 @@ and `melfa.vocab.lease`. The browser reads them from ``/vocab.js`` (``QUEUE_WORD
 imports them. Each test below fails on a second copy and names where it is:
 
 - a word of these families written again in a script, a page or a Python module;
-- a sentence written into the queue's or control's scripts instead of read from the
-  vocabulary (the scripts that speak only through ``/vocab.js``);
+- a sentence written into a script that speaks only through ``/vocab.js`` (the queue's,
+  control's, the desk's, the class view's …) instead of read from the vocabulary;
 - a word a script asks the vocabulary for that it does not have (it would show
   ``undefined``).
 """
@@ -29,7 +29,10 @@ from melfa.web.routes.vocab import vocab_module, vocabulary
 SRC = Path(__file__).resolve().parents[2] / "src" / "melfa"
 STATIC = SRC / "web" / "static"
 
-SPEAKS_ONLY_VOCAB = ("queue.js", "control.js", "slot.js", "signout.js", "startopts.js", "assign.js")
+SPEAKS_ONLY_VOCAB = (
+    *("queue.js", "control.js", "slot.js", "signout.js", "startopts.js", "assign.js"),
+    *("desk.js", "classview.js"),
+)
 """The scripts whose every word comes from /vocab.js: no sentence in them."""
 
 
@@ -146,7 +149,8 @@ def _css_classes() -> set[str]:
 def _reads_as_words(text: str, classes: set[str], words: set[str]) -> bool:
     """Whether a literal is something a person reads, not code: a path, an HTTP method, a
     single lowercase token (a code, id, event or tag) that is no word of the vocabulary,
-    or a list of CSS classes are code; anything else with a letter in it is words."""
+    lowercase tokens between commas or a slash (a CSV file's header row, a MIME type), or a
+    list of CSS classes are code; anything else with a letter in it is words."""
     bare = re.sub(r"\{\w*\}|\\.", "", text)  # placeholders and escapes
     if not re.search(r"[A-Za-z]", bare) or bare.startswith(("/", "./", ".", "#")):
         return False  # a path or a selector
@@ -154,6 +158,8 @@ def _reads_as_words(text: str, classes: set[str], words: set[str]) -> bool:
         return False  # an HTTP method, a controller's name (FL1)
     if re.fullmatch(r"[a-z0-9_.-]+", bare.strip()):
         return text in words
+    if re.fullmatch(r"[a-z0-9_.-]+(,[a-z0-9_.-]+)+|[a-z]+/[a-z0-9.+-]+", bare):
+        return False  # "username,password\n" heads a CSV file, "text/csv" is its type
     tokens = text.split()
     return not (tokens and all(t in classes for t in tokens))
 

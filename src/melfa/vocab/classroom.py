@@ -189,8 +189,18 @@ CLASS_VIEW_WORDS: dict[str, str] = {
     "minutes-ago": "{n} min ago",
     "hours-ago": "{n} h ago",
     "days-ago": "{n} d ago",
+    "attempts": "{submissions} ({left} left)",
+    "runs-one": "1 run",
+    "runs-many": "{n} runs",
+    "statement": "The statement",
+    "view-failed": "Could not read the class view",
+    "work-failed": "Could not open the student's work",
+    "report-failed": "Could not read the report",
+    "groups-failed": "Could not read the groups",
 }
-"""The instructor's class view (``static/js/classview.js``)."""
+"""The instructor's class view (``static/js/classview.js``): ``attempts`` is a row's
+submissions and the attempts left, ``runs-`` how often it ran on the arm; ``-failed``
+names a request that failed (the server's reason follows)."""
 
 
 __all__ = [

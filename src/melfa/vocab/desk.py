@@ -80,6 +80,8 @@ DESK_WORDS: dict[str, str] = {
     "import-ok": "Import",
     "importing": "Importing… (each password is hashed)",
     "imported": "{created} added, {skipped} already there.",
+    "import-problem": "line {line}: {message}",
+    "never": "never",
     "open-work": "Open work",
     "reset": "New password…",
     "reset-confirm": "Give {who} a new password? They are signed out everywhere.",

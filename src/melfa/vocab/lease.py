@@ -106,8 +106,9 @@ assert set(_HOLDER_WORDS) == set(HolderState), "every holder state has its words
 
 @dataclass(frozen=True)
 class ControlWords:
-    """Who holds control, the buttons that take and give it, and the toasts when it
-    changes hands under a student (the header of the browser; the desktop's control row).
+    """Who holds control, the buttons that take and give it, the toasts when it changes
+    hands under a student (the header of the browser; the desktop's control row) and what
+    the first-run guide says to do while someone else holds it.
     Templates fill ``{user}``, ``{by}``, ``{time}``, ``{state}``, ``{command}``,
     ``{release}`` (the button's own word)."""
 
@@ -142,6 +143,11 @@ class ControlWords:
     take_failed: str = "Could not take control"
     release_failed: str = "Could not release control"
     take_over_failed: str = "Could not take over"
+    held_load: str = (
+        "Wait until they release it, or switch to My simulator (top) to try on your own "
+        "simulated arm, then press Load project again."
+    )
+    """The first-run guide's what to do when Load was refused: someone else holds control."""
 
 
 CONTROL_WORDS = ControlWords()

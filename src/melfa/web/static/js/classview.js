@@ -41,7 +41,7 @@ async function main() {
   if (!session) return;
   $("cv-filter").replaceChildren(...Object.entries(CLASS_FILTERS).map(([value, w]) => el("option", { value, title: w.hint }, w.label)));
   $("cv-filter").addEventListener("change", () => loadView());
-  $("cv-columns").replaceChildren(...Object.values(CLASS_COLUMNS).map((w) => el("th", { scope: "col" }, w)), el("th", { scope: "col" }, el("span", { class: "sr-only" }, "Open")));
+  $("cv-columns").replaceChildren(...Object.values(CLASS_COLUMNS).map((w) => el("th", { scope: "col" }, w)), el("th", { scope: "col" }, el("span", { class: "sr-only" }, W.open)));
   $("cv-publish").addEventListener("click", () => openPublish());
   $("cv-student-close").addEventListener("click", () => closeStudent());
   wirePublish();
@@ -86,7 +86,7 @@ async function loadView(quiet = false) {
   try {
     view = await api("GET", `/api/assignments/${id}/class?filter=${encodeURIComponent(which)}`);
   } catch (err) {
-    if (!quiet) showError("Could not read the class view", err);
+    if (!quiet) showError(W["view-failed"], err);
     return;
   }
   state.view = view;
@@ -111,10 +111,10 @@ function row(r, now) {
     variant: r.seed == null ? "—" : String(r.seed),
     latest: el("span", { title: r.latest ? `${GRADE_WORDS[r.latest.kind]}, ${ago(r.latest.at, now)}` : "" }, result(r.latest, opened)),
     best: r.best ? result(r.best, opened) : el("span", { class: "muted" }, "—"),
-    attempts: r.attempts_left == null ? String(r.submissions) : `${r.submissions} (${r.attempts_left} left)`,
+    attempts: r.attempts_left == null ? String(r.submissions) : fill(W.attempts, { submissions: r.submissions, left: r.attempts_left }),
     "last-saved": ago(r.last_saved, now),
     preflight: flight(r.latest),
-    ran: r.ran_on_arm ? `${r.ran_on_arm} run${r.ran_on_arm === 1 ? "" : "s"}` : el("span", { class: "muted" }, "—"),
+    ran: r.ran_on_arm ? fill(W[r.ran_on_arm === 1 ? "runs-one" : "runs-many"], { n: r.ran_on_arm }) : el("span", { class: "muted" }, "—"),
   };
   return el("tr", { "data-student": r.student, class: r.stuck ? "stuck" : "" },
     ...Object.keys(CLASS_COLUMNS).map((k) => el("td", { "data-column": k }, cells[k])), el("td", {}, open));
@@ -148,7 +148,7 @@ async function openStudent(r) {
     $("cv-report").replaceChildren();
     if (list.length) await showRevision(r, list[0].number, list[1]?.number ?? null);
   } catch (err) {
-    showError("Could not open the student's work", err);
+    showError(W["work-failed"], err);
   }
 }
 
@@ -180,7 +180,7 @@ async function showReport(id) {
       c.line && !c.passed ? el("span", { class: "line" }, fill(PANE_WORDS.line, { line: c.line })) : null)));
     await showRevision(state.student, out.grading.revision, out.grading.revision > 1 ? out.grading.revision - 1 : null);
   } catch (err) {
-    showError("Could not read the report", err);
+    showError(W["report-failed"], err);
   }
 }
 
@@ -234,7 +234,7 @@ async function openPublish() {
     const { groups } = await api("GET", "/api/assignments/groups");
     $("pub-group").replaceChildren(el("option", { value: "" }, W["whole-class"]), ...groups.map((g) => el("option", { value: g }, fill(W.group, { group: g }))));
   } catch (err) {
-    showError("Could not read the groups", err);
+    showError(W["groups-failed"], err);
   }
   $("publish-dialog").showModal();
 }
@@ -256,7 +256,7 @@ async function preview(read) {
     $("pub-preview").replaceChildren(el("p", { class: "error" }, W["cannot-publish"]));
     return;
   }
-  const statement = el("div", { class: "assign-statement pub-statement", tabindex: "0", "aria-label": "The statement" });
+  const statement = el("div", { class: "assign-statement pub-statement", tabindex: "0", "aria-label": W.statement });
   statement.innerHTML = folder.statement_html; // rendered by the server; raw HTML escaped there
   $("pub-preview").replaceChildren(
     el("strong", { id: "pub-title" }, folder.title),

@@ -14,7 +14,7 @@ import { DESK_WORDS as W, ROBOT_LOG_WORDS as RL } from "/vocab.js";
 
 const state = { me: null, users: [], gate: false, heldBy: null };
 const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
-const when = (iso) => (iso ? new Date(iso).toLocaleString([], { dateStyle: "medium", timeStyle: "short" }) : "never");
+const when = (iso) => (iso ? new Date(iso).toLocaleString([], { dateStyle: "medium", timeStyle: "short" }) : W.never);
 
 async function main() {
   const session = await signedIn("desk-user");
@@ -155,7 +155,7 @@ function wireImport() {
     } catch (err) {
       const problems = err.detail?.problems || [];
       $("import-problems").replaceChildren(el("li", { class: "error" }, err.message),
-        ...problems.map((p) => el("li", {}, `line ${p.line}: ${p.message}`)));
+        ...problems.map((p) => el("li", {}, fill(W["import-problem"], p))));
     } finally {
       $("import-ok").textContent = W["import-ok"];
       $("import-ok").disabled = !text;

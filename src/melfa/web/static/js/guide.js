@@ -12,6 +12,7 @@
 
 import { welcome, welcomeProject } from "./first.js";
 import { $, el, errorText } from "./ui.js";
+import { CONTROL_WORDS } from "/vocab.js"; // melfa.vocab.lease
 
 const REMEMBER = (user) => `melfa.guide.${user}`;
 const GAP = 12; // between the callout and what it points at, px
@@ -177,7 +178,7 @@ export class Guide {
     if (err?.code === "program-has-errors" || err?.code === "points-have-errors") {
       todo = "The problems are listed under the editor, each with its line: fix them, then press Load project again.";
     } else if (err?.code === "lease-required") {
-      todo = "Wait until they release it, or switch to My simulator (top) to try on your own simulated arm, then press Load project again.";
+      todo = CONTROL_WORDS.held_load;
     } else if (fix) {
       todo = `Press ${fix} in the red message, then Load project again.`;
     }
