@@ -241,6 +241,15 @@ def test_the_common_shapes_are_read_here(piece: str) -> None:
         "IF M1 THEN M2 = 1ELSE *L\n",
         "IF M1 THEN HOPEN 1 HCLOSE 1\n",
         "IF M1 THEN FOR M2 = 1 TO 3 ELSE *L\n",
+        # Digits and letters of other scripts: the lexer reads 0-9 and A-Z only.
+        "HOPEN \u0663\n",  # ARABIC-INDIC DIGIT THREE
+        "M1 = \uff11\n",  # FULLWIDTH DIGIT ONE, as a Japanese input method types it
+        "\uff11\uff10 MOV P1\n",
+        "M1 = M_IN(\u0663)\n",
+        "GOTO \u0663\n",
+        "IF M1 THEN *L EL\u017fE *M\n",  # LATIN SMALL LETTER LONG S, 's' ignoring case
+        "M1 = 1 MO\u212a 2\n",  # KELVIN SIGN
+        "M1 = M2 \u017fOR M3\n",
     ],
 )
 def test_other_lines_are_left_to_the_parser_or_read_alike(piece: str) -> None:
@@ -260,7 +269,7 @@ def test_a_big_text_read_through_the_cache_is_the_parsers_tree() -> None:
 # Operands, operators and statement words, some of them near misses (REM, 1#, 10E3, <<, é).
 _WORDS = "P1 m_in Pa% MX$ 5 0.5 .5 5. 10E3 1# REM rem PLT SIN FNA THEN TO STEP GOSUB *L *l2$ 100 AND mod Or XOR NOT ELSE".split()  # noqa: SIM905, E501
 _MARKS = '+ - * / \\ ^ = <> >< <= =< >= => < > << >> , ( ) .X .z .Q # ; " &H1F _ é'.split()  # noqa: SIM905
-_MARKS += [" ", "\t", "'"]
+_MARKS += [" ", "\t", "'", "\uff11", "\u0663", "\u017f"]
 _HEADS = "MOV MVS HOPEN DLY OVRD IF FOR WHILE NEXT RETURN END WEND GOSUB GOTO M1 P1 P1.X *L 10 ' ACCEL HLT ELSE".split()  # noqa: SIM905, E501
 _HEADS += ["", "10 *L"]
 

@@ -54,7 +54,7 @@ _LINE = re.compile(
     (?:'(?P<comment>[^\r\n]*+))?
     (?:\r\n|\r|\n)?+\Z
     """,
-    re.VERBOSE,
+    re.VERBOSE | re.ASCII,
 )
 # One value of an argument list: a signed name or number, then a comma or the end.
 _ARG = re.compile(
@@ -64,34 +64,39 @@ _ARG = re.compile(
     (?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT}))
     [ \t]*+(?P<comma>,)?
     """,
-    re.VERBOSE,
+    re.VERBOSE | re.ASCII,
 )
 # A value in parentheses (an index, a constant's element): a signed name or number, then a
 # comma or the closing parenthesis.
 _ITEM = re.compile(
     rf"[ \t]*+(?:(?P<sign>[-+])[ \t]*+)?(?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT}))"
-    r"[ \t]*+(?P<sep>[,)])"
+    r"[ \t]*+(?P<sep>[,)])",
+    re.ASCII,
 )
 # An operand: a signed name, number or constant, then the parenthesis of a name's index,
 # or a name's element.
 _TERM = re.compile(
     rf"[ \t]*+(?:(?P<sign>[-+])[ \t]*+)?"
     rf"(?:(?P<name>{_WORD})|(?P<real>{_REAL})|(?P<int>{_INT})|(?P<paren>\())"
-    r"(?P<index>[ \t]*+\()?(?:[ \t]*+\.(?P<element>[A-Za-z][A-Za-z0-9_]*+))?"
+    r"(?P<index>[ \t]*+\()?(?:[ \t]*+\.(?P<element>[A-Za-z][A-Za-z0-9_]*+))?",
+    re.ASCII,
 )
 # The operators read here, as the lexer splits them (not ^, << or >>: the parser's).
 _OPERATOR = re.compile(
-    r"[ \t]*+(<>|><|<=|=<|>=|=>|[-+*/\\]|[=<>](?![<>=])|(?i:AND|OR|XOR|MOD)(?![A-Za-z0-9_$%!\#]))"
+    r"[ \t]*+(<>|><|<=|=<|>=|=>|[-+*/\\]|[=<>](?![<>=])|(?i:AND|OR|XOR|MOD)(?![A-Za-z0-9_$%!\#]))",
+    re.ASCII,
 )
-_TARGET = re.compile(r"[ \t]*+(?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)|(?P<int>\d++))")
-_NAME = re.compile(rf"[ \t]*+(?P<name>{_WORD})")
-_COMMA = re.compile(r"[ \t]*+,")
+_TARGET = re.compile(
+    r"[ \t]*+(?:\*(?P<label>[A-Za-z][A-Za-z0-9_]*+[$%!]?+)|(?P<int>\d++))", re.ASCII
+)
+_NAME = re.compile(rf"[ \t]*+(?P<name>{_WORD})", re.ASCII)
+_COMMA = re.compile(r"[ \t]*+,", re.ASCII)
 # ELSE as the lexer reads the word (not inside another word, not a label or an element).
-_ELSE = re.compile(r"(?<![A-Za-z0-9_$%!.#*])(?i:ELSE)(?![A-Za-z0-9_$%!#])")
-_SEPARATOR = re.compile(r"[ \t]*+([,)])")
-_OPEN = re.compile(r"[ \t]*+\(")
+_ELSE = re.compile(r"(?<![A-Za-z0-9_$%!.#*])(?i:ELSE)(?![A-Za-z0-9_$%!#])", re.ASCII)
+_SEPARATOR = re.compile(r"[ \t]*+([,)])", re.ASCII)
+_OPEN = re.compile(r"[ \t]*+\(", re.ASCII)
 _MAX_NESTING = 16  # parentheses in one line read by `_values` (the parser allows 64 levels)
-_ASSIGN = re.compile(r"[ \t]*+(?:(?P<element>\.[A-Za-z][A-Za-z0-9_]*+)[ \t]*+)?=")
+_ASSIGN = re.compile(r"[ \t]*+(?:(?P<element>\.[A-Za-z][A-Za-z0-9_]*+)[ \t]*+)?=", re.ASCII)
 
 _ELEMENTS = {k.value: k for k in A.ElementKind}
 _FOREIGN = foreign_constructs()

@@ -43,7 +43,7 @@ _LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)")
 _OTHER_ENDS = re.compile("[\v\f\x1c\x1d\x1e\x85\u2028\u2029]")
 # A step number the lexer reads as one: digits, then a blank or the line's end (not `10E3`,
 # `10.5` or `10#`, numbers whose value the digits alone do not give).
-_STEP = re.compile(r"[ \t]*(\d+)(?=[ \t\r\n]|\Z)")
+_STEP = re.compile(r"[ \t]*(\d+)(?=[ \t\r\n]|\Z)", re.ASCII)
 _STEP_START = " \t0123456789"
 _ZEROS = str.maketrans("123456789", "000000000")
 
