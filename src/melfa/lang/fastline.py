@@ -152,8 +152,42 @@ def _atom(m: re.Match[str], line: int) -> A.Expr | None:
     return node
 
 
+def _whole_numbers(piece: str, pos: int, end: int, line: int) -> list[A.Expr] | None:
+    """``0, 0, -50, 0, 0, 0`` or ``8`` in ``piece[pos:end]``: whole numbers, each signed or
+    not, split by commas; or None. A position constant's elements and an input's number are
+    mostly these: read with str methods, several times cheaper than `_ITEM` per value."""
+    items: list[A.Expr] = []
+    for part in piece[pos:end].split(","):
+        start = pos  # the part's offset
+        pos += len(part) + 1
+        text = part.lstrip(" \t")
+        at = start + len(part) - len(text)  # its sign's or its digits'
+        sign = text[:1]
+        signed = sign == "-" or sign == "+"
+        if signed:
+            first = at
+            after_sign = text[1:]
+            text = after_sign.lstrip(" \t")
+            at += 1 + len(after_sign) - len(text)
+        text = text.rstrip(" \t")
+        if not (text.isdigit() and text.isascii()) or len(text) > 40:
+            return None
+        span = _new_tuple(_Span, (line, at + 1, line, at + 1 + len(text)))
+        node: A.Expr = A.Number(int(text), _INTEGER, text, span)
+        if signed:
+            span = _new_tuple(_Span, (line, first + 1, line, at + 1 + len(text)))
+            node = A.Unary(_MINUS if sign == "-" else _PLUS, node, span)
+        items.append(node)
+    return items
+
+
 def _items(piece: str, pos: int, end: int, line: int) -> tuple[list[A.Expr], int] | None:
     """After a `(`: the values up to the `)`, and the offset after it; or None."""
+    close = piece.find(")", pos, end)
+    if close > pos:
+        numbers = _whole_numbers(piece, pos, close, line)
+        if numbers is not None:
+            return numbers, close + 1
     items: list[A.Expr] = []
     match = _ITEM.match
     while True:
@@ -302,9 +336,9 @@ def _move(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.St
     target, after = read
     close = appended = None
     if after != end:
-        m = _COMMA.match(piece, after, end)
-        if m is not None:
-            read = _expr(piece, m.end(), end, line)
+        m = None if piece[after] == "," else _COMMA.match(piece, after, end)
+        if m is not None or piece[after] == ",":
+            read = _expr(piece, after + 1 if m is None else m.end(), end, line)
             if read is None:
                 return None
             close, after = read
@@ -341,11 +375,18 @@ def _with(piece: str, pos: int, end: int, line: int) -> A.Appended | None:
 
 def _command(kind: A.CommandKind, lo: int, hi: int) -> _Reader:
     def read(piece: str, at: int, word: str, pos: int, end: int, line: int) -> A.Statement | None:
+        whole = _new_tuple(_Span, (line, at + 1, line, end + 1))
+        digits = piece[pos:end].lstrip(" \t")
+        if digits.isdigit() and digits.isascii() and lo <= 1 <= hi and len(digits) <= 40:
+            # One whole number (``HOPEN 1``, ``OVRD 30``), the commonest argument: `_args`'
+            # node, without a pattern.
+            span = _new_tuple(_Span, (line, end + 1 - len(digits), line, end + 1))
+            return A.Command(kind, (A.Number(int(digits), _INTEGER, digits, span),), whole)
         args = _args(piece, pos, end, line) if pos < end else []
         if args is None or not lo <= len(args) <= hi:
             return None
         # The last value ends the line's statement (at `end`), as the word does without one.
-        return A.Command(kind, tuple(args), _new_tuple(_Span, (line, at + 1, line, end + 1)))
+        return A.Command(kind, tuple(args), whole)
 
     return read
 
