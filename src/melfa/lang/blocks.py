@@ -12,7 +12,9 @@ with no opener at all is reported and ignored.
 from __future__ import annotations
 
 import enum
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from itertools import compress
+from operator import attrgetter
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.model import MAX_IF_DEPTH, MAX_LOOP_DEPTH
@@ -344,22 +346,28 @@ def match_blocks(program: A.Program) -> BlockStructure:
     >>> blocks.for_next, blocks.while_wend, blocks.problems
     ({0: 3}, {1: 2}, [])
     """
-    return match_statements([line.statement for line in program.lines])
+    return match_statements(tuple(map(_STATEMENT, program.lines)))
 
 
-def match_statements(statements: Sequence[A.Statement | None]) -> BlockStructure:
+def match_statements(
+    statements: Sequence[A.Statement | None], structural: Iterable[int] | None = None
+) -> BlockStructure:
     """The same pairing over a list of statements (the interpreter's steps, in run order);
-    indices are positions in `statements`."""
+    indices are positions in `statements`. `structural`: the indices of the statements
+    of the classes in `STRUCTURAL`, in order, when the caller has them already."""
     matcher = _Matcher()
-    structural = _STRUCTURAL
-    for index, stmt in enumerate(statements):
-        if stmt.__class__ in structural:  # most lines (moves, commands) open or close nothing
-            matcher.line(index, stmt)  # type: ignore[arg-type]  # None is not structural
+    if structural is None:  # most lines (moves, commands) open or close nothing
+        structural = compress(
+            range(len(statements)), map(STRUCTURAL.__contains__, map(type, statements))
+        )
+    for index in structural:
+        matcher.line(index, statements[index])  # type: ignore[arg-type]  # None is not structural
     return matcher.finish()
 
 
+_STATEMENT = attrgetter("statement")
 # The statements `_Matcher.line` reads (an IF only for its block or its BREAK).
-_STRUCTURAL = frozenset(
+STRUCTURAL = frozenset(
     {A.For, A.Next, A.While, A.Wend, A.If, A.Else, A.EndIf, A.Select, A.Case, A.Default}
     | {A.EndSelect, A.Break}
 )

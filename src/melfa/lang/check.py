@@ -29,15 +29,18 @@ from __future__ import annotations
 
 import gc
 from collections.abc import Callable, Iterable, Sequence, Set
+from itertools import chain, compress
+from operator import attrgetter, ne
 from typing import Any
 
 from melfa.lang import ast as A  # noqa: N812
-from melfa.lang.blocks import match_blocks
+from melfa.lang.blocks import STRUCTURAL, match_statements
 from melfa.lang.check_lines import LineChecks
 from melfa.lang.check_names import NameChecks
 from melfa.lang.check_routines import RoutineChecks
 from melfa.lang.check_v import FunctionBlocks, VChecks, v_program, without_follow_ons
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.linetable import LineTable
 from melfa.lang.model import (
     MAX_DEF_LENGTH,
     MAX_DIM_SIZE,
@@ -59,6 +62,7 @@ MIN_GUESSED_POINT = 4
 E, W = Severity.ERROR, Severity.WARNING
 _LOGIC = frozenset({A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR})
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
+_ISSUES = attrgetter("issues")
 
 # Constant arguments with a range: (low, high, what) for the first argument (§4.2–§4.6).
 _COMMAND_RANGES: dict[A.CommandKind, tuple[float, float, str]] = {
@@ -108,22 +112,21 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
         self.repeats = repeats
         self.points = {p.upper() for p in points}
         self.out: list[Diagnostic] = []
-        self.symbols = Symbols.collect(program, self.points)
+        self.table = LineTable(program)
+        self.symbols = Symbols.collect(program, self.points, self.table)
         self.defined = self.symbols.defined
         self.undefined: set[str] = set()  # points already warned about (once per name)
         self.indexed: set[int] = set()  # ids of the Names that have an index: M_IN(8)
         self.unknown_external: set[str] = set()  # misspelt system variables (once per name)
         self.v_named: set[str] = set()  # MELFA BASIC V status variables (once per name)
-        self.blocks = FunctionBlocks(program)
+        self.blocks = FunctionBlocks(program, self.table)
         self.v_functions = self.blocks.names
 
     # ------------------------------------------------------------------------- passes
 
     def run(self) -> list[Diagnostic]:
-        lines = self.program.lines
-        for line in lines:
-            for issue in line.issues:
-                self.add(issue.span, E, issue.message, issue.rule, issue.code, issue.suggestion)
+        for issue in chain.from_iterable(map(_ISSUES, self.program.lines)):
+            self.add(issue.span, E, issue.message, issue.rule, issue.code, issue.suggestion)
         self.line_limits()
         self.numbering()
         labels = self.labels()
@@ -132,7 +135,8 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
         self.interrupt_returns()
         self.gotos_leaving_routines()
         broken = self.broken_structure()
-        for problem in match_blocks(self.program).problems:
+        table = self.table
+        for problem in match_statements(table.statements, table.having(STRUCTURAL)).problems:
             if _RULE_FAMILY.get(problem.rule) not in broken:
                 self.add(
                     problem.span,
@@ -152,10 +156,10 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
         """Block families with an unparsable opener or closer (WIHLE…): their pairing
         findings would only repeat the syntax error, so they are left out."""
         broken: set[str] = set()
-        for line in self.program.lines:
-            stmt = line.statement
-            if not isinstance(stmt, A.InvalidStatement):
-                continue
+        statements = self.table.statements
+        for index in self.table.having({A.InvalidStatement}):
+            stmt = statements[index]
+            assert isinstance(stmt, A.InvalidStatement)
             # The word the student meant: the suggested replacement (END IF → ENDIF), else
             # the first word written (a FOR line with a mistake further on).
             words = stmt.text.upper().split()
@@ -168,7 +172,8 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
     # ----------------------------------------------------------------------- statements
 
     def statements(self, labels: set[str]) -> None:
-        numbers = {line.number for line in self.program.lines if line.number is not None}
+        numbers = set(self.table.numbers)
+        numbers.discard(None)
         numbered = bool(numbers)
         long_names: set[str] = set()
         # Names `name` has nothing to say about: defined, short, no suffix # and not a
@@ -181,65 +186,82 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
             and name[-1:] != "#"
             and not (len(name) > 1 and name[1] == "_")
         }
-        children = A.CHILD_FIELDS
         no_counters: frozenset[str] = frozenset()
+        warned_here: Set[str] = no_counters
+
+        def name(node: A.Name) -> None:
+            if node.name not in quiet:
+                self.name(node, long_names, warned_here)
+
+        def label_ref(node: A.LabelRef) -> None:
+            if node.name not in labels:
+                self.undefined_label(node, labels)
+
+        def line_ref(node: A.LineRef) -> None:
+            if node.number not in numbers:
+                why = "" if numbered else _NO_NUMBERS_HINT
+                self.add(
+                    node.span,
+                    E,
+                    f"Step {node.number} does not exist{why}",
+                    "undefined-line",
+                    "L4230",
+                    "Put a *label on the line to jump to, and jump to the label.",
+                )
+
+        checks: dict[type, Callable[[Any], None]] = {
+            A.Name: name,
+            A.LabelRef: label_ref,
+            A.LineRef: line_ref,
+            **{cls: check.__get__(self) for cls, check in _SPECIFIC.items()},
+        }
+        # Node class -> (its fields that hold nodes, its check or None); a leaf with no
+        # check of its own (a number, a string) is left out.
+        plans = {
+            cls: (fields, checks.get(cls))
+            for cls, fields in A.CHILD_FIELDS.items()
+            if fields or cls in checks
+        }
+        number = A.Number
         # A line written exactly like an earlier one that got no finding and changed no
         # "once per name" set gets none either: those sets only grow, and only keep findings
         # out. Such a line's walk is skipped (real programs repeat lines: HOPEN 1, RETURN).
         repeats = self.repeats
+        repeated = _repeated(repeats)  # the lines some later line is written like
         quiet_lines: set[int] = set()
         said = self.out, long_names, self.undefined, self.unknown_external, self.v_named
-        for index, line in enumerate(self.program.lines):
-            stmt = line.statement
+        for index, stmt in enumerate(self.table.statements):
             if stmt is None or type(stmt) is A.InvalidStatement:
                 continue
             if repeats is not None:
                 first = repeats[index]
                 if first != index and first in quiet_lines:
                     continue
+            counting = index in repeated
+            if counting:
                 before = sum(map(len, said))
             # NEXT's counters are not uses: FOR already defined them (or blocks reports it).
-            warned_here: Set[str] = (
-                {c.name for c in stmt.counters} if type(stmt) is A.Next else no_counters
-            )
-            # `A.walk(stmt)`, inline: the nodes in the same order (the first use of a name
-            # is the one reported), without a generator's cost per node.
+            warned_here = {c.name for c in stmt.counters} if type(stmt) is A.Next else no_counters
+            # `A.walk(stmt)`, inline, each node checked as it is reached: the nodes in the
+            # same order (the first use of a name is the one reported).
             stack: list[Any] = [stmt]
             pop, push = stack.pop, stack.append
             while stack:
                 node = pop()
                 cls = type(node)
-                fields = children.get(cls)
-                if fields is None:
+                plan = plans.get(cls)
+                if plan is None:  # a tuple of nodes, or a leaf with nothing to check
                     if cls is tuple:
                         stack.extend(node)
                     continue
+                fields, check = plan
                 for field in fields:
                     value = getattr(node, field)
-                    if value is not None:
+                    if value is not None and type(value) is not number:
                         push(value)
-                if cls is A.Name:
-                    if node.name not in quiet:
-                        self.name(node, long_names, warned_here)
-                elif cls is A.LabelRef:
-                    assert isinstance(node, A.LabelRef)
-                    if node.name not in labels:
-                        self.undefined_label(node, labels)
-                elif cls is A.LineRef:
-                    assert isinstance(node, A.LineRef)
-                    if node.number not in numbers:
-                        why = "" if numbered else _NO_NUMBERS_HINT
-                        self.add(
-                            node.span,
-                            E,
-                            f"Step {node.number} does not exist{why}",
-                            "undefined-line",
-                            "L4230",
-                            "Put a *label on the line to jump to, and jump to the label.",
-                        )
-                elif cls in _SPECIFIC:
-                    _SPECIFIC[cls](self, node)
-            if repeats is not None and sum(map(len, said)) == before:
+                if check is not None:
+                    check(node)
+            if counting and sum(map(len, said)) == before:
                 quiet_lines.add(index)
 
     def undefined_label(self, node: A.LabelRef, labels: set[str]) -> None:
@@ -513,6 +535,14 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
                         "L4370",
                         f"Use a whole number from 1 to {MAX_DIM_SIZE}.",
                     )
+
+
+def _repeated(repeats: Sequence[int] | None) -> set[int]:
+    """The lines that a later line repeats (`repeats[i]` is the first line written like
+    line i): the only lines whose findings `statements` needs to count."""
+    if repeats is None:
+        return set()
+    return set(compress(repeats, map(ne, repeats, range(len(repeats)))))
 
 
 def _number_text(value: float) -> str:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Severity
+from melfa.lang.linetable import LineTable
 from melfa.lang.model import MAX_LINE_LENGTH, MAX_LINE_NUMBER, MAX_NAME_LENGTH
 from melfa.lang.reporter import Reporter
 
@@ -20,8 +21,11 @@ class LineChecks(Reporter):
     checker's analyser."""
 
     program: A.Program
+    table: LineTable
 
     def line_limits(self) -> None:
+        if self.table.longest() - 1 <= MAX_LINE_LENGTH:
+            return  # no line too long: not one to look at
         for line in self.program.lines:
             length = line.span.end_column - 1
             if length > MAX_LINE_LENGTH:
@@ -37,7 +41,8 @@ class LineChecks(Reporter):
 
     def numbering(self) -> None:
         lines = self.program.lines
-        if all(line.number is None for line in lines):
+        numbered = self.table.numbered
+        if not numbered:
             return
         # Editor form when a non-blank line has no number (the uploader's test, too).
         editor = any(
@@ -47,7 +52,8 @@ class LineChecks(Reporter):
         )
         seen: dict[int, int] = {}
         previous: int | None = None
-        for line in lines:
+        for index in numbered:
+            line = lines[index]
             number, span = line.number, line.number_span
             if number is None or span is None:
                 continue
@@ -94,7 +100,9 @@ class LineChecks(Reporter):
 
     def labels(self) -> set[str]:
         found: dict[str, int] = {}
-        for line in self.program.lines:
+        lines = self.program.lines
+        for index in self.table.labelled:
+            line = lines[index]
             if line.label is None or line.label_span is None:
                 continue
             span = line.label_span

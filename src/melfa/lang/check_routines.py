@@ -12,6 +12,7 @@ from collections.abc import Iterable
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Severity
+from melfa.lang.linetable import LineTable
 from melfa.lang.reporter import Reporter
 from melfa.lang.symbols import Symbols
 
@@ -23,6 +24,7 @@ class RoutineChecks(Reporter):
 
     program: A.Program
     symbols: Symbols
+    table: LineTable
     _entries: frozenset[int] = frozenset()  # the lines routines start on (interrupt_returns)
 
     def interrupt_returns(self) -> None:
@@ -31,12 +33,7 @@ class RoutineChecks(Reporter):
         if not self.symbols.interrupt_targets and not self.symbols.returns_with_mode:
             return  # no interrupt routine and no RETURN 0|1: nothing to match
         lines = self.program.lines
-        where: dict[str | int, int] = {}
-        for index, line in enumerate(lines):
-            if line.label is not None:
-                where.setdefault(line.label, index)
-            if line.number is not None:
-                where.setdefault(line.number, index)
+        where = self.table.line_index
 
         def line_of(target: A.JumpTarget) -> int | None:
             key = target.name if isinstance(target, A.LabelRef) else target.number
@@ -47,8 +44,8 @@ class RoutineChecks(Reporter):
 
         interrupts = lines_of(self.symbols.interrupt_targets)
         subroutines: set[int] = set()
-        for line in lines:
-            stmt = line.statement
+        for index in self.table.having(_CALLS):
+            stmt = lines[index].statement
             if isinstance(stmt, A.Gosub):
                 subroutines |= lines_of((stmt.target,))
             elif isinstance(stmt, A.OnJump) and stmt.kind is A.JumpKind.GOSUB:
@@ -87,10 +84,10 @@ class RoutineChecks(Reporter):
         is exceeded ("leaving a GOSUB with GOTO leaks stack", §4.5 [S1 RETURN, GOSUB]).
         A routine runs from its entry to its last RETURN before another routine's entry."""
         lines = self.program.lines
-        where = self._line_index()
+        where = self.table.line_index
         starts: set[int] = set()
-        for line in lines:
-            stmt = line.statement
+        for index in self.table.having(_CALLS):
+            stmt = lines[index].statement
             if isinstance(stmt, A.Gosub):
                 targets: tuple[A.JumpTarget, ...] = (stmt.target,)
             elif isinstance(stmt, A.OnJump) and stmt.kind is A.JumpKind.GOSUB:
@@ -109,8 +106,8 @@ class RoutineChecks(Reporter):
         # routine is then found by bisection, not by walking the program once per routine.
         returns: list[int] = []
         jumps: list[tuple[int, tuple[A.JumpTarget, ...]]] = []
-        for i, line in enumerate(lines):  # one pass, by class: this runs on every keystroke
-            stmt = line.statement
+        for i in self.table.having(_RETURNS_OR_JUMPS):
+            stmt = lines[i].statement
             cls = type(stmt)
             if cls is A.Return:
                 returns.append(i)
@@ -147,16 +144,6 @@ class RoutineChecks(Reporter):
                         "called, or keep the jump inside the routine.",
                     )
 
-    def _line_index(self) -> dict[str | int, int]:
-        """Label or step number -> the index of its line (the first, if repeated)."""
-        where: dict[str | int, int] = {}
-        for index, line in enumerate(self.program.lines):
-            if line.label is not None:
-                where.setdefault(line.label, index)
-            if line.number is not None:
-                where.setdefault(line.number, index)
-        return where
-
     def _first_return(self, start: int) -> A.Return | None:
         entries = self._entries
         for index in range(start, len(self.program.lines)):
@@ -170,6 +157,11 @@ class RoutineChecks(Reporter):
                     if isinstance(branch, A.Return):
                         return branch
         return None
+
+
+# The statements that call a routine, and those that may return or jump (`_returns`, `_gotos`).
+_CALLS = frozenset({A.Gosub, A.OnJump})
+_RETURNS_OR_JUMPS = frozenset({A.Return, A.Goto, A.If, A.OnJump})
 
 
 def _key(target: A.JumpTarget) -> str | int:

@@ -17,6 +17,7 @@ import re
 
 from melfa.lang import ast as A  # noqa: N812
 from melfa.lang.diagnostics import Diagnostic, Severity
+from melfa.lang.linetable import LineTable
 from melfa.lang.model import (
     SYSTEM_VARIABLES,
     V_SYSTEM_PREFIXES,
@@ -46,11 +47,14 @@ _FRAMES = {
 class FunctionBlocks:
     """The ``Function … FEnd`` blocks of a program (V): their names and their lines."""
 
-    def __init__(self, program: A.Program) -> None:
+    def __init__(self, program: A.Program, table: LineTable | None = None) -> None:
         names: set[str] = set()
         inside: set[int] = set()  # 1-based lines after a Function, up to its FEnd
         start: int | None = None
-        for line in program.lines:
+        table = table or LineTable(program)
+        # A block starts with a line the parser refused: none, no block (most programs).
+        lines = program.lines if table.has(A.InvalidStatement) else ()
+        for line in lines:
             stmt = line.statement
             if not isinstance(stmt, A.InvalidStatement) or stmt.issue.rule != V_RULE:
                 if start is not None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 
 from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.linetable import LineTable
 from melfa.lang.model import FUNCTIONS, SYSTEM_VARIABLES, Kind
 from melfa.lang.record import Record, field
 
@@ -52,13 +53,15 @@ class Symbols(Record, frozen=False):
     returns_with_mode: bool = False  # some RETURN 0|1 (an interrupt routine's end)
 
     @classmethod
-    def collect(cls, program: A.Program, points: Iterable[str]) -> Symbols:
+    def collect(
+        cls, program: A.Program, points: Iterable[str], lines: LineTable | None = None
+    ) -> Symbols:
+        """The names of `program` (`lines`: its `LineTable`, if the caller has one)."""
         table = cls(defined={p.upper() for p in points})
-        defining = _DEFINING
-        for index, line in enumerate(program.lines):
-            stmt = line.statement
-            if stmt.__class__ in defining:  # most lines (moves, commands) define nothing
-                table.statement(index, stmt)  # type: ignore[arg-type]  # None defines nothing
+        lines = lines or LineTable(program)
+        statements = lines.statements
+        for index in lines.having(_DEFINING):  # most lines (moves, commands) define nothing
+            table.statement(index, statements[index])  # type: ignore[arg-type]  # not None
         return table
 
     def statement(self, index: int, stmt: A.Statement) -> None:
