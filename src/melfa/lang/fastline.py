@@ -28,8 +28,9 @@ import re
 from collections.abc import Callable
 
 from melfa.lang import ast as A  # noqa: N812
+from melfa.lang.grammar import BINARY as _BINARY
+from melfa.lang.grammar import COMMANDS as _COMMANDS
 from melfa.lang.model import foreign_constructs
-from melfa.lang.parser import _BINARY, _COMMANDS
 from melfa.lang.tokens import FUNCTIONS, KEYWORDS
 
 _new_tuple = tuple.__new__
