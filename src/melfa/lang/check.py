@@ -39,19 +39,10 @@ from melfa.lang.check_lines import LineChecks
 from melfa.lang.check_names import NameChecks
 from melfa.lang.check_routines import RoutineChecks
 from melfa.lang.check_v import FunctionBlocks, VChecks, v_program, without_follow_ons
+from melfa.lang.check_values import ValueChecks
 from melfa.lang.diagnostics import Diagnostic, Severity
 from melfa.lang.linetable import LineTable
-from melfa.lang.model import (
-    MAX_DEF_LENGTH,
-    MAX_DIM_SIZE,
-    MAX_DIMENSIONS,
-    MAX_NAME_LENGTH,
-    MAX_ON_TARGETS,
-    MIN_DLY,
-    OPEN_LOW,
-    RANGES,
-    Kind,
-)
+from melfa.lang.model import MAX_NAME_LENGTH, MAX_ON_TARGETS, RANGES, SYSTEM_VARIABLES, Kind
 from melfa.lang.reparse import EDITOR
 from melfa.lang.symbols import Symbols, target_name
 from melfa.lang.typos import suggest
@@ -60,16 +51,18 @@ MIN_GUESSED_POINT = 4
 """An undefined point this long or longer gets "Did you mean …?" (``Phom`` → ``Phome``)."""
 
 E, W = Severity.ERROR, Severity.WARNING
-_LOGIC = frozenset({A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR})
+# Tuples of enum members, not sets: `in` compares them by identity in C, where a set would
+# call Enum's __hash__, a Python function, on every node.
+_LOGIC = (A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR)
 _NO_NUMBERS_HINT = " (this program has no step numbers)"
 _ISSUES = attrgetter("issues")
 
 # Constant arguments with a range: (low, high, what) for the first argument (§4.2–§4.6).
-_COMMAND_RANGES: dict[A.CommandKind, tuple[float, float, str]] = {
-    kind: RANGES[kind.name] for kind in A.CommandKind if kind.name in RANGES
+# Keyed by the member's name (`kind._name_`), not the member: no Enum hash per command.
+_COMMAND_RANGES: dict[str, tuple[float, float, str]] = {
+    kind.name: RANGES[kind.name] for kind in A.CommandKind if kind.name in RANGES
 }
-_OPEN_LOW = frozenset(RANGES[word] for word in OPEN_LOW)
-_PALLETS = RANGES["PLT"]
+_FRAME_KINDS = (A.CommandKind.TOOL, A.CommandKind.BASE)
 
 
 # Which block family each structural word and each block rule belongs to.
@@ -104,7 +97,7 @@ _RULE_FAMILY = {
 }
 
 
-class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
+class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
     def __init__(
         self, program: A.Program, points: Iterable[str], repeats: Sequence[int] | None = None
     ) -> None:
@@ -315,6 +308,9 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
             long_names.add(name)
             self.double_name(node)
         if len(name) > 1 and name[1] == "_":
+            if name in SYSTEM_VARIABLES:  # neither V's nor a typo: only its index to check
+                self.system_index(node, id(node) in self.indexed)
+                return
             if self.v_system_variable(node):
                 return
             if name not in self.unknown_external and self.external_name(node):
@@ -350,7 +346,7 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
             return
         kind_of = self.symbols.kind_of
         left, right = kind_of(node.left), kind_of(node.right)
-        if self.string_arithmetic(node, left, right):
+        if (left is Kind.STR or right is Kind.STR) and self.string_arithmetic(node, left, right):
             return
         if op is not A.BinaryOp.MUL and op is not A.BinaryOp.DIV:
             return
@@ -404,16 +400,12 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
 
     def move(self, node: A.Move | A.ArcMove | A.ArchMove) -> None:
         """A move target that is certainly a number or a string (``MVS P1.Z``)."""
-        if isinstance(node, A.Move):
-            targets: tuple[A.Expr | None, ...] = (node.target,)
-            word = node.kind.value
-        elif isinstance(node, A.ArcMove):
-            targets, word = node.points, node.kind.value
-        else:
-            targets, word = (node.target,), "MVA"
+        targets = node.points if type(node) is A.ArcMove else (node.target,)  # type: ignore[union-attr]
+        kind_of = self.symbols.kind_of
         for target in targets:
-            vt = self.symbols.kind_of(target) if target is not None else None
-            if target is not None and vt in (Kind.NUM, Kind.STR):
+            vt = kind_of(target) if target is not None else None
+            if target is not None and (vt is Kind.NUM or vt is Kind.STR):
+                word = "MVA" if type(node) is A.ArchMove else node.kind.value  # type: ignore[union-attr]
                 self.add(
                     target.span,
                     E,
@@ -428,70 +420,17 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
                 )
 
     def command(self, node: A.Command) -> None:
-        if not node.args or self.v_frame(node):
+        kind = node.kind
+        if not node.args or (kind in _FRAME_KINDS and self.v_frame(node)):
             return
         arg = node.args[0]
-        if node.kind is A.CommandKind.DLY:
+        if kind is A.CommandKind.DLY:
             if arg is not None:
                 self.dly_range(arg)
             return
-        limits = _COMMAND_RANGES.get(node.kind)
+        limits = _COMMAND_RANGES.get(kind._name_)
         if limits is not None and arg is not None:
             self.range(arg, limits)
-
-    def range(self, arg: A.Expr, limits: tuple[float, float, str]) -> None:
-        """value-out-of-range when `arg` is a constant outside [low, high]."""
-        value = A.constant_number(arg)
-        low, high, what = limits
-        if value is None:
-            return
-        if limits in _OPEN_LOW:
-            if not low < value <= high:
-                self.add(
-                    arg.span,
-                    E,
-                    f"{what}, found {_number_text(value)}",
-                    "value-out-of-range",
-                    suggestion=f"Use a value above {low:g} and up to {high:g}.",
-                )
-        elif not low <= value <= high:
-            self.add(
-                arg.span,
-                E,
-                f"{what}, found {_number_text(value)}",
-                "value-out-of-range",
-                suggestion=f"Use a value from {low:g} to {high:g}.",
-            )
-
-    def dly_range(self, arg: A.Expr) -> None:
-        value = A.constant_number(arg)
-        if value is not None and value < MIN_DLY:
-            self.add(
-                arg.span,
-                E if value < 0 else W,
-                f"DLY {_number_text(value)} is below the controller's minimum of {MIN_DLY} s",
-                "value-out-of-range",
-                suggestion=f"Wait at least {MIN_DLY} s, e.g. DLY {MIN_DLY}.",
-            )
-
-    def pallet(self, node: A.Pallet) -> None:
-        self.range(node.pallet, _PALLETS)
-
-    def def_plt(self, node: A.DefPlt) -> None:
-        self.range(node.number, _PALLETS)
-
-    def def_var(self, node: A.DefVar) -> None:
-        span = node.span
-        length = span.end_column - span.column
-        if span.end_line == span.line and length > MAX_DEF_LENGTH:
-            self.add(
-                A.Span(span.line, span.column + MAX_DEF_LENGTH, span.line, span.end_column),
-                E,
-                f"DEF {node.type.value} list is {length} characters long; the controller allows "
-                f"{MAX_DEF_LENGTH} from DEF on",
-                "def-too-long",
-                suggestion=f"Split the names over two DEF {node.type.value} lines.",
-            )
 
     def array_or_system(self, node: A.Index) -> None:
         self.indexed.add(id(node.name))
@@ -501,41 +440,6 @@ class _Analyzer(LineChecks, NameChecks, RoutineChecks, VChecks):
     def wait(self, node: A.Wait) -> None:
         self.v_wait(node)
 
-    def dim(self, node: A.Dim) -> None:
-        for array in node.arrays:
-            sizes = array.sizes
-            shown = array.name.written
-            if len(sizes) > MAX_DIMENSIONS:
-                self.add(
-                    sizes[MAX_DIMENSIONS].span.to(sizes[-1].span),
-                    E,
-                    f"DIM {shown} has {len(sizes)} dimensions; the limit is {MAX_DIMENSIONS}",
-                    "dim-dimensions",
-                    "L4370",
-                    f"Use at most {MAX_DIMENSIONS} sizes, e.g. DIM {shown}(10, 10, 10).",
-                )
-            for size in sizes[:MAX_DIMENSIONS]:
-                value = A.constant_number(size)
-                if value is None:
-                    self.add(
-                        size.span,
-                        E,
-                        f"DIM {shown}: array sizes must be constant numbers",
-                        "dim-size",
-                        "L4370",
-                        f"Write the size as a number from 1 to {MAX_DIM_SIZE}, e.g. "
-                        f"DIM {shown}(10).",
-                    )
-                elif value != int(value) or not 1 <= value <= MAX_DIM_SIZE:
-                    self.add(
-                        size.span,
-                        E,
-                        f"DIM {shown}: array size {_number_text(value)} is out of range",
-                        "dim-size",
-                        "L4370",
-                        f"Use a whole number from 1 to {MAX_DIM_SIZE}.",
-                    )
-
 
 def _repeated(repeats: Sequence[int] | None) -> set[int]:
     """The lines that a later line repeats (`repeats[i]` is the first line written like
@@ -543,10 +447,6 @@ def _repeated(repeats: Sequence[int] | None) -> set[int]:
     if repeats is None:
         return set()
     return set(compress(repeats, map(ne, repeats, range(len(repeats)))))
-
-
-def _number_text(value: float) -> str:
-    return f"{value:g}"
 
 
 def _shown(expr: A.Expr) -> str:

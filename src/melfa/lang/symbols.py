@@ -29,7 +29,12 @@ _EXTERNAL_PREFIX_KIND = {"P": Kind.POS, "J": Kind.JNT, "M": Kind.NUM, "C": Kind.
 _NUMBER_SUFFIXES = frozenset("%!#")  # integer, single and double precision [S2 §4.3.6]
 _MAX_TYPE_DEPTH = 50  # long operator chains: give up typing rather than recurse deeply
 _POSITIONAL = (Kind.POS, Kind.JNT)
-_LOGIC = (A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR)
+# The operators whose result is a number whatever their operands: a tuple (compared by
+# identity in C), not a set (Enum's __hash__ is a Python call).
+_NUMERIC_OPS = (
+    *(A.BinaryOp.EQ, A.BinaryOp.NE, A.BinaryOp.LT, A.BinaryOp.LE, A.BinaryOp.GT, A.BinaryOp.GE),
+    *(A.BinaryOp.AND, A.BinaryOp.OR, A.BinaryOp.XOR),
+)
 
 
 class Made(Record):
@@ -175,7 +180,7 @@ class Symbols(Record, frozen=False):
             return Kind.NUM if expr.op is A.UnaryOp.NOT else inner
         if cls is A.Binary:
             assert isinstance(expr, A.Binary)
-            if expr.op.is_comparison or expr.op in _LOGIC:
+            if expr.op in _NUMERIC_OPS:  # a comparison or AND, OR, XOR
                 return Kind.NUM
             left = self.kind_of(expr.left, depth + 1)
             right = self.kind_of(expr.right, depth + 1)
