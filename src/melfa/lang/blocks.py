@@ -183,6 +183,13 @@ class _Matcher:
         return None
 
     def line(self, index: int, stmt: A.Statement) -> None:
+        if (
+            type(stmt) is A.If
+            and stmt.then is not None
+            and type(stmt.then) is not A.Break
+            and type(stmt.else_) is not A.Break
+        ):
+            return  # a one-line IF pairs with nothing, unless it BREAKs (the commonest IF)
         out = self.out
         span = stmt.span
         if isinstance(stmt, A.For):

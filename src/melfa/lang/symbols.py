@@ -74,6 +74,14 @@ class Symbols(Record, frozen=False):
         if isinstance(stmt, A.Assign):
             if not isinstance(stmt.target, A.Element):
                 defined.add(target_name(stmt.target).name)
+        elif isinstance(stmt, A.If):
+            for branch in (stmt.then, stmt.else_):
+                if isinstance(branch, A.Assign) and not isinstance(branch.target, A.Element):
+                    defined.add(target_name(branch.target).name)
+                elif isinstance(branch, A.Return):
+                    self.returns_with_mode |= branch.mode is not None
+        elif isinstance(stmt, A.Return):
+            self.returns_with_mode |= stmt.mode is not None
         elif isinstance(stmt, A.DefVar):
             kind = _DEF_KIND[stmt.type]
             for n in stmt.names:
@@ -104,20 +112,12 @@ class Symbols(Record, frozen=False):
                 self.interrupts.setdefault(int(prio.value), index)
             if stmt.kind is A.JumpKind.GOSUB:
                 self.interrupt_targets.append(stmt.target)
-        elif isinstance(stmt, A.Return):
-            self.returns_with_mode |= stmt.mode is not None
         elif isinstance(stmt, A.For):
             defined.add(stmt.counter.name)
         elif isinstance(stmt, A.Input):
             defined.update(target_name(t).name for t in stmt.targets)
         elif isinstance(stmt, A.Fprm):
             defined.update(p.name for p in stmt.params)
-        elif isinstance(stmt, A.If):
-            for branch in (stmt.then, stmt.else_):
-                if isinstance(branch, A.Assign) and not isinstance(branch.target, A.Element):
-                    defined.add(target_name(branch.target).name)
-                elif isinstance(branch, A.Return):
-                    self.returns_with_mode |= branch.mode is not None
 
     def declare(self, index: int, name: A.Name, kind: Kind, how: str) -> None:
         first = self.declared_at.get(name.name)
@@ -148,8 +148,49 @@ class Symbols(Record, frozen=False):
 
     def kind_of(self, expr: A.Expr | None, depth: int = 0) -> Kind | None:
         """The kind of `expr` when it is certain, else None (§2.4, §5, §7)."""
+        # The commonest classes first, each told by its class alone (no isinstance call:
+        # the checker types every operand, move target and value of a program).
         if depth > _MAX_TYPE_DEPTH:
             return None
+        cls = type(expr)
+        if cls is A.Name:
+            return self.kind_of_name(expr.name)  # type: ignore[union-attr,arg-type]
+        if cls is A.Number:
+            return Kind.NUM
+        if cls is A.Binary:
+            op = expr.op  # type: ignore[union-attr]
+            if op in _NUMERIC_OPS:  # a comparison or AND, OR, XOR
+                return Kind.NUM
+            left = self.kind_of(expr.left, depth + 1)  # type: ignore[union-attr]
+            right = self.kind_of(expr.right, depth + 1)  # type: ignore[union-attr]
+            if left in _POSITIONAL and right is not Kind.STR:
+                return left
+            if left is Kind.NUM and right is Kind.NUM:
+                return Kind.NUM
+            if left is Kind.STR and right is Kind.STR and op is A.BinaryOp.ADD:
+                return Kind.STR
+            return None
+        if cls is A.Index:
+            return self.kind_of_name(expr.name.name)  # type: ignore[union-attr]
+        if cls is A.Element:
+            return Kind.NUM
+        if cls is A.Unary:
+            inner = self.kind_of(expr.operand, depth + 1)  # type: ignore[union-attr]
+            return Kind.NUM if expr.op is A.UnaryOp.NOT else inner  # type: ignore[union-attr]
+        if cls is A.Call:
+            assert isinstance(expr, A.Call)
+            if expr.user:
+                return Kind.STR if expr.name.endswith("$") else None
+            spec = FUNCTIONS.get(expr.name)
+            return spec.result if spec is not None else None
+        if cls is A.PositionLiteral:
+            assert isinstance(expr, A.PositionLiteral)
+            return Kind.POS if expr.flags is not None or len(expr.elements) > 8 else None
+        if cls is A.String:
+            return Kind.STR
+        if cls is A.Pallet:
+            return Kind.POS
+        return None
         cls = type(expr)
         if cls is A.Number:
             return Kind.NUM
