@@ -191,47 +191,6 @@ class Symbols(Record, frozen=False):
         if cls is A.Pallet:
             return Kind.POS
         return None
-        cls = type(expr)
-        if cls is A.Number:
-            return Kind.NUM
-        if cls is A.String:
-            return Kind.STR
-        if cls is A.Name:
-            assert isinstance(expr, A.Name)
-            return self.kind_of_name(expr.name)
-        if cls is A.Index:
-            assert isinstance(expr, A.Index)
-            return self.kind_of_name(expr.name.name)
-        if cls is A.Element:
-            return Kind.NUM
-        if cls is A.Pallet:
-            return Kind.POS
-        if cls is A.PositionLiteral:
-            assert isinstance(expr, A.PositionLiteral)
-            return Kind.POS if expr.flags is not None or len(expr.elements) > 8 else None
-        if cls is A.Call:
-            assert isinstance(expr, A.Call)
-            if expr.user:
-                return Kind.STR if expr.name.endswith("$") else None
-            spec = FUNCTIONS.get(expr.name)
-            return spec.result if spec is not None else None
-        if cls is A.Unary:
-            assert isinstance(expr, A.Unary)
-            inner = self.kind_of(expr.operand, depth + 1)
-            return Kind.NUM if expr.op is A.UnaryOp.NOT else inner
-        if cls is A.Binary:
-            assert isinstance(expr, A.Binary)
-            if expr.op in _NUMERIC_OPS:  # a comparison or AND, OR, XOR
-                return Kind.NUM
-            left = self.kind_of(expr.left, depth + 1)
-            right = self.kind_of(expr.right, depth + 1)
-            if left in _POSITIONAL and right is not Kind.STR:
-                return left
-            if left is Kind.NUM and right is Kind.NUM:
-                return Kind.NUM
-            if left is Kind.STR and right is Kind.STR and expr.op is A.BinaryOp.ADD:
-                return Kind.STR
-        return None
 
 
 # The statements `Symbols.statement` reads.
