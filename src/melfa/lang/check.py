@@ -223,6 +223,8 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
         repeated = _repeated(repeats)  # the lines some later line is written like
         quiet_lines: set[int] = set()
         said = self.out, long_names, self.undefined, self.unknown_external, self.v_named
+        stack: list[Any] = []  # the nodes of a line still to visit
+        pop, push = stack.pop, stack.append
         for index, stmt in enumerate(self.table.statements):
             if stmt is None or type(stmt) is A.InvalidStatement:
                 continue
@@ -237,8 +239,7 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
             warned_here = {c.name for c in stmt.counters} if type(stmt) is A.Next else no_counters
             # `A.walk(stmt)`, inline, each node checked as it is reached: the nodes in the
             # same order (the first use of a name is the one reported).
-            stack: list[Any] = [stmt]
-            pop, push = stack.pop, stack.append
+            push(stmt)
             while stack:
                 node = pop()
                 cls = type(node)
@@ -364,18 +365,22 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
             )
 
     def assign(self, node: A.Assign) -> None:
-        if self.read_only(node):
-            return
-        self.act_variable(node)
         target = node.target
+        name = target_name(target).name
+        # Each check is called only where it may find something (this runs on every
+        # assignment): system variables have a _ second, ACT1 = … starts with ACT.
+        if name[1:2] == "_" and self.read_only(node):
+            return
+        if type(target) is A.Name and name[:3] == "ACT":
+            self.act_variable(node)
         if isinstance(target, A.Element):
             tt: Kind | None = Kind.NUM
         else:
-            tt = self.symbols.kind_of_name(target_name(target).name)
+            tt = self.symbols.kind_of_name(name)
         vt = self.symbols.kind_of(node.value)
         if node.pulse is not None:
             self.dly_range(node.pulse)
-        if tt is Kind.NUM:
+        if tt is Kind.NUM and type(target) is A.Element:
             self.angle_in_degrees(node)
         if tt is None and self.position_in_number(node, vt):
             return

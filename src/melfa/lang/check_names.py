@@ -36,7 +36,7 @@ _ARITHMETIC = frozenset(
 )  # fmt: skip
 _SYSTEM_NAMES = tuple(SYSTEM_VARIABLES)
 _FUNCTION_NAMES = tuple(FUNCTIONS)
-_ANGLES = frozenset({A.ElementKind.A, A.ElementKind.B, A.ElementKind.C})
+_ANGLES = (A.ElementKind.A, A.ElementKind.B, A.ElementKind.C)  # a tuple: no Enum hash
 _FULL_TURN = 2 * math.pi
 _EXAMPLE = {Kind.NUM: "M1", Kind.STR: "C1$", Kind.POS: "P1", Kind.JNT: "J1"}
 
