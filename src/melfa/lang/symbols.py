@@ -56,6 +56,9 @@ class Symbols(Record, frozen=False):
     interrupt_targets: list[A.JumpTarget] = field(default_factory=list)  # DEF ACT … GOSUB
     duplicates: list[tuple[A.Name, Made, str]] = field(default_factory=list)  # (name, first, how)
     returns_with_mode: bool = False  # some RETURN 0|1 (an interrupt routine's end)
+    # `kind_of_name`'s answers, each worked out once (the checker asks about every use of
+    # every name); emptied when a DEF changes what a name is.
+    kinds: dict[str, Kind | None] = field(default_factory=dict, compare=False)
 
     @classmethod
     def collect(
@@ -126,11 +129,19 @@ class Symbols(Record, frozen=False):
             return
         self.declared[name.name] = kind
         self.declared_at[name.name] = Made(index, name)
+        self.kinds.clear()
 
     # ----------------------------------------------------------------------------- types
 
     def kind_of_name(self, name: str) -> Kind | None:
         """A variable's kind: its DEF, else its first letter (§2.1); None when unknown."""
+        kinds = self.kinds
+        if name in kinds:
+            return kinds[name]
+        kind = kinds[name] = self._kind_of_name(name)
+        return kind
+
+    def _kind_of_name(self, name: str) -> Kind | None:
         declared = self.declared.get(name)
         if declared is not None:
             return declared
