@@ -106,8 +106,9 @@ class RoutineChecks(Reporter):
         # routine is then found by bisection, not by walking the program once per routine.
         returns: list[int] = []
         jumps: list[tuple[int, tuple[A.JumpTarget, ...]]] = []
+        statements = self.table.statements
         for i in self.table.having(_RETURNS_OR_JUMPS):
-            stmt = lines[i].statement
+            stmt = statements[i]
             cls = type(stmt)
             if cls is A.Return:
                 returns.append(i)
@@ -169,6 +170,9 @@ def _key(target: A.JumpTarget) -> str | int:
 
 
 _STOPS = frozenset({A.CommandKind.END, A.CommandKind.ERROR})
+# Tuples of classes, made once (``A | B`` would make a union object on every test).
+_FLOW = (A.Goto, A.Gosub, A.OnJump, A.Return, A.If, A.For, A.While)
+_TARGETS = (A.LabelRef, A.LineRef)
 
 
 def _ends(lines: tuple[A.Line, ...], at: int) -> bool:
@@ -178,7 +182,7 @@ def _ends(lines: tuple[A.Line, ...], at: int) -> bool:
         stmt = line.statement
         if isinstance(stmt, A.Command) and stmt.kind in _STOPS:
             return True
-        if isinstance(stmt, A.Goto | A.Gosub | A.OnJump | A.Return | A.If | A.For | A.While):
+        if isinstance(stmt, _FLOW):
             return False
     return True
 
@@ -200,7 +204,7 @@ def _gotos(stmt: A.Statement | None) -> tuple[A.JumpTarget, ...]:
     if isinstance(stmt, A.If):
         found: list[A.JumpTarget] = []
         for branch in (stmt.then, stmt.else_):
-            if isinstance(branch, A.LabelRef | A.LineRef):
+            if isinstance(branch, _TARGETS):
                 found.append(branch)
             elif isinstance(branch, A.Goto):
                 found.append(branch.target)
