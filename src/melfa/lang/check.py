@@ -449,8 +449,8 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
 def _repeated(repeats: Sequence[int] | None) -> set[int]:
     """The lines that a later line repeats (`repeats[i]` is the first line written like
     line i): the only lines whose findings `statements` needs to count."""
-    if repeats is None:
-        return set()
+    if repeats is None or len(set(repeats)) == len(repeats):
+        return set()  # no line written twice
     return set(compress(repeats, map(ne, repeats, range(len(repeats)))))
 
 
