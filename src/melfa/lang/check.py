@@ -182,10 +182,6 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
         no_counters: frozenset[str] = frozenset()
         warned_here: Set[str] = no_counters
 
-        def name(node: A.Name) -> None:
-            if node.name not in quiet:
-                self.name(node, long_names, warned_here)
-
         def label_ref(node: A.LabelRef) -> None:
             if node.name not in labels:
                 self.undefined_label(node, labels)
@@ -203,7 +199,6 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
                 )
 
         checks: dict[type, Callable[[Any], None]] = {
-            A.Name: name,
             A.LabelRef: label_ref,
             A.LineRef: line_ref,
             **{cls: check.__get__(self) for cls, check in _SPECIFIC.items()},
@@ -215,7 +210,7 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
             for cls, fields in A.CHILD_FIELDS.items()
             if fields or cls in checks
         }
-        number = A.Number
+        number, name_class = A.Number, A.Name
         # A line written exactly like an earlier one that got no finding and changed no
         # "once per name" set gets none either: those sets only grow, and only keep findings
         # out. Such a line's walk is skipped (real programs repeat lines: HOPEN 1, RETURN).
@@ -243,6 +238,10 @@ class _Analyzer(LineChecks, ValueChecks, NameChecks, RoutineChecks, VChecks):
             while stack:
                 node = pop()
                 cls = type(node)
+                if cls is name_class:  # the commonest node with a check: tested first, inline
+                    if node.name not in quiet:
+                        self.name(node, long_names, warned_here)
+                    continue
                 plan = plans.get(cls)
                 if plan is None:  # a tuple of nodes, or a leaf with nothing to check
                     if cls is tuple:
