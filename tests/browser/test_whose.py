@@ -285,3 +285,34 @@ def test_a_run_stopped_by_a_reload_says_so_when_the_page_is_back(
     # The toast may come and go (4 s) while the page gets ready on a busy machine.
     told = s.saw_toast("Your run was stopped")
     assert "every page of yours had closed" in told
+
+
+def test_an_open_menu_lies_above_the_toasts(open_session: Any, server: Server) -> None:
+    """Errors stay until closed, and the toasts lie where the user menu opens: a student with
+    four unread errors could not reach Sign out (CI, a toast took the click for 10 s)."""
+    s: Session = open_session("carol")
+    s.eval(
+        """async () => { const { toast } = await import('/static/js/ui.js');
+           for (let i = 0; i < 4; i++) toast('Something went wrong', {kind: 'error',
+             text: 'A long explanation of what went wrong and what to do about it now'}); }"""
+    )
+    for button, menu in (("#user-button", "#user-menu"), ("#ws-switch", "#ws-menu")):
+        if not s.page.locator(button).is_visible():
+            continue
+        s.page.click(button)
+        covered = s.eval(
+            """(menu) => [...document.querySelectorAll(`${menu} [role=menuitem], ${menu} button`)]
+                 .filter((e) => e.getClientRects().length)
+                 .filter((e) => { const r = e.getBoundingClientRect();
+                   const x = r.left + r.width / 2, y = r.top + r.height / 2;
+                   const hit = document.elementFromPoint(x, y);
+                   return !(hit && e.contains(hit)); })
+                 .map((e) => e.textContent.trim())""",
+            menu,
+        )
+        assert covered == [], (menu, covered)
+        s.page.keyboard.press("Escape")
+    assert s.page.locator("#toasts .toast.error").count() >= 1  # still there, under the menu
+    s.page.click("#user-button")
+    s.page.click("#logout")
+    s.page.wait_for_url(SIGNED_OUT)
