@@ -164,9 +164,13 @@ async function showRevision(r, number, previous) {
   const count = changed === 1 ? W["lines-one"] : fill(W["lines-many"], { n: changed });
   $("cv-diff-note").textContent = before ? fill(W.diff, { number, previous, lines: count }) : fill(W["first-revision"], { number });
   let line = 0;
+  const digits = Math.max(3, String(lines.length).length);
+  // Number, mark and a space before each line's text: the wrapped rest of a long line hangs
+  // below its text (app.css .program-lines).
+  $("cv-program").style.setProperty("--gutter", `${digits + 3}ch`);
   $("cv-program").replaceChildren(...lines.map((l) => {
     if (l.op !== "-") line += 1;
-    return el("span", { class: l.op === "+" ? "add" : l.op === "-" ? "del" : "same" }, `${l.op === "-" ? "   " : String(line).padStart(3)} ${l.op} ${l.text}\n`);
+    return el("span", { class: l.op === "+" ? "add" : l.op === "-" ? "del" : "same" }, `${l.op === "-" ? " ".repeat(digits) : String(line).padStart(digits)} ${l.op} ${l.text}\n`);
   }));
   for (const b of document.querySelectorAll("#cv-revisions button")) b.setAttribute("aria-current", String(Number(b.dataset.number) === number));
 }

@@ -64,7 +64,13 @@ export class ProgramEditor extends EventTarget {
     });
     workspace.on("replaced", () => this.setText(workspace.program));
     workspace.on("remote", ({ delta }) => this.applyRemote(delta));
-    workspace.on("access", () => this.editor.setReadOnly(!workspace.writable));
+    // Someone else's work read (staff from the desk or the class view): long lines wrap,
+    // so a reader sees each line whole without scrolling sideways; one's own work does not.
+    workspace.on("access", () => {
+      this.editor.setReadOnly(!workspace.writable);
+      const live = workspace.live;
+      this.session.setUseWrapMode(Boolean(live?.synced && live.visiting && !live.writable));
+    });
     this.editor.setReadOnly(true); // until the live document is here
     workspace.on("points", () => {
       if (this.liveBox.checked) this.liveCheck();

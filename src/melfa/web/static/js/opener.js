@@ -124,7 +124,7 @@ export async function showDiff(workspace, number, restore) {
   diffDialog.replaceChildren(
     el("h2", { id: "diff-title" }, `Revision ${number} compared with now`),
     el("p", { class: "muted" }, changed ? `${changed} line${changed === 1 ? "" : "s"} differ: − only in revision ${number}, + only now.` : "The program is the same as now."),
-    el("pre", { class: "diff", tabindex: "0", "aria-label": "Differences" },
+    el("pre", { class: "diff program-lines", tabindex: "0", "aria-label": "Differences" },
       lines.map((l) => el("span", { class: l.op === "+" ? "add" : l.op === "-" ? "del" : "same" }, `${l.op} ${l.text}\n`))),
     el("div", { class: "dialog-actions" },
       el("button", { type: "button", class: "btn", onclick: () => diffDialog.close() }, "Close"),
