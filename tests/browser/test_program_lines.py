@@ -14,6 +14,7 @@ import pytest
 from playwright.sync_api import expect
 
 from tests.browser.conftest import Server, Session, free_the_robot
+from tests.browser.test_replay import _runs
 from tests.waiting import wait_until
 
 pytestmark = pytest.mark.timeout(240)
@@ -27,12 +28,6 @@ COMMENT = (
     "' above the block: clear the fixture's left wall by 40 mm, the hand open until the jaws "
     "are level"
 )
-
-
-def _runs(s: Session) -> list[dict[str, Any]]:
-    reply = s.context.request.get(s.server.url + "/api/runs")
-    assert reply.ok, reply.text()
-    return list(reply.json())
 
 
 def _csrf(s: Session) -> str:
