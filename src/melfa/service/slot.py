@@ -14,7 +14,16 @@ the slot holds reads it there:
   program, through only when the program and points it would hold passed pre-flight
   (`Slot.program_digest`, `Slot.points_digest`);
 - the run recorder (`melfa.service.recording`) says what a recorded run had loaded and
-  names the running line through its step map (`Slot.line_of`), as does a run-time error.
+  names the running line through its step map (`Slot.line_of`), as does a run-time error;
+- a client asking whether a text is the one in the slot (`/api/robot/slot/match`) asks
+  `Slot.holds`: the same program, step for step in its order (the step → line map refers to
+  its lines), and the same positions by name in any order. The controller keeps a
+  program's steps by step number and its positions as named variables (read back one by
+  name, `LISTP<name>`, `VAL<name>;P`; counted in PDIR; names ignore case), each EMDAT
+  item replacing the position of its name, as the virtual controller does
+  (`melfa.sim.store.EditBuffer.positions`, by upper-case name). So a points file with the
+  same points in another order, or points loaded on their own onto the program, hold the
+  same positions: the same text for the controller, and here.
 
 A program and its points loaded separately (the thesis's LOAD PROGRAM, then LOAD POINTS)
 are the pair they make: the same fingerprint as the two loaded together. Points loaded onto
@@ -88,6 +97,31 @@ class Slot:
         """`UploadPlan.points_digest` of the points it holds (the gate's key)."""
         return digest(self.point_lines)
 
+    @cached_property
+    def positions(self) -> Mapping[str, str]:
+        """The positions it holds by the name the controller sees (upper case) -> their
+        value as sent (`positions_of`)."""
+        return positions_of(self.point_lines)
+
+    def holds(self, plan: UploadPlan) -> bool:
+        r"""Whether loading ``plan`` would leave the controller holding what it holds now:
+        the same steps in the same order and the same positions by name, in any order.
+
+        >>> from melfa.lang.plan import plan_upload
+        >>> at = dt.datetime(2026, 1, 1)
+        >>> one = "DEF POS P1=(1,2,3,4,5,6)(7,0)\nDEF POS P2=(6,5,4,3,2,1)(7,0)\n"
+        >>> two = "DEF POS p2=(6,5,4,3,2,1)(7,0)\nDEF POS P1=(1,2,3,4,5,6)(7,0)\n"
+        >>> plan = plan_upload("MOV P1\nMOV P2\nEND\n", one)
+        >>> slot = Slot("ann", at, plan.program_texts, plan.point_texts)
+        >>> slot.holds(plan_upload("MOV P1\nMOV P2\nEND\n", two))
+        True
+        >>> slot.holds(plan_upload("MOV P2\nMOV P1\nEND\n", one))
+        False
+        """
+        return self.program_lines == plan.program_texts and self.positions == positions_of(
+            plan.point_texts
+        )
+
     def line_of(self, step: int | None) -> int | None:
         """The loaded text's line of a controller step (None: not known).
 
@@ -142,6 +176,25 @@ def after_load(
         step_lines=dict(plan.step_lines),
         program=plan.program,
     )
+
+
+def positions_of(lines: tuple[str, ...]) -> dict[str, str]:
+    """Points as sent (``P1=(…)(7,0)``) by the name the controller sees -> their value as
+    sent. A line whose name cannot be read is its own key (equal only to itself).
+
+    >>> positions_of(("p1=(1,2,3,4,5,6)(7,0)", "Jsafe=(0,0,90,0,90,0)"))
+    {'P1': '(1,2,3,4,5,6)(7,0)', 'JSAFE': '(0,0,90,0,90,0)'}
+    """
+    keys = {p.line: p.key for p in parse_points("\n".join(lines)).points}
+    out: dict[str, str] = {}
+    for n, line in enumerate(lines, 1):
+        key = keys.get(n)
+        name, sign, value = line.partition("=")
+        if key is None or not sign or name.strip().upper() != key:
+            out[line] = line
+        else:
+            out[key] = value
+    return out
 
 
 def _not_named(held: tuple[str, ...], sent: tuple[str, ...]) -> tuple[str, ...]:

@@ -197,12 +197,15 @@ async def slot_match(body: SlotMatchIn, drive: DriveDep, context: ContextDep) ->
     """Whether the program and points given are the ones in the controller's slot, and if
     so its step -> line map: a page that did not load them itself (the queue's claim, a
     second tab, signing in again) still marks the running line and says the program is
-    the editor's. Reads nothing but the state and sends nothing to the robot."""
+    the editor's. The same means what the controller would hold (`Slot.holds`): the same
+    steps in their order, the same positions in any order; the fingerprint returned is the
+    slot's, the one a run names. Reads nothing but the state and sends nothing to the
+    robot."""
     slot = drive.service.state.slot
     if slot is None:
         return SlotMatchOut(same=False, fingerprint=None, step_lines=None)
     plan = await planned(context, body.program, body.points)
-    if plan.fingerprint != slot.fingerprint:
+    if not slot.holds(plan):
         return SlotMatchOut(same=False, fingerprint=None, step_lines=None)
     return SlotMatchOut(same=True, fingerprint=slot.fingerprint, step_lines=dict(slot.step_lines))
 
