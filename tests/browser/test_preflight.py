@@ -10,7 +10,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, expect
 
-from melfa.vocab.refusals import Refusal
+from melfa.vocab.refusals import Asked, Refusal
 from tests.browser.conftest import Server, Session, serving
 from tests.waiting import wait_until
 
@@ -117,7 +117,7 @@ def test_an_edited_cell_asks_for_preflight_again_before_a_run(
         expect(saved).to_contain_text("passes pre-flight again in this cell")  # the gate is on
         bob.eval("() => document.getElementById('toasts').replaceChildren()")
         page.click("#act-run")
-        says, fix = Refusal.CELL_CHANGED.words()
+        says, fix = Refusal.CELL_CHANGED.words(asked=Asked.RUN)  # pass again, run again
         refusal = page.locator(".toast", has_text=says)
         expect(refusal).to_be_visible()
         expect(refusal).to_contain_text(fix)

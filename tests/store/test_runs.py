@@ -1,6 +1,6 @@
 """Recorded runs in a real SQLite file: saved, listed per user or for everyone, read back
-with their blobs, thinned as they age (the summary stays), and the simulated path a run
-is compared with (the runner's own pre-flight first, else a partner's)."""
+with their blobs, thinned as they age (the summary stays). The simulated path a run is
+compared with is a passed pre-flight's: tests/store/test_preflights.py."""
 
 from __future__ import annotations
 
@@ -83,49 +83,3 @@ def test_old_runs_lose_their_samples_but_keep_their_summary(
         assert gone.frames is None and gone.simulated is None
         assert gone.info.report == {"deviation_mm": 3.5} and gone.info.outcome == "finished"
         assert not store.runs.get(kept).info.thinned
-
-
-def test_a_run_is_compared_with_the_runners_own_simulation_else_a_partners(
-    store: Store, clock: FakeClock
-) -> None:
-    fp = "a" * 64
-    assert store.runs.simulation("ann", fp) is None
-    store.runs.record_simulation("bob", fp, 9.0, b"bob's")
-    found = store.runs.simulation("ann", fp)
-    assert found is not None and (found.username, found.path) == ("bob", b"bob's")
-    clock.advance(minutes=1)
-    store.runs.record_simulation("ann", fp, 9.5, b"ann's")
-    clock.advance(minutes=1)
-    store.runs.record_simulation("bob", fp, 9.1, b"bob's again")  # newer, but not hers
-    found = store.runs.simulation("ANN", fp)
-    assert found is not None and (found.username, found.cycle_time, found.path) == (
-        "ann",
-        9.5,
-        b"ann's",
-    )
-    store.runs.record_simulation("ann", fp, 8.0, b"ann's again")  # replaces her older one
-    found = store.runs.simulation("ann", fp)
-    assert found is not None and found.path == b"ann's again"
-    assert store.runs.simulation("ann", "b" * 64) is None
-
-
-def test_a_run_is_compared_with_a_simulation_in_the_cell_it_ran_in_first(
-    store: Store, clock: FakeClock
-) -> None:
-    """Hers from before the instructor's edit of the cell loses to a partner's after it;
-    with none in that cell, one from an earlier cell (hers first) is still the one."""
-    fp = "c" * 64
-    store.runs.record_simulation("ann", fp, 9.0, b"ann's, old cell", cell="old")
-    clock.advance(minutes=1)
-    store.runs.record_simulation("bob", fp, 9.4, b"bob's, new cell", cell="new")
-    clock.advance(minutes=1)
-    store.runs.record_simulation("cyd", fp, 9.2, b"cyd's, old cell", cell="old")
-    found = store.runs.simulation("ann", fp, cell="new")
-    assert found is not None and found.path == b"bob's, new cell"
-    found = store.runs.simulation("ann", fp, cell="old")
-    assert found is not None and found.path == b"ann's, old cell"
-    found = store.runs.simulation("ann", fp, cell="newer still")
-    assert found is not None and found.path == b"ann's, old cell"
-    store.runs.record_simulation("ann", fp, 9.3, b"ann's, new cell", cell="new")  # again
-    found = store.runs.simulation("ann", fp, cell="new")
-    assert found is not None and found.path == b"ann's, new cell"

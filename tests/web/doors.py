@@ -128,9 +128,17 @@ def ann_holding(lab: Lab) -> Iterator[Lab]:
     lease is taken by it); she keeps a rosbridge connection open all along, as a student
     with the IDE open (a lease ends with its holder's last connection)."""
     lab.add_students(("ann",))
-    holder = lab.ros("ann", "melfa")
+    with holding(lab, "ann"):
+        yield lab
+
+
+@contextlib.contextmanager
+def holding(lab: Lab, user: str) -> Iterator[Lab]:
+    """``user`` (signed in) holds the lab robot with the servo on, a rosbridge connection
+    of theirs open all along."""
+    holder = lab.ros(user, "melfa")
     try:
-        assert lab.rest("ann", "POST", "/api/robot/servo", {"on": True}).is_success
+        assert lab.rest(user, "POST", "/api/robot/servo", {"on": True}).is_success
         yield lab
     finally:
         holder.close()

@@ -18,8 +18,9 @@ import roslibpy
 from melfa.lang.plan import plan_upload
 from melfa.service.policy import Gate
 from melfa.service.slot import Slot
+from melfa.store.preflights import Pass
 from melfa.vocab.commands import Command
-from melfa.vocab.refusals import Refusal
+from melfa.vocab.refusals import Asked, Refusal
 from tests.waiting import wait_until
 from tests.web.doors import POINTS, Errors, Lab, ann_holding, lab_server
 from tests.web.doors import call as ros_call
@@ -27,8 +28,12 @@ from tests.web.doors import program as good
 
 pytestmark = pytest.mark.timeout(300)
 
-CELL_TEXT = " ".join(Refusal.CELL_CHANGED.words())
-"""What every door says (one home: `melfa.vocab.refusals`)."""
+LOAD_TEXT, RUN_TEXT, QUEUE_TEXT = (
+    " ".join(Refusal.CELL_CHANGED.words(asked=asked))
+    for asked in (Asked.LOAD, Asked.RUN, Asked.QUEUE)
+)
+"""What every door says to a refused load, run and queue entry (one home:
+`melfa.vocab.refusals`); a run's fix is to pass and run again, not to load."""
 PROGRAM = good("cell")
 MARKER = b"door cell"
 FEEDER = {"boxes": [{"name": "feeder", "min": [-600, -600, 0], "max": [-500, -500, 80]}]}
@@ -49,9 +54,9 @@ def preflight(lab: Lab) -> None:
     assert reply.status_code == 200 and reply.json()["passed"] is True, reply.text
 
 
-def refused_by_the_cell(reply: httpx.Response) -> None:
+def refused_by_the_cell(reply: httpx.Response, text: str) -> None:
     error = reply.json()["error"]
-    assert (reply.status_code, error["code"], error["message"]) == (409, "cell-changed", CELL_TEXT)
+    assert (reply.status_code, error["code"], error["message"]) == (409, "cell-changed", text)
     assert error["detail"]["fix"] == "preflight"  # the IDE's one-click fix: run it again
 
 
@@ -81,21 +86,21 @@ def test_an_edited_cell_cancels_earlier_passes_at_every_door(lab: Lab) -> None:
     assert edited.status_code == 200, edited.text
 
     # REST: the loaded program's run and a new load of the same text.
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/run", {"servo_on": True}))
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/project", project))
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/queue", project))
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/run", {"servo_on": True}), RUN_TEXT)
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/project", project), LOAD_TEXT)
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/queue", project), QUEUE_TEXT)
 
     # rosbridge's services.
     ros = lab.ros("ann", "melfa")
     try:
-        assert ros_call(ros, "run") == {"success": False, "message": CELL_TEXT}
-        assert ros_call(ros, "load_project", project) == {"success": False, "message": CELL_TEXT}
+        assert ros_call(ros, "run") == {"success": False, "message": RUN_TEXT}
+        assert ros_call(ros, "load_project", project) == {"success": False, "message": LOAD_TEXT}
     finally:
         ros.close()
 
     # The thesis's messages, in both modes.
     for mode in ("melfa", "thesis"):
-        assert thesis_run(lab, mode) == [CELL_TEXT]
+        assert thesis_run(lab, mode) == [RUN_TEXT]
     assert lab.sent().count(b"RUN") == runs_before  # nothing ran in the new cell
 
     # Pre-flight again in the cell as it is now: the loaded program runs, no new load.
@@ -128,3 +133,25 @@ def test_a_pass_counts_in_the_cell_it_ran_in() -> None:
     gate.passed(plan, 5.0, cell="b")
     assert gate.refusal(Command.RUN, None, slot) is None
     assert gate.cycle_time(plan) == 5.0  # the queue's estimate: the cell as it is
+
+
+def test_passes_read_from_the_store_open_the_gate_as_a_pass_does() -> None:
+    """What the server loads at start (`Gate.load`, the store's rows) counts as the pass
+    itself did: in its cell, for anyone, its newest cycle time the queue's estimate."""
+    plan = plan_upload(PROGRAM, POINTS)
+    stored = [
+        Pass(plan.program_digest, plan.points_digest, "a", 4.0),
+        Pass(plan.program_digest, plan.points_digest, "b", 5.0),
+        Pass(plan.program_digest, plan.points_digest, "a", 3.5),  # a again, later
+    ]
+    gate = Gate(required=True)
+    cell = "a"
+    gate.cell = lambda: cell
+    gate.load(stored)
+    assert gate.refusal(Command.LOAD_PROJECT, plan, None) is None
+    assert gate.cycle_time(plan) == 3.5
+    cell = "c"
+    assert gate.refusal(Command.LOAD_PROJECT, plan, None) is Refusal.CELL_CHANGED
+    assert gate.cycle_time(plan) == 3.5  # the last known
+    other = plan_upload(good("other"), POINTS)
+    assert gate.refusal(Command.LOAD_PROJECT, other, None) is Refusal.SIMULATION_REQUIRED

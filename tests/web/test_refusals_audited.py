@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import Any
 
 from melfa.vocab.commands import Command
-from melfa.vocab.refusals import Refusal
+from melfa.vocab.refusals import Asked, Refusal
 from tests.web.conftest import Web, assert_error
 
 PROGRAM = "MOV P1\nEND"
@@ -39,7 +39,7 @@ def test_a_refused_queue_join_is_audited_in_the_refusals_words(web: Web) -> None
     assert web.ivy.put("/api/desk/gate", json={"require_simulation": True}).status_code == 200
     body = {"program": PROGRAM, "points": POINTS}
     error = assert_error(web.ann.post("/api/queue", json=body), 409, "simulation-required")
-    words = " ".join(Refusal.SIMULATION_REQUIRED.words())
+    words = " ".join(Refusal.SIMULATION_REQUIRED.words(asked=Asked.QUEUE))
     assert error["message"] == words
     entries = _entries(web, "ann")
     refused = [e for e in entries if e.action == "robot.join_queue"]

@@ -21,11 +21,12 @@ What it holds, in the order it asks:
    with errors never reaches the controller.
 2. **The instructor's gate** (`Gate`, on the lab robot with ``--require-simulation``): a
    load is refused unless the same program and points, as sent (`UploadPlan.fingerprint`),
-   passed pre-flight (`Gate.passed`, recorded by the web's pre-flight; a program alone:
-   with some points), and points alone unless they and the program the slot holds did; a
-   run is refused unless what the slot holds passed. What the slot holds is the service's
-   one record of it (`melfa.service.slot.Slot`, the state's ``slot``, read through
-   `Policy.slot`): the gate keeps none of its own. A program and its points loaded
+   passed pre-flight (`Gate`: the store's one record of passes, anyone's pass of the same
+   text in the same cell; a program alone: with some points), and points alone unless
+   they and the program the slot holds did; a run is refused unless what the slot holds
+   passed. What the slot holds is the service's one record of it
+   (`melfa.service.slot.Slot`, the state's ``slot``, read through `Policy.slot`): the gate
+   keeps none of its own. A program and its points loaded
    separately (the thesis's LOAD PROGRAM then LOAD POINTS) count as the pair they make;
    a slot not known (nothing loaded since the service started, a failed load, points onto
    a program not known, a delete) passes nothing. A pass counts only in the version of
@@ -56,7 +57,7 @@ them.
 from __future__ import annotations
 
 import threading
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Iterable
 from typing import Protocol
 
 from melfa.lang.plan import Part, UploadPlan
@@ -66,19 +67,44 @@ from melfa.service.lab_network import LabNetwork
 from melfa.service.lease import Lease, LeaseChange
 from melfa.service.slot import Slot
 from melfa.vocab.commands import Command
-from melfa.vocab.refusals import Refusal
+from melfa.vocab.refusals import Asked, Refusal
 
 RUNS = frozenset({Command.RUN})
 """Commands that start the loaded program (the gate asks what the slot holds)."""
+
+
+class Pass(Protocol):
+    """A passed pre-flight as the gate reads it (the store's `melfa.store.preflights.Pass`)."""
+
+    @property
+    def program_digest(self) -> str: ...
+    @property
+    def points_digest(self) -> str: ...
+    @property
+    def cell(self) -> str: ...
+    @property
+    def cycle_time(self) -> float | None: ...
 
 
 class Gate:
     """The instructor's gate: which programs and points passed pre-flight, and in which
     version of the lab's cell (`melfa.sim.debug.cell.Cell.digest`). A pass counts only in
     the cell as it is now (`cell`): once an instructor moves a fixture, a program that
-    passed around the old one needs a new pre-flight (`Refusal.CELL_CHANGED`). What the
-    lab robot holds it reads from the one record of the slot (`melfa.service.slot.Slot`).
-    Thread-safe (pre-flight records from a worker thread)."""
+    passed around the old one needs a new pre-flight (`Refusal.CELL_CHANGED`); undoing the
+    edit makes it count again. What the lab robot holds it reads from the one record of the
+    slot (`melfa.service.slot.Slot`).
+
+    **Whose pass counts: anyone's.** The gate asks whether this program and these points,
+    as sent, ran without a pre-flight error in the cell as it is; a pass is a fact about
+    the text and the cell, not about who pressed Pre-flight, and the arm does the same
+    thing whoever loads the same text (partners sharing a workspace, a student loading the
+    text a classmate simulated). Counting only one's own pass would add no safety, only
+    another simulation of the identical run.
+
+    **One record.** What passed is the store's (`melfa.store.preflights`): the web loads
+    every pass into the gate at start (`load`) and tells it of each new one only once it
+    is stored (`passed`), so the gate's index is the store's rows, and a decision never
+    waits on the disk. Thread-safe (pre-flight records from a worker thread)."""
 
     def __init__(self, required: bool = False) -> None:
         self.required = required
@@ -92,9 +118,18 @@ class Gate:
     def passed(self, plan: UploadPlan, cycle_s: float | None = None, cell: str = "") -> None:
         """``plan``'s program and points passed pre-flight (a simulated run without
         errors) in version ``cell`` of the cell, in ``cycle_s`` simulated seconds."""
+        self._add(plan.program_digest, plan.points_digest, cell, cycle_s)
+
+    def load(self, passes: Iterable[Pass]) -> None:
+        """The passes kept in the store (oldest first), read when the server starts."""
+        for found in passes:
+            self._add(found.program_digest, found.points_digest, found.cell, found.cycle_time)
+
+    def _add(self, program: str, points: str, cell: str, cycle_s: float | None) -> None:
         with self._lock:
-            key = (plan.program_digest, plan.points_digest)
-            self._passed.setdefault(key, {})[cell] = cycle_s
+            cells = self._passed.setdefault((program, points), {})
+            cells.pop(cell, None)  # the newest pass last (`cycle_time`'s "last known")
+            cells[cell] = cycle_s
 
     def cycle_time(self, plan: UploadPlan) -> float | None:
         """``plan``'s pre-flight cycle time: in the cell as it is now, else the last known."""
@@ -217,7 +252,7 @@ class Policy:
             raise Refused(Refusal.HELD, who=self.held_by)
         gated = None if self.gate is None else self.gate.refusal(command, plan, self.slot())
         if gated is not None:
-            raise Refused(gated)
+            raise Refused(gated, asked=Asked.RUN if command in RUNS else Asked.LOAD)
         if staff and command is Command.RESET_ALARM:
             return None  # the staff side resets a student's alarm without taking over
         change = self.lease.check(actor)
@@ -253,7 +288,7 @@ class Policy:
             raise refused
         gated = None if self.gate is None else self.gate.refusal(Command.LOAD_PROJECT, plan, None)
         if gated is not None:
-            raise Refused(gated)
+            raise Refused(gated, asked=Asked.QUEUE)
 
     def cycle_time(self, plan: UploadPlan) -> float | None:
         """``plan``'s pre-flight cycle time, when it ran."""
@@ -271,4 +306,4 @@ class Policy:
             self.gate.passed(plan, cycle_s, cell)
 
 
-__all__ = ["Gate", "Policy", "Turns", "plan_refusal"]
+__all__ = ["Gate", "Pass", "Policy", "Turns", "plan_refusal"]

@@ -370,6 +370,36 @@ _SIMULATION_CELLS = Migration(
 """The version of the lab's cell each passed pre-flight ran in (`Cell.digest`; '' for
 those kept before): a real run is compared with a simulation in the cell it ran in first."""
 
+_PREFLIGHTS = Migration(
+    "0017_preflights",
+    (
+        """
+        CREATE TABLE preflights (
+            username TEXT NOT NULL COLLATE NOCASE,
+            fingerprint TEXT NOT NULL,
+            program_digest TEXT,
+            points_digest TEXT,
+            cell TEXT NOT NULL,
+            created TEXT NOT NULL,
+            cycle_time REAL,
+            path BLOB NOT NULL,
+            PRIMARY KEY (username, fingerprint, cell)
+        )
+        """,
+        "INSERT INTO preflights (username, fingerprint, cell, created, cycle_time, path)"
+        " SELECT username, fingerprint, cell, created, cycle_time, path FROM simulations",
+        "DROP TABLE simulations",
+        "CREATE INDEX preflights_fingerprint ON preflights (fingerprint, created)",
+    ),
+)
+"""The one record of what passed pre-flight (`melfa.store.preflights`), replacing
+``simulations``: who, the program and points as sent (``fingerprint``, and the gate's
+``program_digest`` and ``points_digest``), the version of the lab's cell it ran in, its
+cycle time and path. The instructor's gate reads it at start (a restart keeps every pass)
+and a real run is compared with it. One row per user, text and cell: a pass in an earlier
+cell is kept, so undoing an edit of the cell makes it count again. Rows kept before have no
+digests (they were never kept): they serve the comparison only."""
+
 MIGRATIONS: tuple[Migration, ...] = (
     _ACCOUNTS,
     _WORKSPACES,
@@ -387,5 +417,6 @@ MIGRATIONS: tuple[Migration, ...] = (
     _AUDIT_ROBOT,
     _ROBOT_SETTINGS,
     _SIMULATION_CELLS,
+    _PREFLIGHTS,
 )
 """Every migration, in the order they apply. Append only."""

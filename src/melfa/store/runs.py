@@ -1,4 +1,5 @@
-"""Recorded runs on a shared robot, and the simulated paths they are compared with.
+"""Recorded runs on a shared robot (the simulated paths they are compared with are the
+passed pre-flights', `melfa.store.preflights`).
 
 The store keeps what the web hands it: a run's summary (who, which target, when, how long,
 how it ended, the program's fingerprint and text, the cycle times, the report as JSON) and
@@ -84,17 +85,6 @@ class Run:
     simulated: bytes | None
 
 
-@dataclass(frozen=True, slots=True)
-class Simulation:
-    """A passed pre-flight's path for a fingerprint."""
-
-    username: str
-    fingerprint: str
-    created: datetime
-    cycle_time: float | None
-    path: bytes
-
-
 _INFO = """
     SELECT id, target, username, started, duration, outcome, fingerprint, frame_count,
            length(frames) AS frames_bytes, simulated_by, cycle_real, cycle_simulated, report,
@@ -123,58 +113,11 @@ def _info(row: sqlite3.Row) -> RunInfo:
 
 
 class Runs:
-    """The ``runs`` and ``simulations`` tables."""
+    """The ``runs`` table."""
 
     def __init__(self, db: Database, retention: Retention | None = None) -> None:
         self.db = db
         self.retention = retention or RUN_RETENTION
-
-    # --- simulated paths ------------------------------------------------------------------
-
-    def record_simulation(
-        self,
-        username: str,
-        fingerprint: str,
-        cycle_time: float | None,
-        path: bytes,
-        *,
-        cell: str = "",
-    ) -> None:
-        """``username``'s passed pre-flight of ``fingerprint`` in version ``cell`` of the
-        lab's cell (`Cell.digest`; replaces their older one, in whichever cell)."""
-        now = to_text(self.db.clock())
-        self.db.write(
-            lambda c: c.execute(
-                "INSERT INTO simulations (username, fingerprint, created, cycle_time, path,"
-                " cell) VALUES (?, ?, ?, ?, ?, ?) ON CONFLICT (username, fingerprint) DO UPDATE"
-                " SET created = excluded.created, cycle_time = excluded.cycle_time,"
-                " path = excluded.path, cell = excluded.cell",
-                (username, fingerprint, now, cycle_time, path, cell),
-            )
-        )
-
-    def simulation(self, username: str, fingerprint: str, *, cell: str = "") -> Simulation | None:
-        """The simulated run a real run of ``fingerprint`` by ``username`` in version
-        ``cell`` of the lab's cell is compared with: a pre-flight passed in that cell (their
-        own, else the newest a partner passed), else one from an earlier cell (the same
-        order). The cell can change the run (its sensors, conveyors, parts), and the gate
-        lets a run go only after a pass in the cell as it is: that pass is the one."""
-        row = self.db.read(
-            lambda c: c.execute(
-                "SELECT * FROM simulations WHERE fingerprint = ? ORDER BY cell = ? DESC,"
-                " username = ? COLLATE NOCASE DESC, created DESC LIMIT 1",
-                (fingerprint, cell, username),
-            ).fetchone()
-        )
-        if row is None:
-            return None
-        return Simulation(
-            row["username"],
-            row["fingerprint"],
-            from_text(row["created"]),
-            row["cycle_time"],
-            row["path"],
-        )
 
     # --- runs -----------------------------------------------------------------------------
 
@@ -277,4 +220,4 @@ class Runs:
             raise NotFound(f"run {run_id} does not exist")
 
 
-__all__ = ["MAX_PAGE", "NewRun", "Run", "RunInfo", "Runs", "Simulation"]
+__all__ = ["MAX_PAGE", "NewRun", "Run", "RunInfo", "Runs"]

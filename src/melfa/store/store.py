@@ -18,6 +18,7 @@ from melfa.store.db import Database
 from melfa.store.errors import DatabaseError
 from melfa.store.models import RateLimit
 from melfa.store.passwords import Passwords
+from melfa.store.preflights import Preflights
 from melfa.store.queues import QueueDocs
 from melfa.store.robot_settings import RobotSettings
 from melfa.store.runs import Runs
@@ -55,7 +56,7 @@ def database_path(data_dir: Path | str) -> Path:
 
 class Store:
     """Accounts, sessions, login attempts, workspaces, assignments, the audit log,
-    recorded runs, the shared robots' queues and desk settings of one file.
+    recorded runs, passed pre-flights, the shared robots' queues and desk settings of one file.
 
     Opening applies pending migrations. Every part is safe to use from many threads.
     """
@@ -81,6 +82,7 @@ class Store:
         self.tokens = AccessTokens(self.db, self.accounts)
         self.assignments = Assignments(self.db, self.workspaces)
         self.runs = Runs(self.db, run_retention)
+        self.preflights = Preflights(self.db)
         self.queues = QueueDocs(self.db)
         self.robot_settings = RobotSettings(self.db)
 

@@ -12,12 +12,18 @@ client may show (``preflight``: run pre-flight), when there is one. The service 
 ('simulation-required', 'preflight')
 >>> Refusal.LEASE_REQUIRED.words(holder="ann")
 ('ann holds the robot.', 'Ask them to release it, or an instructor to take over.')
+
+The gate's fix depends on what was refused (`Asked`): a refused run of the program the
+robot holds needs a pre-flight and the run again, not a new load.
+
+>>> Refusal.CELL_CHANGED.words(asked=Asked.RUN)[1].endswith("run it again: it is still loaded.")
+True
 """
 
 from __future__ import annotations
 
 import enum
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 class Refusal(enum.StrEnum):
@@ -61,10 +67,12 @@ class Refusal(enum.StrEnum):
     """The lab robot is driven only from the lab's networks (`melfa serve --lab-network`,
     the instructor's desk), and this came from elsewhere (`melfa.service.lab_network`)."""
 
-    def words(self, **facts: object) -> tuple[str, str]:
-        """(what happened, the fix), with ``facts`` filled in."""
+    def words(self, asked: Asked | None = None, **facts: object) -> tuple[str, str]:
+        """(what happened, the fix), with ``facts`` filled in; the fix for what was
+        ``asked`` where it has its own (a refused run is not mended as a refused load)."""
         words = _WORDS[self]
-        return words.says.format(**facts), words.fix.format(**facts)
+        fix = words.fixes.get(asked, words.fix) if asked is not None else words.fix
+        return words.says.format(**facts), fix.format(**facts)
 
     @property
     def offer(self) -> str | None:
@@ -76,12 +84,26 @@ class Refusal(enum.StrEnum):
         return _WORDS[self].offer_label
 
 
+class Asked(enum.StrEnum):
+    """What a refused command asked for, where the fix depends on it (the gate's)."""
+
+    LOAD = "load"
+    """Load a program or points (the policy's load commands): the text must pass first."""
+    RUN = "run"
+    """Run what the robot holds: it stays loaded, so no new load is needed."""
+    QUEUE = "queue"
+    """Join the lab robot's queue with a text (`Policy.may_queue`)."""
+
+
 @dataclass(frozen=True)
 class _Words:
     says: str
     fix: str
+    """The fix (of a load, where the gate's differ)."""
     offer: str | None = None
     offer_label: str | None = None
+    fixes: dict[Asked, str] = field(default_factory=dict)
+    """The fix for what was asked, where it is not `fix`."""
 
 
 _WORDS: dict[Refusal, _Words] = {
@@ -107,13 +129,23 @@ _WORDS: dict[Refusal, _Words] = {
         "Run Pre-flight (or debug it on My simulator), then load and run it again.",
         "preflight",
         "Run pre-flight",
+        {
+            Asked.QUEUE: "Run Pre-flight (or debug it on My simulator), then join the queue "
+            "with it again."
+        },
     ),
     Refusal.CELL_CHANGED: _Words(
         "The lab's cell (its table, fixtures or parts) was changed after this program and "
         "points passed pre-flight, so that pre-flight no longer counts.",
-        "Run Pre-flight again in the cell as it is now, then load and run it.",
+        "Run Pre-flight again in the cell as it is now, then load it and run it.",
         "preflight",
         "Run pre-flight",
+        {
+            Asked.RUN: "Run Pre-flight again on the program the robot holds, in the cell as "
+            "it is now, then run it again: it is still loaded.",
+            Asked.QUEUE: "Run Pre-flight again in the cell as it is now, then join the queue "
+            "with it again.",
+        },
     ),
     Refusal.SLOT_CHANGED: _Words(
         "The robot now holds {who}'s program, not the one you meant to run.",
@@ -155,4 +187,4 @@ _WORDS: dict[Refusal, _Words] = {
 assert set(_WORDS) == set(Refusal), "every refusal has its words"
 
 
-__all__ = ["Refusal"]
+__all__ = ["Asked", "Refusal"]

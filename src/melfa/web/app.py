@@ -35,6 +35,7 @@ from melfa.web.limits import Shield, csp_for
 from melfa.web.logs import RequestLog
 from melfa.web.pools import Pools
 from melfa.web.preflight import Preflight as PreflightState
+from melfa.web.preflight_passes import load_passes
 from melfa.web.queues import make_keeper
 from melfa.web.recorded_runs import RunKeeper
 from melfa.web.rosbridge_app import rosbridge_routes
@@ -162,6 +163,7 @@ def create_app(
 
             if the_service.policy.gate is not None:  # a pass counts in the cell as it is
                 the_service.policy.gate.cell = lambda: context.preflight.version
+            await load_passes(context)  # what passed pre-flight: the store's, kept
             # What staff chose on the desk before a restart, on the start-up options' floor
             # (a service given by the caller brings its own: its gate, its networks).
             policy = the_service.policy

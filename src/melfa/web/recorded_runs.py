@@ -2,7 +2,8 @@
 (`melfa.service.recording`). When a recording ends it finds the simulated run to compare
 with (the runner's passed pre-flight of the same fingerprint, else a partner's), works out
 the report (`melfa.service.recording_compare`), encodes the frames and stores the run, off
-the event loop. A passed pre-flight is kept for later runs (`simulation_passed`)."""
+the event loop. The passed pre-flights it compares with are the store's one record of them
+(`melfa.store.preflights`, kept by `melfa.web.preflight_passes`)."""
 
 from __future__ import annotations
 
@@ -16,12 +17,9 @@ from melfa.service.recording_compare import (
     Comparison,
     SimulatedRun,
     compare,
-    pack,
-    simulated_run,
     unpack,
 )
 from melfa.service.recording_frames import encode
-from melfa.sim.debug.preflight import Report
 from melfa.store.runs import NewRun
 from melfa.web.context import WebContext
 from melfa.web.pools import Busy
@@ -96,7 +94,9 @@ class RunKeeper:
             if fingerprint is not None:
                 cell = context.preflight.version  # the cell the arm ran in
                 simulation = await patiently(
-                    lambda: context.db(store.runs.simulation, rec.user, fingerprint, cell=cell)
+                    lambda: context.db(
+                        store.preflights.simulation, rec.user, fingerprint, cell=cell
+                    )
                 )
             simulated: SimulatedRun | None = (
                 unpack(simulation.path) if simulation is not None else None
@@ -129,21 +129,4 @@ class RunKeeper:
             _log.exception("the run of %s could not be stored", rec.user)
 
 
-async def simulation_passed(
-    context: WebContext, user: str, fingerprint: str, report: Report, cell: str
-) -> None:
-    """``user``'s pre-flight of ``fingerprint`` passed in version ``cell`` of the lab's
-    cell: keep its path for later real runs (compared first with one of their cell)."""
-    path = [(p.time, p.x, p.y, p.z, p.line) for p in report.path]
-    run = simulated_run(path, report.cycle_time)
-    # A full pool delays it: the pre-flight passed, so its answer must not become a 503.
-    data = await patiently(lambda: context.cpu(pack, run))
-    runs = context.store.runs
-    await patiently(
-        lambda: context.db(
-            runs.record_simulation, user, fingerprint, report.cycle_time, data, cell=cell
-        )
-    )
-
-
-__all__ = ["RunKeeper", "patiently", "report_of", "simulation_passed"]
+__all__ = ["RunKeeper", "patiently", "report_of"]

@@ -18,7 +18,7 @@ from melfa.web.context import WebContext
 from melfa.web.deps import ContextDep, SessionDep, StaffDep
 from melfa.web.errors import ERROR_RESPONSES, ApiError
 from melfa.web.models import Input, SourceIn
-from melfa.web.recorded_runs import simulation_passed
+from melfa.web.preflight_passes import keep_pass
 from melfa.web.routes.robot import checked_program, planned, sources
 
 router = APIRouter(prefix="/api", tags=["preflight"], responses=ERROR_RESPONSES)
@@ -101,11 +101,9 @@ async def run_preflight(
     except DebugError as exc:
         raise ApiError(422, "debug-refused", str(exc)) from None
     if report.ok:
-        # In the cell it ran in: an edit made meanwhile makes the pass not count.
-        version = cell.digest()
-        context.service.policy.gate_passed(plan, report.cycle_time, version)
-        # What a later real run of the same text is compared with (its ghost and report).
-        await simulation_passed(context, session.user.username, plan.fingerprint, report, version)
+        # In the cell it ran in: an edit made meanwhile makes the pass not count. Kept in
+        # the store, read by the gate and by the comparison of a later real run.
+        await keep_pass(context, session.user.username, plan, report, cell.digest())
     return PreflightOut(report=report.to_json(), passed=report.ok, cell=cell.to_json())
 
 
