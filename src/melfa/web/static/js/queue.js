@@ -2,7 +2,8 @@
 // with their place and an estimate of their turn, "Run on the lab robot" (join with the
 // editor's text; pre-flight first when the lab asks for it), the claim prompt when the arm
 // is offered to you (a dialog that cannot be missed, with its countdown; "Not yet" closes
-// it for that offer, and the panel keeps the offer's countdown and a Claim button), your
+// it for that offer — in every tab of this browser and across a reload — and the panel
+// keeps the offer's countdown and a Claim button), your
 // turn's warning, and the instructor's controls. Every change arrives as a `queue` message on the
 // live socket (whichever robot this tab follows). Every word is melfa.vocab.queue's
 // (/vocab.js: QUEUE_STEPS for what happened, QUEUE_WORDS for the rest).
@@ -45,12 +46,17 @@ export class QueuePanel {
     this.offset = 0; // server time − this browser's time, from the last message
     this.box = $("queue");
     this.dialog = $("claim-dialog");
-    this.declined = null; // the end of the offer the student said "Not yet" to (ms)
+    this.declinedKey = `melfa.claim-declined.${app.user}`; // the offer said "Not yet" to
+    this.declinedHere = null; // the same, where this browser keeps no storage
     this.title = document.title;
     this.words();
     $("claim-go").addEventListener("click", () => this.claim());
     $("claim-later").addEventListener("click", () => { this.decline(); this.dialog.close(); });
     this.dialog.addEventListener("cancel", () => this.decline()); // Esc says "Not yet" too
+    // "Not yet" said in another tab of this browser: this tab's dialog for the offer closes.
+    window.addEventListener("storage", (e) => {
+      if (e.key === this.declinedKey && this.dialog.open && this.offer() === this.declined()) this.dialog.close();
+    });
     app.live.on("queue", (m) => this.update(m));
     setInterval(() => this.tick(), 1000);
     // The socket's first queue message may have come before this panel was made.
@@ -192,16 +198,26 @@ export class QueuePanel {
     );
   }
 
-  /** The offer's end in ms (one offer, one end: a new offer ends later), or null. */
+  /** The offer made to me, named by its robot and its end (one offer, one end: a new
+   * offer ends later), or null. */
   offer() {
     const mine = this.mine();
-    return mine?.state === "offered" ? Date.parse(mine.offer_ends) : null;
+    return mine?.state === "offered" ? `${this.queue.target} ${mine.offer_ends}` : null;
+  }
+
+  /** The offer this student said "Not yet" to in this browser, or null. */
+  declined() {
+    try { return localStorage.getItem(this.declinedKey); } catch { return null; }
   }
 
   /** "Not yet": the dialog stays closed for this offer (the panel still shows it, its
-   * countdown and Claim); a new offer opens it again. */
+   * countdown and Claim), in this tab, the browser's other tabs and after a reload; a new
+   * offer opens it again. Kept in this browser only: it is how this page shows the offer,
+   * not a step of the queue (the server's offer and its countdown run on unchanged). */
   decline() {
-    this.declined = this.offer();
+    const offer = this.offer();
+    if (offer == null) return;
+    try { localStorage.setItem(this.declinedKey, offer); } catch { /* no storage: this page only */ this.declinedHere = offer; }
   }
 
   /** The arm is offered to me: the dialog (modal, with its countdown, unless declined) and
@@ -210,7 +226,8 @@ export class QueuePanel {
     const mine = this.mine();
     const offer = this.offer();
     const offered = offer != null;
-    if (offered && offer !== this.declined && !this.dialog.open) {
+    const declined = offer === this.declined() || offer === this.declinedHere;
+    if (offered && !declined && !this.dialog.open) {
       $("claim-position").textContent = !mine.missed ? "" : mine.missed === 1 ? W.missed_once : fill(W.missed_times, { count: mine.missed });
       this.dialog.showModal();
     } else if (!offered && this.dialog.open) {
