@@ -2,13 +2,18 @@
 
 It talks to a running `melfa serve` through the same HTTP and WebSocket API as the
 browser (docs/api.md) and nothing private, which is the point the thesis made: any client
-can drive the robot service. Layers, thinnest at the top:
+can drive the robot service. Layers, from the bottom (each imports only its own and those
+below; `tests/architecture/test_desktop_layers.py` checks it):
 
-- `files` and `api`: file rules and the HTTP client (pure Python, no Qt);
-- `live`: the WebSocket feed in a thread (no Qt) and its typed messages;
-- `presenter`: turns user intents into API calls off the GUI thread (`tasks`); what the
-  live feed says, and the held jog, is `live_state`;
-- `window`, `login`, `dialogs`: the widgets; `app.main` wires them up.
+- no Qt: `files` and `api` (file rules and the HTTP client), `live` (the WebSocket feed in
+  a thread), `messages` (its typed messages, and the one-click fixes this client offers),
+  `words` (what it says);
+- Qt's plumbing: `tasks` (API calls off the GUI thread), `hold`, `style`, `dialogs`, `view`
+  (what the presenter tells its view);
+- side by side, neither importing the other: `presenter` and `live_state` (user intents
+  into API calls; what the live feed says, and the held jog), and the panels (`position`,
+  `robot_box`, `program_box`, `jogpad`, `login`);
+- `window` wires the panels to the presenter; `app.main` starts it all.
 
-Only `files`, `api` and `live` are importable without PySide6 (the `desktop` extra).
+Only the first layer is importable without PySide6 (the `desktop` extra).
 """

@@ -84,6 +84,21 @@ def error_fix(message: ErrorMessage) -> Fix | None:
     return parse_fix(detail.get("fix")) if isinstance(detail, Mapping) else None
 
 
+FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
+"""The one-click fixes this client can do (`presenter.Presenter.apply_fix`; adding a point
+needs the IDE's points editor). Every part of the client that shows a fix's button (a
+notice, the alarm's row) asks `offered_fix`."""
+
+
+def offered_fix(fix: Fix | None) -> Fix | None:
+    """``fix`` when this client can do it (`FIXES_OFFERED`), else None: no button.
+
+    >>> offered_fix(Fix.RESET_ALARM), offered_fix(None)
+    (<Fix.RESET_ALARM: 'reset-alarm'>, None)
+    """
+    return fix if fix in FIXES_OFFERED else None
+
+
 def parse_fix(value: object) -> Fix | None:
     """The server's ``fix`` word (`melfa.protocol.advice.Fix`), or None (unknown: no button)."""
     try:
@@ -93,10 +108,12 @@ def parse_fix(value: object) -> Fix | None:
 
 
 __all__ = [
+    "FIXES_OFFERED",
     "LiveMessage",
     "actor_name",
     "alarm_said",
     "error_fix",
+    "offered_fix",
     "parse_fix",
     "parse_message",
     "read_state",

@@ -32,6 +32,7 @@ from melfa.desktop.api import (
 from melfa.desktop.dialogs import Notice, NoticeKind
 from melfa.desktop.files import ChosenFile, FileKind, FileRefused, from_workspace, read_file
 from melfa.desktop.live_state import LiveState
+from melfa.desktop.messages import offered_fix
 from melfa.desktop.tasks import Tasks
 from melfa.desktop.view import NoView, View
 from melfa.desktop.words import (
@@ -45,8 +46,6 @@ from melfa.protocol.advice import Fix
 from melfa.vocab.queue import QUEUE_WORDS
 
 _log = logging.getLogger(__name__)
-FIXES_OFFERED = frozenset({Fix.SERVO_ON_RETRY, Fix.RESET_ALARM, Fix.LOAD_PROJECT, Fix.STOP})
-"""The one-click fixes this client can do (adding a point needs the IDE's points editor)."""
 
 T = TypeVar("T")
 
@@ -102,9 +101,9 @@ class Presenter:
         fix: Fix | None = None,
         retry: Callable[[], object] | None = None,
     ) -> None:
-        """Show a notice; with a ``fix`` this client can do (`FIXES_OFFERED`) the user can
-        choose it (and then ``retry``)."""
-        fix = fix if fix in FIXES_OFFERED else None
+        """Show a notice; with a ``fix`` this client can do (`messages.offered_fix`) the
+        user can choose it (and then ``retry``)."""
+        fix = offered_fix(fix)
         on_fix = partial(self.apply_fix, fix, retry) if fix is not None else None
         self.view.show_notice(Notice(kind, title, text, lines, fix), on_fix)
 
@@ -150,7 +149,8 @@ class Presenter:
         self._tell(NoticeKind.ERROR, title, text, lines, fix, retry)
 
     def apply_fix(self, fix: Fix, retry: Callable[[], object] | None = None) -> None:
-        """Do the one-click fix the server offered (`melfa.protocol.advice.Fix`)."""
+        """Do the one-click fix the server offered (`melfa.protocol.advice.Fix`): one of
+        `messages.FIXES_OFFERED`, each done here."""
         if fix is Fix.SERVO_ON_RETRY:
             self._servo_on_and_retry(retry)
         elif fix is Fix.RESET_ALARM:
@@ -469,4 +469,4 @@ class Presenter:
             self.client.logout()
 
 
-__all__ = ["FIXES_OFFERED", "Presenter"]
+__all__ = ["Presenter"]

@@ -10,8 +10,7 @@ from __future__ import annotations
 from PySide6.QtCore import Qt
 from PySide6.QtWidgets import QGridLayout, QGroupBox, QHBoxLayout, QLabel, QPushButton
 
-from melfa.desktop.messages import alarm_said
-from melfa.desktop.presenter import FIXES_OFFERED
+from melfa.desktop.messages import alarm_said, offered_fix
 from melfa.desktop.style import ValueLabel, on_off, set_level
 from melfa.desktop.words import Loaded, activity_text, control_text
 from melfa.live.messages import StateOut
@@ -83,7 +82,7 @@ class RobotBox(QGroupBox):
         v["alarm"].setText(alarm_said(alarm) if alarm else "None")
         v["alarm"].setToolTip(alarm_said(alarm) if alarm else "")
         set_level(v["alarm"], "alarm" if alarm else "")
-        fix = alarm.fix if alarm and alarm.fix in FIXES_OFFERED else None
+        fix = offered_fix(alarm.fix) if alarm else None
         self.alarm_fix_button.setVisible(fix is not None)
         if fix is not None:
             self.alarm_fix_button.setText(FIX_LABELS[fix])

@@ -37,6 +37,7 @@ from melfa.desktop.files import FileKind
 from melfa.desktop.hold import JogKey
 from melfa.desktop.jogpad import JogPad
 from melfa.desktop.live import FeedStatus
+from melfa.desktop.messages import offered_fix
 from melfa.desktop.position import PositionBox
 from melfa.desktop.presenter import Presenter
 from melfa.desktop.program_box import ProgramBox
@@ -262,8 +263,9 @@ class MainWindow(QMainWindow):
 
     def _fix_alarm(self) -> None:
         state = self.presenter.live.state
-        if state is not None and state.alarm is not None and state.alarm.fix is not None:
-            self.presenter.apply_fix(state.alarm.fix)
+        fix = offered_fix(state.alarm.fix) if state is not None and state.alarm else None
+        if fix is not None:
+            self.presenter.apply_fix(fix)
 
     def choose(self, kind: FileKind) -> None:
         title = "Choose a program" if kind is FileKind.PROGRAM else "Choose a points file"
