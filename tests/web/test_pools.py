@@ -9,6 +9,8 @@ import signal
 import threading
 from pathlib import Path
 
+import pytest
+
 from melfa.web.pools import WORKER_NICENESS, BoundedPool
 from tests.waiting import wait_until
 
@@ -68,3 +70,35 @@ def test_a_worker_still_at_work_when_the_server_stops_is_ended_not_waited_for(
         asyncio.run(main())
     finally:
         pool.shutdown()
+
+
+@pytest.mark.parametrize("at_work", [False, True], ids=["idle", "a worker at work"])
+def test_a_pool_shut_down_leaves_no_thread_behind_to_race_the_exit(
+    tmp_path: Path, at_work: bool
+) -> None:
+    """`melfa serve`'s clean stop sometimes ended in "Exception ignored in … _python_exit
+    … OSError: [Errno 9] Bad file descriptor": a process pool's manager thread closes the
+    pipe that wakes it, and Python's exit handler writes to that pipe without the lock the
+    closing takes, so a manager still winding down at exit could close it in the middle of
+    the write. Once `shutdown` has returned, no thread of the pool may be left running
+    (so nothing can close that pipe later): idle, or with a worker at work (its manager
+    then sees the worker ended, not done)."""
+    before = set(threading.enumerate())
+    pool = BoundedPool("cpu", 1, 1, processes=True)
+    started = tmp_path / "started"
+
+    async def main() -> asyncio.Future[None] | None:
+        await pool.run(os.getpid)
+        if not at_work:
+            return None
+        busy = asyncio.ensure_future(pool.run(work_that_never_ends, str(started)))
+        await asyncio.to_thread(wait_until, started.exists, 120, "the work to start")
+        return busy
+
+    try:
+        asyncio.run(main())  # a task still at work is cancelled here: its worker is not
+        pool.shutdown()
+        left = [t.name for t in threading.enumerate() if t not in before and t.is_alive()]
+    finally:
+        pool.shutdown()
+    assert left == []

@@ -127,15 +127,28 @@ class BoundedPool:
             self.pending -= 1
             self.done += 1
 
-    def shutdown(self) -> None:
-        """Nothing waiting starts; worker processes are ended, not left to exit on their
-        own: they keep nothing (a check, a load plan), and the server's exit joins them,
-        which on a busy machine took seconds of their niced interpreters' teardown."""
+    def end_workers(self) -> None:
+        """End the worker processes at once (SIGTERM), whatever they are doing: they keep
+        nothing (a check, a load plan), and left to exit on their own, their niced
+        interpreters' teardown took seconds of a busy machine's Ctrl-C. Python 3.11 offers
+        no public way (3.14's `terminate_workers` is one), so the executor's own list of
+        its processes is read, and a pool of threads, or one already shut down, has none."""
         processes = getattr(self._executor, "_processes", None) or {}
-        workers = list(processes.values())
-        self._executor.shutdown(wait=False, cancel_futures=True)
-        for worker in workers:
+        for worker in list(processes.values()):
             worker.terminate()
+
+    def shutdown(self) -> None:
+        """Nothing waiting starts; worker processes are ended (`end_workers`), and the
+        pool's manager thread is waited for: it closes the pipe that wakes it, and Python's
+        exit handler (`concurrent.futures.process._python_exit`) writes to that pipe without
+        the lock its closing takes. Left running, the manager sometimes closed the pipe in
+        the middle of that write and the server's clean stop ended in "Exception ignored
+        … OSError: [Errno 9] Bad file descriptor". Waited for here, it is closed first
+        (and soon: its workers are gone, so there is nothing left to wait for). Threads
+        are not waited for (the interpreter's exit joins them; they have no such pipe)."""
+        self.end_workers()
+        processes = isinstance(self._executor, concurrent.futures.ProcessPoolExecutor)
+        self._executor.shutdown(wait=processes, cancel_futures=True)
 
 
 @dataclass(frozen=True)
@@ -175,7 +188,12 @@ class Pools:
         """Only the session lookup of a STOP."""
 
     def shutdown(self) -> None:
-        for pool in (self.db, self.hash, self.cpu, self.load, self.stop):
+        """Every pool shut down; the worker processes of all of them are ended first, so
+        they die side by side rather than one pool's after the other's."""
+        pools = (self.db, self.hash, self.cpu, self.load, self.stop)
+        for pool in pools:
+            pool.end_workers()
+        for pool in pools:
             pool.shutdown()
 
 
