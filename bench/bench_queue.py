@@ -346,7 +346,8 @@ async def session(url: str, students: int, scale: float, figures: Figures) -> No
     await asyncio.sleep(3)  # everyone signed in and passed pre-flight
     ready.set()
     try:
-        await asyncio.wait_for(asyncio.gather(*tasks), timeout=students * 300 / scale + 120)
+        async with asyncio.timeout(students * 300 / scale + 120):
+            await asyncio.gather(*tasks)
     except TimeoutError:
         print(f"not every student finished: {figures.done} of {students}")
     stop.set()
