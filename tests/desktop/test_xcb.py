@@ -6,18 +6,20 @@ program and points chosen in Qt's real file dialogs, Load, Run (the running line
 file on screen), a refused instruction whose notice stays open while STOP is clicked behind
 it and two more notices in a row, then a jog with W held down past X's auto-repeat delay
 (xdotool keydown … keyup, auto-repeat on): one jog on the server, moving while the key is
-held and stopping when it is let go; Esc stops a jog whose key is still down. A second
+held and stopping when it is let go, the status bar saying so (read as a screen reader reads
+it, over AT-SPI: `tests.desktop.a11y`); Esc stops a jog whose key is still down. A second
 session of the same user watches the robot through the API, so each step is proven on the
 robot, not on the screen. The screenshot in docs/desktop.png is this window
 (MELFA_DESKTOP_SCREENSHOT=docs/desktop.png saves it there).
 
-Xvfb and xdotool are Debian packages `scripts/setup` installs when run as root (CI does);
-without them these tests skip and say so.
+Xvfb, xdotool, dbus-daemon, dbus-bin and at-spi2-core are Debian packages `scripts/setup`
+installs when run as root (CI does); without them these tests skip and say so.
 """
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -28,6 +30,8 @@ import pytest
 
 from melfa.desktop.api import ApiClient
 from melfa.vocab.activity import Activity
+from melfa.vocab.jog import JogEnd
+from tests.desktop.a11y import MISSING, Accessibility, accessibility
 from tests.desktop.conftest import EXAMPLES, Server
 from tests.waiting import wait_until
 
@@ -39,6 +43,10 @@ pytestmark = [
     pytest.mark.skipif(
         XVFB is None or XDOTOOL is None,
         reason="needs Debian's xvfb and xdotool (scripts/setup installs them as root)",
+    ),
+    pytest.mark.skipif(
+        bool(MISSING),
+        reason=f"needs Debian's {', '.join(MISSING)} (scripts/setup installs them as root)",
     ),
 ]
 pytest.importorskip("PySide6.QtWidgets", reason="the desktop extra (PySide6) is not installed")
@@ -80,12 +88,18 @@ def display() -> Iterator[dict[str, str]]:
 
 
 class Desktop:
-    """The `melfa desktop` process and the keyboard xdotool types on."""
+    """The `melfa desktop` process, the keyboard xdotool types on and what its window
+    shows a screen reader."""
 
-    def __init__(self, env: dict[str, str], proc: subprocess.Popen[bytes], log: Path) -> None:
-        self.env = env
+    def __init__(self, a11y: Accessibility, proc: subprocess.Popen[bytes], log: Path) -> None:
+        self.env = a11y.env
+        self.a11y = a11y
         self.proc = proc
         self.log = log
+
+    def status_bar(self) -> str:
+        """The window's status bar message, as AT-SPI gives it to a screen reader."""
+        return self.a11y.status_bar()
 
     def xdo(self, *args: str) -> str:
         assert XDOTOOL is not None
@@ -150,21 +164,25 @@ def desktop(
     shutil.copy(EXAMPLES / "sample.POS", folder / "sample.POS")
     (folder / "loop.MB4").write_text(LOOP)
     log = folder / "desktop.log"
-    with log.open("wb") as out:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "melfa", "desktop", "--server", server.url, "--user", "admin"],
-            cwd=folder,  # the file dialog opens here
-            env=display,
-            stdout=out,
-            stderr=subprocess.STDOUT,
-        )
-    desk = Desktop(display, proc, log)
-    try:
-        yield desk
-    finally:
-        if proc.poll() is None:
-            proc.terminate()
-            proc.wait(timeout=10)
+    with accessibility(display) as a11y:
+        with log.open("wb") as out:
+            proc = subprocess.Popen(
+                [
+                    *(sys.executable, "-m", "melfa", "desktop"),
+                    *("--server", server.url, "--user", "admin"),
+                ],
+                cwd=folder,  # the file dialog opens here
+                env=a11y.env,
+                stdout=out,
+                stderr=subprocess.STDOUT,
+            )
+        desk = Desktop(a11y, proc, log)
+        try:
+            yield desk
+        finally:
+            if proc.poll() is None:
+                proc.terminate()
+                proc.wait(timeout=10)
 
 
 @pytest.fixture(scope="module")
@@ -297,16 +315,26 @@ def a_held_w_key_jogs_only_while_held(desktop: Desktop, observer: ApiClient) -> 
     desktop.key("alt+j")  # the jog pad takes the keyboard
     start = pose(observer)
     before = jog_starts(observer)
+    wait_for(desktop.a11y.has_status_bar, "the status bar, found as a screen reader finds it")
     desktop.xdo("keydown", "w")
     try:
         wait_for(lambda: observer.state().jogging, "the jog to start while W is held")
         wait_for(lambda: pose(observer)[0] > start[0] + 5, "X to grow while W is held")
+        # While held, the status bar says how to stop (a screen reader reads it too).
+        wait_for(
+            lambda: re.fullmatch(r"Jogging X\+.*let go to stop\.", desktop.status_bar()),
+            "the status bar to say the jog runs until W is let go",
+        )
         desktop.xdo("sleep", "1.5")  # the key stays down past the repeat delay (the stimulus)
         assert observer.state().jogging  # still held: still jogging (auto-repeat ignored)
     finally:
         desktop.xdo("keyup", "w")
     wait_for(lambda: not observer.state().jogging, "the jog to end when W is let go")
+    # Once let go, what is true then (it went on saying "let go to stop").
+    released = f"Jog stopped: {JogEnd.RELEASED.words()}."
+    wait_for(lambda: desktop.status_bar() == released, f"the status bar to say {released!r}")
     stays_put(observer)
+    assert desktop.status_bar() == released
     assert pose(observer)[0] > start[0] + 5
     assert len(jog_starts(observer) - before) == 1  # one hold, one jog: never restarted
 
