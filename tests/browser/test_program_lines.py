@@ -80,10 +80,11 @@ def test_a_long_line_of_a_student_s_program_is_read_whole(
     open_session: Any, server: Server
 ) -> None:
     server.add_user("ines", role="instructor")
-    server.add_user("dmitri")
+    server.add_user("dmitri", group="L2")  # handed to his group only: other tests' students
+    # do not see this assignment
     teacher: Session = open_session("ines")
     files = {f.name: f.read_text(encoding="utf-8") for f in sorted(FOLDER.iterdir())}
-    made = _post(teacher, "/api/assignments", {"files": files, "variants": False})
+    made = _post(teacher, "/api/assignments", {"files": files, "variants": False, "group": "L2"})
 
     student: Session = open_session("dmitri")
     opened = _post(student, f"/api/assignments/{made['id']}/open")
