@@ -46,8 +46,10 @@ from melfa.desktop.style import LINK_LEVEL, STYLE, set_level
 from melfa.desktop.words import jog_label, link_words
 from melfa.live.messages import StateOut
 from melfa.protocol import OVERRIDE_PERCENT
+from melfa.vocab.ide import IDE_WORDS
 from melfa.vocab.link import LinkStatus
 from melfa.vocab.queue import QUEUE_WORDS
+from melfa.vocab.roles import role_words
 
 FILE_FILTERS = {
     FileKind.PROGRAM: "MELFA BASIC IV programs (*.MB4 *.mb4);;All files (*)",
@@ -84,7 +86,8 @@ class MainWindow(QMainWindow):
         root = QVBoxLayout(central)
         root.setContentsMargins(10, 8, 10, 4)
         root.setSpacing(6)
-        root.addWidget(self._header(user, client.server, client.user.role if client.user else ""))
+        role = role_words(client.user.role) if client.user else ""
+        root.addWidget(self._header(user, client.server, role))
 
         body = QHBoxLayout()
         body.setSpacing(10)
@@ -126,7 +129,7 @@ class MainWindow(QMainWindow):
         self.statusBar().addPermanentWidget(self.claim_button)
         self.statusBar().addPermanentWidget(self.progress)
         self.statusBar().addPermanentWidget(self.feed_label)
-        self.statusBar().showMessage(f"Signed in as {user}.")
+        self.statusBar().showMessage(IDE_WORDS["signed-in-as"].format(user=user, role=role))
 
         QShortcut(QKeySequence("Escape"), self, presenter.stop)  # STOP from anywhere
         QShortcut(QKeySequence("Ctrl+Q"), self, self.close)  # sign out and quit

@@ -142,13 +142,16 @@ DESK_WORDS: dict[str, str] = {
     "audit-since": "Since",
     "audit-csv": "Export CSV",
     "audit-columns": "When,Who,Robot,What,Result",
+    "audit-file": "audit.csv",
+    "audit-by-melfa": "melfa",
     "result-ok": "done",
     "result-accepted": "asked (no answer yet)",
 }
 """The desk's labels, help and confirmations (``{who}``: an account's name). Under each
 setting, where it came from (``from-`` and a `SettingSource`; ``{who}`` set it, ``{when}``
 in the browser's local time, ``{flag}`` the server's start-up option as written; ``-cut``:
-the desk's networks, ``{saved}``, lie only partly inside it)."""
+the desk's networks, ``{saved}``, lie only partly inside it). ``audit-by-melfa``: who an
+entry the service wrote on its own names (closing, a lost heartbeat)."""
 
 VISIT_WORDS: dict[str, str] = {
     "reading": "You are reading {who}'s work ({workspace}): it is read-only.",

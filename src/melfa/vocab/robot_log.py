@@ -61,6 +61,7 @@ ROBOT_LOG_WORDS: dict[str, str] = {
     "empty": "Nothing has happened to this robot yet.",
     "columns": "When,Who,What,Result",
     "csv": "Export CSV",
+    "file": "robot-log-{robot}.csv",
     "mine-title": "Your robot log",
     "mine-help": (
         "What you asked the robot you drive to do and what it answered, kept by the server"
@@ -68,5 +69,6 @@ ROBOT_LOG_WORDS: dict[str, str] = {
     "mine-columns": "Time,Action,Result",
     "mine-empty": "Nothing yet: load, run or move the robot and it is listed here.",
 }
-"""The desk's robot log pane (``{who}``: the simulator's user, ``{limit}``: how many), and
+"""The desk's robot log pane (``{who}``: the simulator's user, ``{limit}``: how many; its
+CSV's ``file`` name: ``{robot}``, ``lab`` or ``sim-<user>``), and
 the IDE's *Robot log* of one's own entries (``mine-…``)."""

@@ -12,6 +12,7 @@ from typing import Any
 from fastapi import APIRouter
 from fastapi.responses import Response
 
+from melfa.protocol.advice import FIX_LABELS
 from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
 from melfa.vocab.classroom import (
     CLASS_VIEW_WORDS,
@@ -25,11 +26,14 @@ from melfa.vocab.classroom import (
 )
 from melfa.vocab.commands import Command
 from melfa.vocab.desk import ACTION_WORDS, DESK_WORDS, VISIT_WORDS
+from melfa.vocab.guide import GUIDE_WORDS
+from melfa.vocab.ide import HEADER_LINK_WORDS, IDE_WORDS
 from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import CONTROL_WORDS, HolderState, LeaseReason
 from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import QUEUE_WORDS, EntryState, QueueStep
 from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
+from melfa.vocab.roles import ROLE_WORDS
 from melfa.vocab.runs import RunOutcome
 from melfa.vocab.signout import SIGN_OUT_WORDS
 from melfa.vocab.slot import SLOT_WORDS
@@ -92,6 +96,11 @@ def vocabulary() -> dict[str, Any]:
         "START_PLACE": {place.value: words for place, words in PLACE_WORDS.items()},
         "SLOT_WORDS": SLOT_WORDS,
         "SIGN_OUT_WORDS": SIGN_OUT_WORDS,
+        "GUIDE_WORDS": GUIDE_WORDS,
+        "IDE_WORDS": IDE_WORDS,
+        "HEADER_LINK_WORDS": {status.value: words for status, words in HEADER_LINK_WORDS.items()},
+        "ROLE_WORDS": ROLE_WORDS,
+        "FIX_LABELS": {fix.value: label for fix, label in FIX_LABELS.items()},
     }
 
 

@@ -6,7 +6,7 @@
 import { api } from "./api.js";
 import { commandLabel, fill } from "./activity.js";
 import { $, el, showError, toast } from "./ui.js";
-import { CONTROL_WORDS as W, HOLDER_STATES } from "/vocab.js"; // generated from melfa.vocab.lease
+import { CONTROL_WORDS as W, HOLDER_STATES, ROLE_WORDS } from "/vocab.js"; // generated from melfa.vocab.lease, .roles
 
 /** The header's buttons: their words, and what they ask; `setLease(holder)` takes the answer. */
 export function wireControl(setLease) {
@@ -39,7 +39,7 @@ export function renderControl({ holder, since, state, queued }, me, staff) {
   text.replaceChildren(
     W.control + " ",
     el("strong", {}, holder ? (mine ? W.you : holder.user) : queued ? W.by_queue : W.free),
-    holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${holder.role})`) : "",
+    holder && !mine && holder.role ? el("span", { class: "lease-role" }, ` (${ROLE_WORDS[holder.role] ?? holder.role})`) : "",
     when && !isNaN(when) ? el("span", { class: "lease-since" }, " " + fill(W.since, { time: when.toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" }) })) : "",
     holder && connection && state !== "connected" ? el("span", { class: "lease-state" }, ` · ${connection}`) : "",
   );

@@ -86,7 +86,7 @@ export function wireAudit() {
   $("audit-kind").addEventListener("change", () => drawAudit());
   $("audit-who").addEventListener("change", () => loadAudit());
   $("audit-since").addEventListener("change", () => loadAudit());
-  $("audit-csv").addEventListener("click", () => downloadText(csv(W["audit-columns"], audit.shown), "audit.csv", "text/csv"));
+  $("audit-csv").addEventListener("click", () => downloadText(csv(W["audit-columns"], audit.shown), W["audit-file"], "text/csv"));
 }
 
 export async function loadAudit() {
@@ -107,7 +107,7 @@ export async function loadAudit() {
 function drawAudit() {
   const keep = KINDS[$("audit-kind").value] || KINDS.all;
   const entries = audit.entries.filter(keep);
-  audit.shown = entries.map((e) => [local(e.at), e.actor || "melfa", robotName(e.details?.robot), said(e), outcome(e.result)]);
+  audit.shown = entries.map((e) => [local(e.at), e.actor || W["audit-by-melfa"], robotName(e.details?.robot), said(e), outcome(e.result)]);
   $("audit-rows").replaceChildren(...entries.map((e, i) => el("tr", { class: e.result.startsWith("refused") ? "refused" : "", "data-action": e.action },
     ...audit.shown[i].map((cell) => el("td", {}, cell)))));
 }
@@ -124,7 +124,7 @@ export function wireRobotLog(users) {
   $("robots-csv").textContent = RL.csv;
   $("robots-columns").replaceChildren(...RL.columns.split(",").map((c) => el("th", { scope: "col" }, c)));
   $("robots-pick").addEventListener("change", () => loadRobotLog());
-  $("robots-csv").addEventListener("click", () => downloadText(csv(RL.columns, log.shown), `robot-log-${$("robots-pick").value.replace(":", "-")}.csv`, "text/csv"));
+  $("robots-csv").addEventListener("click", () => downloadText(csv(RL.columns, log.shown), fill(RL.file, { robot: $("robots-pick").value.replace(":", "-") }), "text/csv"));
   listRobots(users);
 }
 
@@ -146,7 +146,7 @@ export async function loadRobotLog() {
     showError(RL.title, err);
     return;
   }
-  log.shown = entries.map((e) => [local(e.at), e.actor || "melfa", said(e), outcome(e.result)]);
+  log.shown = entries.map((e) => [local(e.at), e.actor || W["audit-by-melfa"], said(e), outcome(e.result)]);
   $("robots-none").textContent = RL.empty;
   $("robots-none").hidden = entries.length > 0;
   $("robots-rows").replaceChildren(...entries.map((e, i) => el("tr", {

@@ -10,7 +10,7 @@ import { api, downloadText } from "./api.js";
 import { signedIn } from "./page.js";
 import { $, el, readTextFile, showError, toast } from "./ui.js";
 import { listRobots, loadAudit, loadRobotLog, wireAudit, wireRobotLog } from "./desk-audit.js";
-import { DESK_WORDS as W, ROBOT_LOG_WORDS as RL } from "/vocab.js";
+import { DESK_WORDS as W, ROBOT_LOG_WORDS as RL, ROLE_WORDS } from "/vocab.js";
 
 const state = { me: null, users: [], gate: false, heldBy: null };
 const fill = (text, facts) => text.replace(/\{(\w+)\}/g, (_, k) => String(facts[k] ?? ""));
@@ -32,7 +32,7 @@ async function main() {
   $("gate-title").textContent = W.gate;
   $("acc-none").textContent = W["no-accounts"];
   const roles = state.me.role === "admin" ? ["student", "instructor", "admin"] : ["student"];
-  $("add-role").replaceChildren(...roles.map((r) => el("option", { value: r }, r)));
+  $("add-role").replaceChildren(...roles.map((r) => el("option", { value: r }, ROLE_WORDS[r])));
   $("acc-find").addEventListener("input", () => drawUsers());
   wireAdd();
   wireImport();
@@ -63,7 +63,7 @@ function drawUsers() {
     el("td", {}, el("strong", {}, u.username)),
     el("td", {}, u.display_name || "—"),
     el("td", {}, u.group || "—"),
-    el("td", {}, u.role),
+    el("td", {}, ROLE_WORDS[u.role] ?? u.role),
     el("td", { title: u.last_login || "" }, when(u.last_login)),
     el("td", { class: "desk-actions" },
       u.username === state.me.username ? null // their work opens read-only (docs/ide.md)

@@ -5,7 +5,7 @@
 
 import { api } from "./api.js";
 import { $, onFix, showError, toast } from "./ui.js";
-import { CONTROL_WORDS } from "/vocab.js"; // generated from melfa.vocab.lease
+import { CONTROL_WORDS, IDE_WORDS } from "/vocab.js"; // generated from melfa.vocab.lease, .ide
 
 const SERVO_KEY = "melfa.servo-on-for-moves";
 
@@ -47,11 +47,11 @@ export function installFixes(app) {
   onFix("servo-on-retry", async ({ retry }) => {
     sessionStorage.setItem(SERVO_KEY, "1"); // asked once: later moves switch it on
     if (retry) await retry({ servo_on: true });
-    else await call(() => api("POST", "/api/robot/servo", { on: true }), "Could not switch the servo on");
+    else await call(() => api("POST", "/api/robot/servo", { on: true }), IDE_WORDS["servo-on-failed"]);
   });
   onFix("reset-alarm", async ({ retry }) => {
-    const ok = await call(() => api("POST", "/api/robot/reset-alarm"), "Could not reset the alarm");
-    if (ok) toast("Alarm reset", { kind: "ok", text: "The controller is ready again." });
+    const ok = await call(() => api("POST", "/api/robot/reset-alarm"), IDE_WORDS["reset-alarm-failed"]);
+    if (ok) toast(IDE_WORDS["alarm-was-reset"], { kind: "ok", text: IDE_WORDS["alarm-was-reset-text"] });
     if (ok && retry) await retry({});
   });
   onFix("load-project", async () => $("act-load").click());

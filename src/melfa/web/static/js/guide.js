@@ -11,8 +11,13 @@
 // this browser, per user); the user menu's "Show the first-run guide" opens it again.
 
 import { welcome, welcomeProject } from "./first.js";
+import { fill } from "./activity.js";
 import { $, el, errorText } from "./ui.js";
-import { CONTROL_WORDS } from "/vocab.js"; // melfa.vocab.lease
+import { CONTROL_WORDS, FIX_LABELS, GUIDE_WORDS as W } from "/vocab.js"; // melfa.vocab.lease, .guide
+
+/** A paragraph of the guide's words: `**…**` bold (a button's or a tab's name). */
+const para = (text, facts = {}, attrs = {}) =>
+  el("p", attrs, ...fill(text, facts).split("**").map((part, i) => (i % 2 ? el("strong", {}, part) : part)));
 
 const REMEMBER = (user) => `melfa.guide.${user}`;
 const GAP = 12; // between the callout and what it points at, px
@@ -66,7 +71,7 @@ export class Guide {
     this.step = null;
     this.box.hidden = true;
     this.rings.replaceChildren();
-    this.live.textContent = how === "done" ? "First-run guide finished." : "First-run guide closed. Open it again from your user menu.";
+    this.live.textContent = how === "done" ? W.finished : W.closed;
     clearInterval(this.follow);
     document.body.dataset.guide = "";
   }
@@ -75,60 +80,45 @@ export class Guide {
   steps() {
     const app = this.app;
     const real = app.virtual === false;
-    const b = (text) => el("strong", {}, text);
     return {
       program: {
-        title: "This is your program",
+        title: W["program-title"],
         anchor: () => $("editor"),
-        body: () => [
-          el("p", {}, "Each line is one instruction for the robot. The grey text after ", b("'"), " is a comment: it says what the line does. Read them from the top."),
-          el("p", {}, "The points the program moves to (", b("PHOME"), ", ", b("PPICK"), ", ", b("PPLACE"), ") are in the Points tab."),
-        ],
-        next: "Next",
+        body: () => [para(W["program-lines"]), para(W["program-points"])],
+        next: W.next,
         enter: () => app.selectTab?.("editor"),
       },
       load: {
-        title: "Send it to the robot",
+        title: W["load-title"],
         anchor: () => $("act-load"),
-        body: () => [el("p", {}, "Press ", b("Load project"), ": the program and its points are checked and go to the robot's memory.")],
+        body: () => [para(W["load-press"])],
       },
       run: {
-        title: "Run it",
+        title: W["run-title"],
         anchor: () => $("act-run"),
         also: () => (real ? [$("estop")] : []),
-        body: () => [
-          el("p", {}, "Press ", b("Run"), ". The robot's motors (the servo) start switched off: melfa asks whether to switch them on. Say yes."),
-          real
-            ? el("p", { class: "guide-warn" }, "This is the lab's real arm: it will move. Keep clear of it. ", b("STOP"), " (red, top right, or Esc twice) stops it at once.")
-            : el("p", {}, "This is a virtual robot: only the arm on the right moves, nothing in the lab."),
-        ],
+        body: () => [para(W["run-press"]), real ? para(W["run-real"], {}, { class: "guide-warn" }) : para(W["run-virtual"])],
       },
       servo: {
-        title: "Switch the servo on",
+        title: W["servo-title"],
         anchor: () => document.querySelector("#toasts .toast.error .toast-action"),
         also: () => (real ? [$("estop")] : []),
-        body: () => [el("p", {}, "The servo is off, so the robot refused to move. Press ", b(this.fixLabel || "Turn on and retry"), ": melfa switches it on and runs the program.")],
+        body: () => [para(W["servo-press"], { fix: this.fixLabel || FIX_LABELS["servo-on-retry"] })],
       },
       watch: {
-        title: "Watch it move",
+        title: W["watch-title"],
         anchor: () => document.querySelector(".view-stage"),
         side: ["left-low", "left", "bottom"], // beside the view, low: the running line above stays clear
         also: () => [document.querySelector("#editor .melfa-runline"), ...(real ? [$("estop")] : [])],
-        body: () => [
-          el("p", {}, "The arm on the right follows the robot. In the editor the line running now is marked in blue; the label above the arm names it too."),
-          el("p", {}, real ? "STOP (top right) stops the arm at any moment." : "The program ends by itself after a few moves."),
-        ],
-        next: "Next",
+        body: () => [para(W["watch-line"]), para(real ? W["watch-real"] : W["watch-virtual"])],
+        next: W.next,
       },
       done: {
-        title: "Your first run worked",
+        title: W["done-title"],
         anchor: () => $("tab-points"),
         also: () => [$("tab-robot")],
-        body: () => [
-          el("p", {}, "Next: the ", b("Points"), " tab lists where the arm goes; change a point, or import where the robot stands."),
-          el("p", {}, "In ", b("Robot control"), " you move the arm yourself: hold W A S D and the arrow keys."),
-        ],
-        next: "Finish",
+        body: () => [para(W["done-points"]), para(W["done-jog"])],
+        next: W.finish,
       },
     };
   }
@@ -140,7 +130,7 @@ export class Guide {
     spec.enter?.();
     const order = ["program", "load", "run", "watch", "done"];
     const index = order.indexOf(name === "servo" ? "run" : name);
-    this.counter.textContent = `Step ${index + 1} of ${order.length}`;
+    this.counter.textContent = fill(W.count, { step: index + 1, steps: order.length });
     this.title.textContent = spec.title;
     this.body.replaceChildren(
       ...spec.body(),
@@ -174,15 +164,15 @@ export class Guide {
       return;
     }
     const fix = err?.detail?.fix_label;
-    let todo = "Fix it, then press Load project again.";
+    let todo = W["load-fix"];
     if (err?.code === "program-has-errors" || err?.code === "points-have-errors") {
-      todo = "The problems are listed under the editor, each with its line: fix them, then press Load project again.";
+      todo = W["load-fix-errors"];
     } else if (err?.code === "lease-required") {
       todo = CONTROL_WORDS.held_load;
     } else if (fix) {
-      todo = `Press ${fix} in the red message, then Load project again.`;
+      todo = fill(W["load-fix-press"], { fix });
     }
-    this.show("load", { problem: { title: "The project was not loaded", text: errorText(err), todo } });
+    this.show("load", { problem: { title: W["load-failed"], text: errorText(err), todo } });
   }
 
   onToasts() {
@@ -193,10 +183,9 @@ export class Guide {
     if (fix && /servo/i.test(refused.textContent)) {
       this.fixLabel = fix.textContent;
       this.show("servo");
-    } else if (fix) {
-      this.show("run", { problem: { title: "Run did not start", text: refused.querySelector("span")?.textContent || "", todo: `Press ${fix.textContent} in the red message.` } });
     } else {
-      this.show("run", { problem: { title: "Run did not start", text: refused.querySelector("span")?.textContent || "", todo: "Do what the red message says, then press Run again." } });
+      const todo = fix ? fill(W["run-fix-press"], { fix: fix.textContent }) : W["run-fix"];
+      this.show("run", { problem: { title: W["run-failed"], text: refused.querySelector("span")?.textContent || "", todo } });
     }
   }
 
@@ -228,7 +217,7 @@ export class Guide {
     this.title = el("h2", { id: "guide-title" });
     this.body = el("div", { class: "guide-body", id: "guide-body" });
     this.next = el("button", { type: "button", class: "btn btn-sm btn-primary", id: "guide-next", onclick: () => this.onNext() });
-    const skip = this.skip = el("button", { type: "button", class: "btn btn-sm", id: "guide-skip", title: "Close the guide (Esc). Your user menu opens it again.", onclick: () => this.close("skipped") }, "Skip guide");
+    const skip = this.skip = el("button", { type: "button", class: "btn btn-sm", id: "guide-skip", title: W["skip-hint"], onclick: () => this.close("skipped") }, W.skip);
     this.box = el("section", { class: "guide", id: "guide", role: "dialog", "aria-modal": "false", "aria-labelledby": "guide-title", "aria-describedby": "guide-body", tabindex: "-1", hidden: true },
       el("div", { class: "guide-head" }, this.counter),
       this.title, this.body,

@@ -8,7 +8,7 @@ import { ProgramEditor } from "./editor.js";
 import { PresenceView } from "./coedit-view.js";
 import { ActionLog } from "./actionlog.js";
 import { AssignmentsPanel } from "./assign.js";
-import { describeActivity } from "./activity.js";
+import { describeActivity, fill } from "./activity.js";
 import { renderControl, tellControl, wireControl } from "./control.js";
 import { installFixes, moving } from "./fixes.js";
 import { keyboardExit, robotBadge, welcome } from "./first.js";
@@ -32,7 +32,7 @@ import { SlotChip, adoptSlot, askBeforeRun, programErrorText, slotOwner, stopped
 import { Workspace } from "./workspace.js";
 import { WorkspaceSwitcher } from "./switcher.js";
 import { JOINT_NAMES, OVERRIDE_PERCENT, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
-import { SLOT_WORDS } from "/vocab.js"; // generated from melfa.vocab
+import { ACTIVITY, FIX_LABELS, HEADER_LINK_WORDS, IDE_WORDS as W, ROLE_WORDS, SLOT_WORDS } from "/vocab.js"; // generated from melfa.vocab
 
 // The IDE's parts, wired once in main(); what changes lives in the stores (stores.js), and
 // the getters below read them for the parts that were handed `app`.
@@ -53,7 +53,7 @@ const app = {
   get slotOwner() { return slotOwner(app.state?.slot ?? null, app.user, loaded.get(), app.editor?.text); },
   lineOf: (step) => (app.slotOwner === "mine" ? loaded.lineOf(step, app.editor.text) : null),
   busy: (text, progress = null) => startTask("operation", text, progress),
-  idle: (text = "Idle", error = false) => endTask(text, error),
+  idle: (text = ACTIVITY.idle.said, error = false) => endTask(text, error),
   // `before`: the state message when the student clicked (an "At P1" of the last move
   // is not this move's word)
   moved: (before) => untilTheRobotSays(MOTION_SEEN, before).then(() => endTask()),
@@ -86,7 +86,12 @@ async function main() {
   if (!session) return;
   sessionStore.set({ user: session.user.username, role: session.user.role });
   loaded.restore(app.user);
-  $("user-role").textContent = `Signed in as ${app.user} · ${app.role}`;
+  $("web-status-label").textContent = W.server;
+  $("robot-status-label").textContent = W.robot;
+  setStatus("web-status", "down", W["server-connecting"]);
+  setStatus("robot-status", "down", W["robot-unknown"]);
+  showSaveKind("program");
+  $("user-role").textContent = fill(W["signed-in-as"], { user: app.user, role: ROLE_WORDS[app.role] ?? app.role });
   $("audit-link").hidden = app.role === "student";
   $("classroom-link").hidden = app.role === "student";
   $("desk-link").hidden = app.role === "student";
@@ -135,7 +140,7 @@ async function main() {
     // The welcome project greets an empty default workspace, never one made empty on purpose.
     if (workspace.id === workspace.defaultId) welcomed = await welcome(workspace, editor);
   } catch (err) {
-    showError("Could not open your workspace", err);
+    showError(W["open-workspace-failed"], err);
   }
   app.debug = new DebugPanel(app); // after the workspace: breakpoints are kept per workspace
   app.preflight = new PreflightPanel(app);
@@ -165,8 +170,8 @@ function wireLive(live) {
   live.on("status", ({ state }) => {
     const up = state === "open";
     setStatus("web-status", up ? "up" : state === "connecting" ? "wait" : "down",
-      up ? "connected" : state === "connecting" ? "connecting…" : "disconnected");
-    if (!up) setStatus("robot-status", "down", "unknown");
+      W[up ? "server-connected" : state === "connecting" ? "server-connecting" : "server-disconnected"]);
+    if (!up) setStatus("robot-status", "down", W["robot-unknown"]);
   });
   live.on("hello", (m) => {
     robot.set({ virtual: robotBadge(m) });
@@ -189,7 +194,7 @@ function wireLive(live) {
     // it, and must not cover "Loaded…" with a progress bar that never ends.
     if (m.actor?.user !== app.user || activityLine.get().task?.kind !== "load") return;
     const share = m.total ? m.sent / m.total : 0;
-    startTask("load", `Loading project… ${Math.round(share * 100)} %`, share);
+    startTask("load", fill(W["loading-share"], { percent: Math.round(share * 100) }), share);
   });
 }
 
@@ -198,15 +203,15 @@ function setStatus(id, state, text) {
   node.dataset.state = state;
   $(`${id}-text`).textContent = text;
   // The accessible name starts with the visible text ("Server connected"), then the hint.
-  const what = id === "web-status" ? "Server" : "Robot";
-  node.setAttribute("aria-label", `${what} ${text}. Click to reconnect.`);
-  node.title = `${what}: ${text}${node.dataset.detail ? ` (${node.dataset.detail})` : ""}. Click to reconnect.`;
+  const what = id === "web-status" ? W.server : W.robot;
+  node.setAttribute("aria-label", fill(W["status-label"], { what, text }));
+  node.title = fill(W[node.dataset.detail ? "status-title-detail" : "status-title"], { what, text, detail: node.dataset.detail });
 }
 
 function setLink(status, detail = "") {
   const state = status === "connected" ? "up" : status === "connecting" || status === "reconnecting" ? "wait" : "down";
   $("robot-status").dataset.detail = state === "up" ? "" : detail; // in the tooltip: the header stays one line
-  setStatus("robot-status", state, status);
+  setStatus("robot-status", state, HEADER_LINK_WORDS[status] ?? W["robot-unknown"]);
 }
 
 /** Control changed hands (or its holder's connection): `holder` {user, role} or null. */
@@ -259,10 +264,10 @@ function renderActivity() {
   pill.className = said.error ? "pill bad" : said.busy ? "pill busy" : "pill";
   pill.dataset.activity = m?.activity || "";
   renderAlarm(m?.alarm ?? null, m?.slot ?? null);
-  $("servo-state").textContent = m?.servo == null ? "—" : m.servo ? "on" : "off";
+  $("servo-state").textContent = m?.servo == null ? "—" : m.servo ? W.on : W.off;
   $("servo-state").className = m?.servo ? "pill on" : "pill";
   const hand = m?.hands?.[0];
-  $("hand-state").textContent = hand == null ? "—" : hand ? "open" : "closed";
+  $("hand-state").textContent = hand == null ? "—" : hand ? W["hand-open"] : W["hand-closed"];
   if (app.jog && (app.jog.shownActivity !== said.text || app.jog.shownHand !== hand)) app.jog.draw();
   // The activity line has one owner: an operation of ours in progress, else its result
   // ("Loaded…", "Load failed") until the robot does something else, else the robot.
@@ -290,13 +295,13 @@ function renderAlarm(a, slot) {
   box.dataset.line = line ? String(line) : "";
   if (!a) return box.replaceChildren();
   const reset = a.fix === "reset-alarm" ? el("button", { type: "button", class: "btn btn-sm btn-primary", id: "alarm-fix",
-    onclick: () => api("POST", "/api/robot/reset-alarm").catch((err) => showError("Could not reset the alarm", err)) },
-  a.fix_label || "Reset alarm") : null;
+    onclick: () => api("POST", "/api/robot/reset-alarm").catch((err) => showError(W["reset-alarm-failed"], err)) },
+  a.fix_label || FIX_LABELS["reset-alarm"]) : null;
   const go = line ? el("button", { type: "button", class: "btn btn-sm", id: "alarm-line",
     onclick: () => { selectTab("editor"); app.editor.editor.gotoLine(line, 0, true); app.editor.editor.focus(); } },
-  `Show line ${line}`) : null;
+  fill(W["show-line"], { line })) : null;
   box.replaceChildren(
-    headline ? el("strong", {}, headline) : el("strong", {}, "Alarm ", el("span", { class: "code" }, a.code || String(a.number))),
+    headline ? el("strong", {}, headline) : el("strong", {}, W.alarm, " ", el("span", { class: "code" }, a.code || String(a.number))),
     " ", a.message || a.text, " ", go, reset,
   );
 }
@@ -305,9 +310,9 @@ function renderReadouts(m) {
   const row = (label, value, unit = "") => el("tr", {}, el("th", { scope: "row" }, label), el("td", {}, value == null ? "—" : (Math.abs(value) < 0.005 ? 0 : value).toFixed(2) + unit));
   $("joints-out").replaceChildren(...JOINT_NAMES.map((n, i) => row(n, m?.joints?.[i])));
   $("pose-out").replaceChildren(...POSE_NAMES.map((n, i) => row(n, m?.pose?.[i])));
-  $("fact-flags").textContent = m?.flags ? `FL1 ${m.flags[0]}, FL2 ${m.flags[1]}` : "—";
-  $("fact-speed").textContent = m?.speed == null ? "—" : `${m.speed.toFixed(1)} mm/s`;
-  $("fact-measured").textContent = m?.pose ? (m.pose_measured ? "read from the controller" : "computed from the joints") : "—";
+  $("fact-flags").textContent = m?.flags ? fill(W.flags, { fl1: m.flags[0], fl2: m.flags[1] }) : "—";
+  $("fact-speed").textContent = m?.speed == null ? "—" : fill(W.speed, { speed: m.speed.toFixed(1) });
+  $("fact-measured").textContent = m?.pose ? W[m.pose_measured ? "pose-measured" : "pose-computed"] : "—";
   const pose = $("pose-out");
   pose.dataset.pose = m?.pose ? JSON.stringify(m.pose) : "";
 }
@@ -355,11 +360,11 @@ async function stopAll() {
     try {
       await api("POST", "/api/robot/stop");
     } catch (err) {
-      showError("STOP could not be delivered", err);
+      showError(W["stop-failed"], err);
       return;
     }
   }
-  toast("Stop sent", { kind: "warning", text: "The robot stops; queued commands are cancelled." });
+  toast(W["stop-sent"], { kind: "warning", text: W["stop-sent-text"] });
 }
 
 // ---- main buttons ----
@@ -370,16 +375,16 @@ function wireToolbar(workspace, editor) {
     try {
       await api("POST", "/api/robot/stop");
     } catch (err) {
-      showError("Could not stop", err);
+      showError(W["stop-program-failed"], err);
     }
   });
   $("act-save").addEventListener("click", async () => {
     const kind = currentTab() === "points" ? "points" : "program";
     try {
       const name = await workspace.exportFile(kind);
-      toast(`Saved ${name}`, { kind: "ok", text: kind === "program" ? "Numbered 10, 20, 30…; jumps rewritten to match." : "Points in the controller's format." });
+      toast(fill(W.saved, { name }), { kind: "ok", text: W[kind === "program" ? "saved-program" : "saved-points"] });
     } catch (err) {
-      showError("Could not save the file", err);
+      showError(W["save-failed"], err);
     }
   });
   $("act-check").addEventListener("click", async () => {
@@ -411,24 +416,24 @@ function wireToolbar(workspace, editor) {
 async function loadProject(workspace, editor) {
   const button = $("act-load");
   button.disabled = true;
-  startTask("load", "Loading project…", 0);
+  startTask("load", W.loading, 0);
   try {
     const program = workspace.program;
     const out = await api("POST", "/api/robot/project", { program, points: workspace.points, workspace_id: workspace.id ?? undefined, check: true });
     loaded.remember(program, out.step_lines, out.fingerprint);
-    endTask(took("Project loaded", out.seconds), false, 1);
-    toast("Project loaded", { kind: "ok", text: `Program and points are in slot 1 (${out.bytes_sent} bytes).` });
+    endTask(took(W.loaded, out.seconds), false, 1);
+    toast(W.loaded, { kind: "ok", text: fill(W["loaded-text"], { bytes: out.bytes_sent }) });
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: true } }));
     return true;
   } catch (err) {
     app.events.dispatchEvent(new CustomEvent("load", { detail: { ok: false, err } }));
-    endTask("Load failed", true);
+    endTask(W["load-failed"], true);
     if (err.code === "program-has-errors" && err.detail?.diagnostics) {
       // The whole list again (the refusal names its errors only): warnings stay in view.
       if (!(await editor.check())) editor.show(err.detail.diagnostics);
       selectTab("editor");
     }
-    showError(err.code === "program-has-errors" ? "Not loaded: the program has errors" : err.code === "points-have-errors" ? "Not loaded: the points have errors" : "Could not load the project", err);
+    showError(W[err.code === "program-has-errors" ? "load-program-errors" : err.code === "points-have-errors" ? "load-points-errors" : "load-could-not"], err);
     return false;
   } finally {
     button.disabled = false;
@@ -448,7 +453,7 @@ async function runProgram() {
     choice = { expect: loaded.get().fingerprint ?? undefined };
   }
   const override = Number($("override").value);
-  await moving("Could not run the program", async (extra) => {
+  await moving(W["run-failed"], async (extra) => {
     if (app.state && app.state.override !== override) await api("POST", "/api/robot/override", { percent: override });
     app.view.clearPath();
     await api("POST", "/api/robot/run", { ...extra, expect: choice.expect });
@@ -469,13 +474,17 @@ function selectTab(name, focus = false) {
     $(`panel-${t}`).hidden = !on;
     if (on && focus) tab.focus();
   }
-  $("act-save-label").textContent = name === "points" ? "Save .POS" : "Save .MB4";
-  $("act-save").title = name === "points" ? "Download the points as .POS" : "Download the numbered .MB4";
+  showSaveKind(name === "points" ? "points" : "program");
   if (name === "editor") app.editor.editor.resize();
   if (name !== "robot") app.jog.releaseAll();
   else app.jog.draw();
 }
 app.selectTab = selectTab;
+/** The save button follows the tab: the program as .MB4, the points as .POS. */
+function showSaveKind(kind) {
+  $("act-save-label").textContent = W[`save-${kind}`];
+  $("act-save").title = W[`save-${kind}-hint`];
+}
 function wireTabs() {
   for (const t of TABS) $(`tab-${t}`).addEventListener("click", () => selectTab(t));
   document.querySelector(".tabs").addEventListener("keydown", (e) => {
@@ -494,33 +503,33 @@ function wireRobotTab() {
       showError(what, err);
     }
   };
-  $("servo-on").addEventListener("click", call("Could not switch the servo on", "POST", "/api/robot/servo", { on: true }));
-  $("servo-off").addEventListener("click", call("Could not switch the servo off", "POST", "/api/robot/servo", { on: false }));
+  $("servo-on").addEventListener("click", call(W["servo-on-failed"], "POST", "/api/robot/servo", { on: true }));
+  $("servo-off").addEventListener("click", call(W["servo-off-failed"], "POST", "/api/robot/servo", { on: false }));
   $("hand-toggle").addEventListener("click", async () => {
     try {
       const out = await api("POST", "/api/robot/hand", { hand: 1, action: "toggle" });
       app.view.setHand(out.open);
     } catch (err) {
-      showError("Could not move the hand", err);
+      showError(W["hand-failed"], err);
     }
   });
   const override = $("override");
   override.min = OVERRIDE_PERCENT.min;
   override.max = OVERRIDE_PERCENT.max;
-  override.addEventListener("input", () => ($("override-out").textContent = `${override.value} %`));
-  $("override-set").addEventListener("click", call("Could not set the override", "POST", "/api/robot/override", { get percent() { return Number(override.value); } }));
-  $("reset-program").addEventListener("click", call("Could not reset the program", "POST", "/api/robot/reset-program"));
-  $("reset-alarm").addEventListener("click", call("Could not reset the alarm", "POST", "/api/robot/reset-alarm"));
+  override.addEventListener("input", () => ($("override-out").textContent = fill(W.percent, { percent: override.value })));
+  $("override-set").addEventListener("click", call(W["override-failed"], "POST", "/api/robot/override", { get percent() { return Number(override.value); } }));
+  $("reset-program").addEventListener("click", call(W["reset-program-failed"], "POST", "/api/robot/reset-program"));
+  $("reset-alarm").addEventListener("click", call(W["reset-alarm-failed"], "POST", "/api/robot/reset-alarm"));
   $("delete-program").addEventListener("click", async () => {
-    if (!confirm("Delete the program and its points from the controller's slot 1?")) return;
-    await call("Could not delete the program", "DELETE", "/api/robot/program")();
+    if (!confirm(W["delete-confirm"])) return;
+    await call(W["delete-failed"], "DELETE", "/api/robot/program")();
   });
   // Go to a point of the points tab.
   const select = $("goto-point");
   const fill = () => {
     const names = app.points.names();
     const keep = select.value;
-    select.replaceChildren(...(names.length ? names.map((n) => el("option", { value: n }, n)) : [el("option", { value: "" }, "no points defined")]));
+    select.replaceChildren(...(names.length ? names.map((n) => el("option", { value: n }, n)) : [el("option", { value: "" }, W["no-points"])]));
     if (names.includes(keep)) select.value = keep;
     $("goto-move").disabled = !names.length;
   };
@@ -531,12 +540,12 @@ function wireRobotTab() {
     const point = select.value;
     if (!point) return;
     const linear = $("goto-linear").checked;
-    await moving(`Could not move to ${point}`, async (extra) => {
+    await moving(fill(W["move-failed-to"], { point }), async (extra) => {
       const before = app.state;
-      app.busy(`Moving to ${point}…`);
+      app.busy(fill(W["moving-to"], { point }));
       await api("POST", "/api/robot/move", { point, points: app.workspace.points, linear, ...extra });
       await app.moved(before); // the robot's own words from here: "Moving to P1", then "At P1" on arrival
-    }, () => app.idle("Move failed", true));
+    }, () => app.idle(W["move-failed"], true));
   });
   $("path-clear").addEventListener("click", () => app.view.clearPath());
   $("view-reset").addEventListener("click", () => app.view.resetView());

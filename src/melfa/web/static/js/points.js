@@ -8,6 +8,8 @@ import { moving } from "./fixes.js";
 import { confirmReplace, openBeside } from "./opener.js";
 import { $, debounce, describeDiagnostic, el, hasExtension, readTextFile, showError, toast } from "./ui.js";
 import { JOINT_NAMES, POSE_NAMES } from "/model/controller.js"; // generated from melfa.protocol
+import { IDE_WORDS } from "/vocab.js"; // generated from melfa.vocab.ide
+import { fill } from "./activity.js";
 
 const LINE = /^\s*(?:DEF\s+(POS|JNT)\s+)?([A-Za-z][A-Za-z0-9_]*)\s*=\s*\(([^)]*)\)\s*(?:\(([^)]*)\))?\s*(?:'.*)?$/i;
 const MAX_NAME = 8;
@@ -302,12 +304,12 @@ export class PointsTab {
   }
 
   async moveTo(row) {
-    await moving(`Could not move to ${row.name}`, async (extra) => {
+    await moving(fill(IDE_WORDS["move-failed-to"], { point: row.name }), async (extra) => {
       const before = this.app.state;
-      this.app.busy(`Moving to ${row.name}…`);
+      this.app.busy(fill(IDE_WORDS["moving-to"], { point: row.name }));
       await api("POST", "/api/robot/move", { point: row.name, points: this.workspace.points, ...extra });
       await this.app.moved(before); // then the robot's words: "Moving to P1", "At P1" on arrival
-    }, () => this.app.idle("Move failed", true));
+    }, () => this.app.idle(IDE_WORDS["move-failed"], true));
   }
 
   async openFile(input) {
