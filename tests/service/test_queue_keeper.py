@@ -210,3 +210,59 @@ def test_a_restart_keeps_the_queue() -> None:
             await keeper.close()
 
     run(main())
+
+
+def test_a_queued_student_is_told_at_once_when_the_cell_cancels_their_pass() -> None:
+    """An instructor edits the lab's cell: each queued text that passed only in the old one
+    is marked at once (``gate``: cell-changed; a step to its student), not refused only at
+    the claim; a new pass in the cell as it is clears it. The mark is stored: a restart
+    neither loses nor repeats it."""
+    controller = RecordingController()
+    storage = Memory()
+    cell = ["a"]
+
+    async def main() -> None:
+        service, _ = make_service(controller, require_simulation=True)
+        assert service.policy.gate is not None
+        service.policy.gate.cell = lambda: cell[0]
+        async with service:
+            keeper, audited = keeper_for(service, storage)
+            await keeper.start()
+            for actor in (ANN, BOB):
+                service.connect(actor)
+            texts = {"ann": SHORT, "bob": LONG}
+            for actor in (ANN, BOB):
+                plan = project(texts[actor.user], POINTS)
+                service.policy.gate_passed(plan, 4.0, cell[0])
+                keeper.join(actor, plan, texts[actor.user], POINTS)
+            assert [e.gate for e in keeper.view().entries] == [None, None]
+
+            cell[0] = "b"  # the instructor edited the cell
+            keeper.gate_changed()
+            assert await until(lambda: keeper.view().entries[1].gate is not None, 2)
+            assert [e.gate for e in keeper.view().entries] == [Refusal.CELL_CHANGED] * 2
+            again = [s.user for s in audited if s.kind is QueueStep.PREFLIGHT_AGAIN]
+            assert again == ["ann", "bob"]
+            assert storage.docs["lab"]["entries"][1]["gate"] == "cell-changed"
+
+            service.policy.gate_passed(project(LONG, POINTS), 4.2, "b")  # bob passes again
+            keeper.gate_changed()
+            assert await until(lambda: keeper.view().entries[1].gate is None, 2)
+            assert keeper.view().entries[0].gate is Refusal.CELL_CHANGED
+            assert [s.user for s in audited if s.kind is QueueStep.PREFLIGHT_OK] == ["bob"]
+            await keeper.close()
+        service, _ = make_service(controller, require_simulation=True)
+        assert service.policy.gate is not None
+        service.policy.gate.cell = lambda: cell[0]
+        service.policy.gate.passed(project(LONG, POINTS), 4.2, "b")  # what the store kept
+        service.policy.gate.passed(project(SHORT, POINTS), 4.0, "a")
+        async with service:
+            keeper, audited = keeper_for(service, storage)
+            await keeper.start()
+            assert [e.gate for e in keeper.view().entries] == [Refusal.CELL_CHANGED, None]
+            assert audited[0].kind is QueueStep.RESTORED
+            told = {QueueStep.PREFLIGHT_AGAIN, QueueStep.PREFLIGHT_OK}
+            assert not [s for s in audited if s.kind in told]  # nothing told twice
+            await keeper.close()
+
+    run(main())

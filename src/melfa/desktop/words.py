@@ -230,6 +230,11 @@ def queue_line(queue: QueueOut, me: str) -> tuple[str, bool]:
     ('Lab robot queue · the arm is offered to you: claim it now', True)
     >>> queue_line(q, "bob")
     ('Lab robot queue · 1 waiting', False)
+    >>> bob = dict(entry, user="bob", position=2, state="waiting", offer_ends=None,
+    ...            gate="cell-changed")  # the lab's cell was changed since bob's passed
+    >>> line, _ = queue_line(QueueOut(**{**q.model_dump(), "entries": [entry, bob]}), "bob")
+    >>> line.split(" · ")[-1]
+    'your queued program must pass pre-flight again (Pre-flight, in the IDE)'
     """
     w = QUEUE_WORDS
     if not queue.active:
@@ -246,4 +251,6 @@ def queue_line(queue: QueueOut, me: str) -> tuple[str, bool]:
     if mine is not None:
         wait = max(0, round((mine.estimate - queue.now).total_seconds() / 60))
         parts.append(w.line_place.format(position=mine.position, minutes=wait))
+        if mine.gate is not None:  # the arm would refuse it at the turn: say so now
+            parts.append(w.line_preflight)
     return " · ".join(parts), False

@@ -25,6 +25,7 @@ from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import LeaseReason
 from melfa.vocab.link import LinkStatus
 from melfa.vocab.queue import EntryState, QueueStep, TurnEnd
+from melfa.vocab.refusals import Refusal
 
 PROTOCOL_VERSION = 1
 
@@ -272,6 +273,10 @@ class QueueEntryOut(_Sent):
     missed: int = 0
     offer_ends: datetime | None = None
     """While the arm is offered to them: the end of the claim window."""
+    gate: Refusal | None = None
+    """What the instructor's gate would say to the queued text now: ``cell-changed`` (the
+    lab's cell was edited since it passed: it must pass pre-flight again before the turn),
+    ``simulation-required`` (the gate was switched on since); null: it would load."""
 
 
 class QueueTurnOut(_Sent):

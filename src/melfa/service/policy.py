@@ -150,11 +150,21 @@ class Gate:
         Passed in an earlier cell only: `Refusal.CELL_CHANGED`."""
         if not self.required:
             return None
-        now = self.cell()
         with self._lock:
             wanted = self._wanted(command, plan, slot)
-            if wanted is None:
-                return None
+        return None if wanted is None else self._verdict(wanted)
+
+    def pair_refusal(self, program_digest: str, points_digest: str) -> Refusal | None:
+        """What a load of this program and points would be told now (None: it goes)."""
+        if not self.required:
+            return None
+        return self._verdict([(program_digest, points_digest)])
+
+    def _verdict(self, wanted: list[tuple[str, str]]) -> Refusal | None:
+        """Passed in the cell as it is (None), only in another (`Refusal.CELL_CHANGED`),
+        or never (`Refusal.SIMULATION_REQUIRED`)."""
+        now = self.cell()
+        with self._lock:
             cells = {c for pair in wanted for c in self._passed.get(pair, {})}
         if now in cells:
             return None
@@ -278,6 +288,13 @@ class Policy:
     def stopped(self) -> None:
         if self.turns is not None:
             self.turns.stopped()
+
+    def queued_refusal(self, program_digest: str, points_digest: str) -> Refusal | None:
+        """What the gate would say now to a queued text (its program and points digests)
+        at its turn: the queue warns its student at once (None: it would load)."""
+        if self.gate is None:
+            return None
+        return self.gate.pair_refusal(program_digest, points_digest)
 
     def may_queue(self, plan: UploadPlan) -> None:
         """Whether ``plan`` may enter the queue: no error (the checker's, the points'),

@@ -84,6 +84,13 @@ class Entry:
     away_since: float | None = None
     offered_until: float | None = None
     missed: int = 0
+    gate: Refusal | None = None
+    """What the instructor's gate would say to this text now (None: it would load): the
+    cell was edited since it passed, or the gate switched on (`TurnQueue.gate_checked`)."""
+
+    def __post_init__(self) -> None:
+        if self.gate is not None:  # from the stored document: the refusal's wire value
+            self.gate = Refusal(self.gate)
 
     @property
     def state(self) -> EntryState:
@@ -251,6 +258,26 @@ class TurnQueue:
             if stale != entry.stale:
                 entry.stale = stale
                 steps.append(Step(QueueStep.STALE if stale else QueueStep.FRESH, entry.user))
+        return steps
+
+    def gate_checked(self, refusal_of: Callable[[Entry], Refusal | None]) -> list[Step]:
+        """The instructor's gate asked again about each queued text (``refusal_of``): an
+        entry it would now refuse must pass pre-flight again before its turn comes, which
+        its student is told at once rather than at the claim; one it lets through again is
+        fine."""
+        steps = []
+        for entry in self.entries:
+            gate = refusal_of(entry)
+            if gate is entry.gate:
+                continue
+            entry.gate = gate
+            if gate is None:
+                kind = QueueStep.PREFLIGHT_OK
+            elif gate is Refusal.CELL_CHANGED:
+                kind = QueueStep.PREFLIGHT_AGAIN
+            else:
+                kind = QueueStep.PREFLIGHT_NEEDED
+            steps.append(Step(kind, entry.user))
         return steps
 
     # ------------------------------------------------------------------ time

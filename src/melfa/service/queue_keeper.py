@@ -65,6 +65,8 @@ class EntryView:
     away: bool
     missed: int
     offer_ends: dt.datetime | None
+    gate: Refusal | None
+    """What the instructor's gate would say to the queued text now (None: it would load)."""
 
 
 @dataclass(frozen=True)
@@ -189,6 +191,7 @@ class QueueKeeper:
                 away=e.away_since is not None,
                 missed=e.missed,
                 offer_ends=None if e.offered_until is None else _time(e.offered_until),
+                gate=e.gate,
             )
             for i, e in enumerate(queue.entries)
         )
@@ -283,6 +286,13 @@ class QueueKeeper:
 
     def workspace_saved(self, workspace_id: int, program: str, points: str) -> None:
         self._do(lambda q: q.workspace_saved(workspace_id, program, points))
+
+    def gate_changed(self) -> None:
+        """What the instructor's gate says may have changed (the lab's cell was edited, a
+        pre-flight passed): the queued texts are asked again at once, and a student whose
+        text would now be refused is told before their turn comes (every transition asks
+        too, so a gate switched on the desk is seen within `TICK_S`)."""
+        self._wake.set()
 
     # ------------------------------------------------------------------ the instructor
 
@@ -380,6 +390,7 @@ class QueueKeeper:
             done += pending
             pending = self._reconcile()
             pending += self.queue.tick(self.clock.now(), self._present, self._running())
+            pending += self.queue.gate_checked(self._gate)
             if not pending:
                 break
         self.service.policy.lease.queued = self.queue.active
@@ -431,6 +442,9 @@ class QueueKeeper:
             if step.stop:
                 self._spawn(self.service.stop(QUEUE_ACTOR))
             self.service.revoke_lease(self._actor(user))
+
+    def _gate(self, entry: Entry) -> Refusal | None:
+        return self.service.policy.queued_refusal(entry.program_digest, entry.points_digest)
 
     def _actor(self, user: str, role: str | None = None) -> Actor:
         return Actor(user, Role(role) if role else Role.STUDENT, "queue")

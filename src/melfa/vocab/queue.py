@@ -68,6 +68,14 @@ class QueueStep(enum.StrEnum):
     ARM_READY = "arm-ready"
     RESTORED = "restored"
     """The server started again with the queue it had."""
+    PREFLIGHT_AGAIN = "preflight-again"
+    """The lab's cell was edited: the queued text's pass no longer counts, and at its turn
+    the arm would refuse it (`Refusal.CELL_CHANGED`) unless it passes again."""
+    PREFLIGHT_NEEDED = "preflight-needed"
+    """The instructor's gate was switched on: the queued text never passed pre-flight."""
+    PREFLIGHT_OK = "preflight-ok"
+    """The queued text passes the instructor's gate again (it passed pre-flight again, the
+    edit of the cell was undone, or the gate was switched off)."""
 
     @property
     def template(self) -> str:
@@ -116,6 +124,11 @@ _STEP_WORDS: dict[QueueStep, str] = {
     QueueStep.RUN_WAITING: "{user}'s run waits for the supervisor's Arm ready",
     QueueStep.ARM_READY: "{by} said the arm is ready: the run goes",
     QueueStep.RESTORED: "the queue is back after a server restart",
+    QueueStep.PREFLIGHT_AGAIN: (
+        "the lab's cell was changed: {user}'s queued program must pass pre-flight again"
+    ),
+    QueueStep.PREFLIGHT_NEEDED: "{user}'s queued program must pass pre-flight before their turn",
+    QueueStep.PREFLIGHT_OK: "{user}'s queued program may run on the lab robot again",
 }
 assert set(_STEP_WORDS) == set(QueueStep), "every queue step has its words"
 
@@ -215,6 +228,21 @@ class QueueWords:
         "The program in the workspace changed since it was queued: update it, or the queued "
         "one runs"
     )
+    preflight_again: str = "must pass pre-flight again"
+    """An entry whose pass no longer counts (the lab's cell was changed)."""
+    preflight_again_hint: str = (
+        "The lab's cell was changed after this program passed pre-flight: at its turn the "
+        "arm would refuse it. Run pre-flight again in the cell as it is now; your queued "
+        "program is then updated with the editor's"
+    )
+    preflight_needed: str = "must pass pre-flight"
+    """An entry that never passed (the instructor's gate was switched on since)."""
+    preflight_needed_hint: str = (
+        "The lab robot now runs only programs that passed pre-flight: at its turn the arm "
+        "would refuse this one. Run pre-flight; your queued program is then updated with "
+        "the editor's"
+    )
+    preflight: str = "Run pre-flight"
     # The instructor's controls
     controls: str = "Instructor's queue controls"
     move_up: str = "Move {user} up"
@@ -250,6 +278,8 @@ class QueueWords:
     line_turn: str = "{user} ({minutes} min left)"
     line_offered: str = "the arm is offered to you: claim it now"
     line_place: str = "you are number {position}, in about {minutes} min"
+    line_preflight: str = "your queued program must pass pre-flight again (Pre-flight, in the IDE)"
+    """When the arm would refuse its user's queued program (the lab's cell was changed)."""
     # What a refused or failed request is called (the server's reason follows)
     join_failed: str = "Could not join the queue"
     leave_failed: str = "Could not leave the queue"

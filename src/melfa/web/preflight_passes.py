@@ -44,6 +44,8 @@ async def keep_pass(
     )
     await patiently(lambda: context.db(context.store.preflights.record, new))
     context.service.policy.gate_passed(plan, report.cycle_time, cell)
+    for queue in context.queues.values():  # a queued text it may pass again
+        queue.gate_changed()
 
 
 __all__ = ["keep_pass", "load_passes"]

@@ -131,6 +131,8 @@ async def put_cell(body: CellIn, session: StaffDep, context: ContextDep) -> Pref
     except CellError as exc:
         raise ApiError(422, "invalid-cell", str(exc), where={"field": "cell"}) from None
     await asyncio.to_thread(context.preflight.save_cell, cell, session.user)
+    for queue in context.queues.values():  # a queued student whose pass no longer counts
+        queue.gate_changed()  # is told now, not when their turn is refused
     return settings_out(context)
 
 

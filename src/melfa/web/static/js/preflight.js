@@ -10,6 +10,7 @@ import { api } from "./api.js";
 import { CellEditor } from "./celleditor.js";
 import { CellScene } from "./cellview.js";
 import { $, el, onFix, showError, toast } from "./ui.js";
+import { QUEUE_WORDS } from "/vocab.js"; // generated from melfa.vocab
 
 const COLOURS = { ok: 0x2563eb, error: 0xdc2626, warning: 0xf59e0b };
 
@@ -28,7 +29,12 @@ export class PreflightPanel {
     onFix("preflight", () => this.offer()); // the gate's refusal: its button runs this
     // The gate refused (an instructor edited the cell since): the report's pass is no
     // longer what lets the lab robot run it.
-    document.addEventListener("melfa:fix-offered", (e) => e.detail === "preflight" && this.report && this.summarize(false));
+    document.addEventListener("melfa:fix-offered", (e) => e.detail === "preflight" && this.noLongerCounts());
+  }
+
+  /** The report's pass no longer lets the lab robot run the text (the cell was edited). */
+  noLongerCounts() {
+    if (this.report) this.summarize(false);
   }
 
   build() {
@@ -196,7 +202,7 @@ export class PreflightPanel {
       timeout: 0,
       text: "This lab runs a program on the robot only after the same program passed a simulated run without pre-flight errors.",
       actions: [
-        { label: "Run pre-flight", run: () => this.run() },
+        { label: QUEUE_WORDS.preflight, run: () => this.run() }, // the queue's button's words
         { label: "Debug on My simulator", run: () => this.app.targets.choose("mine") },
       ],
     });

@@ -14,6 +14,9 @@ import { lease } from "./stores.js";
 import { $, el, showError, toast } from "./ui.js";
 import { QUEUE_STATES, QUEUE_STEPS, QUEUE_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.queue
 
+/** A queue step telling a student their queued text must pass pre-flight (again). */
+const GATE_STEPS = new Set(["preflight-again", "preflight-needed"]);
+
 /** How long the instructor's extend button adds (its words say it in minutes). */
 const EXTEND_S = 60;
 
@@ -98,6 +101,12 @@ export class QueuePanel {
   tell(step) {
     const me = this.app.user;
     if (step.user !== me) return;
+    if (GATE_STEPS.has(step.kind)) { // at once, not when the turn comes: what to do, one click
+      toast(W.title, { kind: "warning", timeout: 0, text: stepWords(step),
+        actions: [{ label: W.preflight, run: () => this.preflightAgain() }] });
+      this.app.preflight.noLongerCounts(); // its report's pass does not open the gate now
+      return;
+    }
     const kind = {
       missed: "warning", warned: "warning", ending: "warning", stopped: "warning",
       skipped: "warning", gone: "warning", stale: "warning",
@@ -165,6 +174,10 @@ export class QueuePanel {
         offered ? this.offerLeft(e.offer_ends) : start <= 0 ? W.next : fill(W.starts_in, { left: clock(start) })),
       e.cycle_s != null ? el("span", { class: "muted queue-cycle", title: W.cycle_hint }, fill(W.cycle, { seconds: e.cycle_s.toFixed(e.cycle_s < 10 ? 1 : 0) })) : null,
       e.stale ? el("span", { class: "tag warn", title: W.stale_hint }, W.stale) : null,
+      e.gate ? el("span", { class: "tag warn", "data-gate": e.gate, title: e.gate === "cell-changed" ? W.preflight_again_hint : W.preflight_needed_hint },
+        e.gate === "cell-changed" ? W.preflight_again : W.preflight_needed) : null,
+      e.gate && e.user === me && this.app.role !== "observer" ? el("button", { type: "button", class: "btn btn-sm btn-primary", id: "queue-preflight",
+        onclick: () => this.preflightAgain() }, W.preflight) : null,
       e.away ? el("span", { class: "tag" }, W.away) : null,
       this.staff ? el("span", { class: "queue-staff" },
         el("button", { type: "button", class: "btn btn-sm btn-icon", title: fill(W.move_up_hint, { user: e.user }), "aria-label": fill(W.move_up, { user: e.user }),
@@ -268,6 +281,12 @@ export class QueuePanel {
       if (err.code === "program-has-errors" && err.detail?.diagnostics) app.editor.show(err.detail.diagnostics);
       showError(W.join_failed, err);
     }
+  }
+
+  /** The queued text's pass no longer counts: pre-flight the editor's text, and when it
+   * passes it becomes the queued one (the same text, or the one the student now means). */
+  async preflightAgain() {
+    if (await this.app.preflight.run()) await this.join();
   }
 
   async leave() {
