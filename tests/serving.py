@@ -35,11 +35,12 @@ def stop_process(proc: subprocess.Popen[bytes]) -> None:
 
 @contextlib.contextmanager
 def melfa_serve(
-    data: Path, *extra: str, admin_password: str, timeout: float = 30.0
+    data: Path, *extra: str, admin_password: str, timeout: float = 120.0
 ) -> Iterator[str]:
     """`melfa serve` on a free port with ``data`` and ``extra`` options, its output in
     data/serve.log (a file, not a pipe: a full pipe would block the server); yields its URL
-    once /api/health says the robot link is connected, and stops it at the end."""
+    once /api/health says the robot link is connected (``timeout`` s: a guard against a hang;
+    a start-up on two cores under a second suite took over 30 s), and stops it at the end."""
     port = free_port()
     env = {k: v for k, v in os.environ.items() if k not in ("MELFA_ROBOT", "MELFA_DATA")}
     env["MELFA_ADMIN_PASSWORD"] = admin_password

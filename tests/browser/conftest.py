@@ -45,10 +45,16 @@ SCREENSHOTS = (
 )
 VIEWPORT = {"width": 1366, "height": 768}
 
-# How long an `expect` waits for what the page should come to show: a guard against a hang,
-# not a measure (tests never time things). Playwright's 5 s is short for a check or a load
-# answered by a worker process at niceness +10 on two cores busy with the rest of the suite.
-expect.set_options(timeout=15_000)
+HANG_GUARD_MS = 15_000
+"""How long an `expect`, a `wait_for_*` or an action (a click waits for its target to be
+visible, enabled and not covered) waits for what the page should come to: a guard against a
+hang, not a measure (tests never time things). Playwright's 5 s (30 s for actions) was short
+for a check answered by a worker process at niceness +10 on two cores busy with the suite."""
+OPEN_GUARD_MS = 60_000
+"""The guard for opening the IDE (sign-in, ~40 modules, three.js and Ace, the live socket,
+the workspace's live document): the heaviest step of a test; CI under a second suite (load
+12-14 on 2 cores) saw it take over 10 s."""
+expect.set_options(timeout=HANG_GUARD_MS)
 
 
 @dataclass(frozen=True)
@@ -75,7 +81,7 @@ class Server:
 
 
 @contextlib.contextmanager
-def melfa_serve(data: Path, *extra: str, timeout: float = 30.0) -> Iterator[str]:
+def melfa_serve(data: Path, *extra: str, timeout: float = 120.0) -> Iterator[str]:
     """`tests.serving.melfa_serve` with the browser tests' admin password."""
     with serving_melfa(data, *extra, admin_password=ADMIN_PASSWORD, timeout=timeout) as url:
         yield url
@@ -137,7 +143,7 @@ class Session:
         if not first_run:  # the first-run guide was seen (test_guide.py wants it unseen)
             self.context.add_init_script(f"localStorage.setItem('melfa.guide.{user}', 'done')")
         self.context.add_init_script(TOAST_LOG)
-        self.context.set_default_timeout(10_000)
+        self.context.set_default_timeout(HANG_GUARD_MS)
         self.errors: list[str] = []
         self.page: Page = self.context.new_page()
         self.page.on("pageerror", lambda exc: self.errors.append(str(exc)))
@@ -152,15 +158,16 @@ class Session:
         self.open()
 
     def open(self) -> None:
-        self.page.goto(self.server.url + "/")
+        self.page.goto(self.server.url + "/", timeout=OPEN_GUARD_MS)
         self.wait_ready()
 
     def wait_ready(self) -> None:
-        self.page.wait_for_selector("#web-status[data-state=up]")
-        self.page.wait_for_function("() => window.melfa && window.melfa.workspace?.id")
+        page, guard = self.page, OPEN_GUARD_MS
+        page.wait_for_selector("#web-status[data-state=up]", timeout=guard)
+        page.wait_for_function("() => window.melfa && window.melfa.workspace?.id", timeout=guard)
         # The live document is here (co-editing: the editor is read-only until it is).
-        self.page.wait_for_function("() => window.melfa.workspace.live?.synced")
-        self.page.wait_for_function("() => window.melfa.state && window.melfa.state.joints")
+        page.wait_for_function("() => window.melfa.workspace.live?.synced", timeout=guard)
+        page.wait_for_function("() => window.melfa.state?.joints", timeout=guard)
 
     def eval(self, script: str, arg: Any = None) -> Any:
         return self.page.evaluate(script, arg)
@@ -274,7 +281,7 @@ def stop_robot(server: Server) -> Iterator[None]:
         {"X-CSRF-Token": token, "Cookie": cookies},
         method="POST",
     )
-    urllib.request.urlopen(stop, timeout=10).close()
+    urllib.request.urlopen(stop, timeout=30).close()
 
 
 AXE = ROOT / "frontend" / "node_modules" / "axe-core" / "axe.min.js"

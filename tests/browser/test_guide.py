@@ -218,7 +218,7 @@ def real(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
         sim = subprocess.Popen(command, stdout=log, stderr=subprocess.STDOUT, env=env)
         try:
             wait_until(lambda: "listening on" in sim_log.read_text(), 60, "melfa sim to listen")
-            with melfa_serve(data, "--robot", f"tcp://127.0.0.1:{port}", timeout=60) as url:
+            with melfa_serve(data, "--robot", f"tcp://127.0.0.1:{port}") as url:
                 server = Server(url, data, {"admin": ADMIN_PASSWORD})
                 server.add_user("alice")
                 yield server

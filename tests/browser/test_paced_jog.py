@@ -39,7 +39,7 @@ def paced(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
         try:
             wait_until(lambda: "listening on" in sim_log.read_text(), 60, "melfa sim to listen")
             robot = f"tcp://127.0.0.1:{sim_port}"
-            with melfa_serve(data, "--robot", robot, timeout=60) as url:
+            with melfa_serve(data, "--robot", robot) as url:
                 yield Server(url, data, {"admin": ADMIN_PASSWORD})
         finally:
             stop_process(sim)

@@ -61,7 +61,7 @@ class Melfa:
         request = urllib.request.Request(
             self.web + path, headers={"Authorization": f"Bearer {self.token}"}
         )
-        with urllib.request.urlopen(request, timeout=10) as reply:
+        with urllib.request.urlopen(request, timeout=30) as reply:
             return json.loads(reply.read())
 
     def pose(self) -> list[float]:

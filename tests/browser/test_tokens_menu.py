@@ -13,7 +13,7 @@ def whoami(url: str, token: str) -> int:
         url + "/api/session", headers={"Authorization": f"Bearer {token}"}
     )
     try:
-        with urllib.request.urlopen(request, timeout=10) as reply:
+        with urllib.request.urlopen(request, timeout=30) as reply:
             assert json.loads(reply.read())["user"]["username"] == "bob"
             return int(reply.status)
     except urllib.error.HTTPError as err:
