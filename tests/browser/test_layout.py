@@ -3,7 +3,8 @@ signed in, someone else's program running on the lab robot (so someone else hold
 then an alarm shown; on every tab, and with the debugger's bar on "My simulator". For every
 control of the header, the toolbars and the 3D view's head, and the jog pad's state line:
 no text clipped, no single-line label wrapped, no two controls overlapping, nothing past
-the window's right edge; STOP whole, large and inside the window."""
+the window's right edge; STOP whole, large and inside the window. Four error toasts (they
+stay until closed) lie over no control a student needs."""
 
 from __future__ import annotations
 
@@ -211,3 +212,57 @@ def test_a_problem_with_two_fixes_is_read_whole(open_session: Any) -> None:
         assert seen["right"] <= seen["fixes"], (width, seen)
         s.screenshot(f"problem-two-fixes-{width}")
     page.set_viewport_size({"width": 1366, "height": 768})
+
+
+REACHABLE = """() => [...document.querySelectorAll(
+    'button, a[href], input, select, textarea, [tabindex="0"]')]
+  .filter((n) => n.getClientRects().length && !n.closest('.toasts'))
+  .filter((n) => { const r = n.getBoundingClientRect();
+    const hit = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);
+    return hit && (n === hit || n.contains(hit)); })
+  .map((n) => n.id || n.getAttribute('aria-label') || n.textContent.trim().slice(0, 30))"""
+"""The visible controls a click at their centre reaches now (not under anything)."""
+
+GAP = """() => { const [a, b] = document.querySelectorAll('#toasts .toast');
+  const one = a.getBoundingClientRect(), two = b.getBoundingClientRect();
+  const hit = document.elementFromPoint((one.left + one.right) / 2, (one.bottom + two.top) / 2);
+  return hit ? (hit.closest('[id]')?.id ?? hit.tagName) : null; }"""
+"""What a click between the first two toasts reaches (the 3D view, not the toasts' box)."""
+
+
+def test_error_toasts_leave_every_control_reachable(open_session: Any) -> None:
+    """Errors stay until closed: four of them at once must not lie over a control a student
+    needs (they lay over the 3D view's tools at every width, and over the points' buttons at
+    1024 px), on any tab, with or without the debugger's bar; between toasts, a click (an
+    orbit of the 3D view) reaches what lies under them."""
+    s: Session = open_session("alice")
+    page = s.page
+    s.set_points(POINTS)
+    words = "The servo is off. Turn it on and try again (the robot tab has the switch)."
+    covered = []
+    for bar in (False, True):
+        if bar:
+            page.click("#target-switch [data-target=mine]")
+            expect(page.locator("#debug-bar")).to_be_visible()
+        for width, height in WIDTHS:
+            page.set_viewport_size({"width": width, "height": height})
+            for tab in ("editor", "points", "robot"):
+                page.evaluate("() => document.getElementById('toasts').replaceChildren()")
+                page.click(f"#tab-{tab}")
+                settle(page)
+                free = set(page.evaluate(REACHABLE))
+                s.eval(
+                    """async (words) => { const { toast } = await import('/static/js/ui.js');
+                       for (const what of ['Could not move to P1', 'Could not jog',
+                                           'Not loaded', 'Could not run the program'])
+                         toast(what, { kind: 'error', text: words, code: 'L2000' }); }""",
+                    words,
+                )
+                settle(page)
+                where = f"{width}px {tab}{' debugging' if bar else ''}"
+                covered += [f"{where}: {c}" for c in free - set(page.evaluate(REACHABLE))]
+                assert page.evaluate(GAP) == "view3d", where
+        if bar:
+            page.click("#target-switch [data-target=lab]")
+    page.set_viewport_size({"width": 1366, "height": 768})
+    assert not covered, "\n".join(covered)
