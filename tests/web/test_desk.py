@@ -10,6 +10,7 @@ from typing import Any
 
 from fastapi.testclient import TestClient
 
+from melfa.vocab.desk import DESK_WORDS
 from melfa.vocab.refusals import Refusal
 from melfa.web import WebSettings, create_app
 from tests.web.conftest import Web, assert_error, fast_service, make_store
@@ -31,7 +32,12 @@ def test_an_instructor_manages_students_only(web: Web) -> None:
     ivy = web.ivy
     names = [u["username"] for u in ivy.get("/api/users").json()["users"]]
     assert names == ["ann", "bob", "cat"]  # no admin, no instructor
-    assert_error(ivy.post("/api/users", json={"username": "zed", "role": "instructor"}), 403)
+    refused = assert_error(
+        ivy.post("/api/users", json={"username": "zed", "role": "instructor"}), 403
+    )
+    assert refused["message"] == DESK_WORDS["not-yours"].format(
+        role="instructor", other="instructor"
+    )
     assert_error(ivy.put("/api/users/admin/password", json={}), 403, "forbidden")
     assert_error(ivy.delete("/api/users/admin"), 403, "forbidden")
     created = ivy.post("/api/users", json={"username": "gus", "group": "G2"})

@@ -91,6 +91,10 @@ DESK_WORDS: dict[str, str] = {
     "shown-once": "Hand these out now: they are shown only once and stored only as hashes.",
     "no-accounts": "No accounts you may manage yet.",
     "only-students": "As an instructor you manage students' accounts; an admin manages staff.",
+    "not-yours": (
+        "as {role} you may not manage {other} accounts (instructors manage students; admins "
+        "manage everyone)"
+    ),
     "gate": "Simulation gate",
     "gate-on": "On: a program must pass pre-flight before it is loaded onto the lab robot.",
     "gate-off": "Off: students may load onto the lab robot without a pre-flight.",
@@ -150,7 +154,9 @@ DESK_WORDS: dict[str, str] = {
 """The desk's labels, help and confirmations (``{who}``: an account's name). Under each
 setting, where it came from (``from-`` and a `SettingSource`; ``{who}`` set it, ``{when}``
 in the browser's local time, ``{flag}`` the server's start-up option as written; ``-cut``:
-the desk's networks, ``{saved}``, lie only partly inside it). ``audit-by-melfa``: who an
+the desk's networks, ``{saved}``, lie only partly inside it). ``not-yours``: the server's
+refusal of an account ``{role}`` may not manage (of role ``{other}``; both
+`melfa.vocab.roles` names, in lower case). ``audit-by-melfa``: who an
 entry the service wrote on its own names (closing, a lost heartbeat)."""
 
 VISIT_WORDS: dict[str, str] = {

@@ -12,7 +12,8 @@ from fastapi import APIRouter, Path
 
 from melfa.store import Role, Session, User, generate_password
 from melfa.store.enrol import EnrolmentError, enrol, parse_enrolment
-from melfa.vocab.desk import DeskAction
+from melfa.vocab.desk import DESK_WORDS, DeskAction
+from melfa.vocab.roles import role_words
 from melfa.web.context import WebContext
 from melfa.web.convert import user_out
 from melfa.web.deps import ContextDep, StaffDep
@@ -38,8 +39,10 @@ def _refuse(session: Session, role: Role) -> ApiError:
     return ApiError(
         403,
         "forbidden",
-        f"as {session.user.role.value} you may not manage {role.value} accounts"
-        " (instructors manage students; admins manage everyone)",
+        DESK_WORDS["not-yours"].format(
+            role=role_words(session.user.role.value).lower(),
+            other=role_words(role.value).lower(),
+        ),
     )
 
 
