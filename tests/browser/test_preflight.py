@@ -127,7 +127,8 @@ def test_an_edited_cell_asks_for_preflight_again_before_a_run(
         expect(page.locator("#preflight-summary")).not_to_contain_text("may run")
         assert not ran_by(admin, "bob")
         refusal.get_by_role("button", name="Run pre-flight").click()
-        expect(page.locator(".toast", has_text="Pre-flight passed")).to_be_visible()
+        passed = page.locator(".toast", has_text="Pre-flight passed")
+        expect(passed).to_contain_text(Asked.RUN.after_fix)  # run again, not load again
         expect(page.locator("#preflight")).to_have_attribute("data-may-run", "true")
         page.click("#act-run")
         wait_until(lambda: ran_by(admin, "bob"), what="bob's run to be accepted")

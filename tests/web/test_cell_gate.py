@@ -28,12 +28,11 @@ from tests.web.doors import program as good
 
 pytestmark = pytest.mark.timeout(300)
 
-LOAD_TEXT, RUN_TEXT, QUEUE_TEXT = (
-    " ".join(Refusal.CELL_CHANGED.words(asked=asked))
-    for asked in (Asked.LOAD, Asked.RUN, Asked.QUEUE)
+LOAD_TEXT, RUN_TEXT = (
+    " ".join(Refusal.CELL_CHANGED.words(asked)) for asked in (Asked.LOAD, Asked.RUN)
 )
-"""What every door says to a refused load, run and queue entry (one home:
-`melfa.vocab.refusals`); a run's fix is to pass and run again, not to load."""
+"""What every door says to a refused load and run (one home: `melfa.vocab.refusals`); a
+run's fix is to pass and run again, not to load."""
 PROGRAM = good("cell")
 MARKER = b"door cell"
 FEEDER = {"boxes": [{"name": "feeder", "min": [-600, -600, 0], "max": [-500, -500, 80]}]}
@@ -54,10 +53,12 @@ def preflight(lab: Lab) -> None:
     assert reply.status_code == 200 and reply.json()["passed"] is True, reply.text
 
 
-def refused_by_the_cell(reply: httpx.Response, text: str) -> None:
+def refused_by_the_cell(reply: httpx.Response, asked: Asked) -> None:
     error = reply.json()["error"]
+    text = " ".join(Refusal.CELL_CHANGED.words(asked))
     assert (reply.status_code, error["code"], error["message"]) == (409, "cell-changed", text)
     assert error["detail"]["fix"] == "preflight"  # the IDE's one-click fix: run it again
+    assert error["detail"]["asked"] == asked.value  # and what then: load, run or join again
 
 
 def thesis_run(lab: Lab, mode: str) -> list[str]:
@@ -86,9 +87,9 @@ def test_an_edited_cell_cancels_earlier_passes_at_every_door(lab: Lab) -> None:
     assert edited.status_code == 200, edited.text
 
     # REST: the loaded program's run and a new load of the same text.
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/run", {"servo_on": True}), RUN_TEXT)
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/project", project), LOAD_TEXT)
-    refused_by_the_cell(lab.rest("ann", "POST", "/api/queue", project), QUEUE_TEXT)
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/run", {"servo_on": True}), Asked.RUN)
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/robot/project", project), Asked.LOAD)
+    refused_by_the_cell(lab.rest("ann", "POST", "/api/queue", project), Asked.QUEUE)
 
     # rosbridge's services.
     ros = lab.ros("ann", "melfa")

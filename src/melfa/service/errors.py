@@ -8,7 +8,7 @@ from typing import Any
 
 from melfa.link import LinkError
 from melfa.service.actors import Actor
-from melfa.vocab.refusals import Refusal
+from melfa.vocab.refusals import Asked, Refusal
 
 
 class ServiceError(Exception):
@@ -41,10 +41,13 @@ class Refused(ServiceError):
         *,
         where: dict[str, Any] | None = None,
         detail: dict[str, Any] | None = None,
+        asked: Asked | None = None,
         **facts: Any,
     ) -> None:
         self.reason = reason
-        self.says, self.fix = reason.words(**facts)
+        self.asked = asked
+        """What the refused command asked for, where the fix depends on it (the gate's)."""
+        self.says, self.fix = reason.words(asked, **facts)
         self.where = where
         self.detail = detail
         super().__init__(f"{self.says} {self.fix}")

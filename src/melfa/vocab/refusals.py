@@ -94,6 +94,18 @@ class Asked(enum.StrEnum):
     QUEUE = "queue"
     """Join the lab robot's queue with a text (`Policy.may_queue`)."""
 
+    @property
+    def after_fix(self) -> str:
+        """What to do once the one-click fix (pre-flight) passed."""
+        return _AFTER_FIX[self]
+
+
+_AFTER_FIX: dict[Asked, str] = {
+    Asked.LOAD: "Load the project again: the lab robot takes this program now.",
+    Asked.RUN: "Press Run again: the program the robot holds may run now, no new load needed.",
+    Asked.QUEUE: "Join the queue again: the lab robot takes this program now.",
+}
+
 
 @dataclass(frozen=True)
 class _Words:
@@ -185,6 +197,7 @@ _WORDS: dict[Refusal, _Words] = {
     ),
 }
 assert set(_WORDS) == set(Refusal), "every refusal has its words"
+assert set(_AFTER_FIX) == set(Asked)
 
 
 __all__ = ["Asked", "Refusal"]

@@ -225,6 +225,8 @@ def from_refusal(exc: Refused) -> ApiError:
     detail: dict[str, Any] = dict(exc.detail or {})
     if reason.offer is not None:
         detail.update(offer=reason.offer, fix=reason.offer, fix_label=reason.offer_label)
+    if exc.asked is not None:  # what was refused: what to do once the fix is done
+        detail["asked"] = exc.asked.value
     if isinstance(exc, LeaseRequired):
         detail["holder"] = _actor(exc.holder)
     return ApiError(

@@ -32,6 +32,7 @@ from melfa.vocab.jog import JogEnd
 from melfa.vocab.lease import CONTROL_WORDS, HolderState, LeaseReason
 from melfa.vocab.link import LINK_WORDS
 from melfa.vocab.queue import QUEUE_WORDS, EntryState, QueueStep
+from melfa.vocab.refusals import Asked
 from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
 from melfa.vocab.roles import ROLE_WORDS
 from melfa.vocab.runs import RunOutcome
@@ -101,6 +102,7 @@ def vocabulary() -> dict[str, Any]:
         "HEADER_LINK_WORDS": {status.value: words for status, words in HEADER_LINK_WORDS.items()},
         "ROLE_WORDS": ROLE_WORDS,
         "FIX_LABELS": {fix.value: label for fix, label in FIX_LABELS.items()},
+        "REFUSAL_ASKED": {asked.value: {"after_fix": asked.after_fix} for asked in Asked},
     }
 
 

@@ -10,7 +10,7 @@ import { api } from "./api.js";
 import { CellEditor } from "./celleditor.js";
 import { CellScene } from "./cellview.js";
 import { $, el, onFix, showError, toast } from "./ui.js";
-import { QUEUE_WORDS } from "/vocab.js"; // generated from melfa.vocab
+import { QUEUE_WORDS, REFUSAL_ASKED } from "/vocab.js"; // generated from melfa.vocab
 
 const COLOURS = { ok: 0x2563eb, error: 0xdc2626, warning: 0xf59e0b };
 
@@ -26,7 +26,7 @@ export class PreflightPanel {
     this.editor = new CellEditor(app.cell, (cell) => { this.cell = cell; });
     this.build();
     this.load();
-    onFix("preflight", () => this.offer()); // the gate's refusal: its button runs this
+    onFix("preflight", ({ err }) => this.offer(err)); // the gate's refusal: its button runs this
     // The gate refused (an instructor edited the cell since): the report's pass is no
     // longer what lets the lab robot run it.
     document.addEventListener("melfa:fix-offered", (e) => e.detail === "preflight" && this.noLongerCounts());
@@ -189,12 +189,15 @@ export class PreflightPanel {
     this.editor.open(this.cell);
   }
 
-  /** The lab's gate refused a program: run pre-flight now, and offer the simulator. */
-  async offer() {
+  /** The lab's gate refused a program: run pre-flight now, and offer the simulator. Once
+   * it passed, what to do next is what was refused's (`detail.asked`: a run of the program
+   * the robot holds goes again with no new load). */
+  async offer(err) {
     this.panel.dataset.offered = "true";
     const passed = await this.run();
     if (passed) {
-      toast("Pre-flight passed", { kind: "ok", text: "Load the project again: the lab robot takes this program now." });
+      const next = REFUSAL_ASKED[err?.detail?.asked] ?? REFUSAL_ASKED.load;
+      toast("Pre-flight passed", { kind: "ok", text: next.after_fix });
       return;
     }
     toast("Simulate it first", {
