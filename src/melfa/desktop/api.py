@@ -24,6 +24,7 @@ from typing import Any
 from melfa.desktop.messages import parse_fix, read_state
 from melfa.live.messages import StateOut
 from melfa.protocol.advice import Fix
+from melfa.vocab.targets import TARGET_LABELS as VOCAB_TARGET_LABELS
 
 SESSION_COOKIE = "melfa_session"
 """The server's HttpOnly session cookie (docs/api.md, Auth)."""
@@ -204,7 +205,7 @@ class ServerUnreachable(Exception):
 
 LAB_TARGET = "lab"
 PRIVATE_TARGET = "mine"
-TARGET_LABELS = {LAB_TARGET: "Lab RV-6S", PRIVATE_TARGET: "My simulator"}
+TARGET_LABELS = {target: VOCAB_TARGET_LABELS[target] for target in (LAB_TARGET, PRIVATE_TARGET)}
 """The robots a user may drive (the server's docs/api.md "Targets")."""
 
 

@@ -37,6 +37,8 @@ IDE_WORDS: dict[str, str] = {
     "status-title-detail": "{what}: {text} ({detail}). Click to reconnect.",
     "signed-in-as": "Signed in as {user} · {role}",
     "open-workspace-failed": "Could not open your workspace",
+    "server-unreachable": "Could not reach the server",
+    "close": "Close",
     # STOP
     "stop-failed": "STOP could not be delivered",
     "stop-sent": "Stop sent",

@@ -20,12 +20,13 @@ from melfa.service import Actor, RobotService
 from melfa.service.audit import AuditSink
 from melfa.service.debugging import DebugSession
 from melfa.service.simulator import PrivateSimulator
+from melfa.vocab.targets import TARGET_LABELS
 
 _log = logging.getLogger("melfa.web.targets")
 
 LAB = "lab"
 MINE = "mine"
-PRIVATE_LABEL = "My simulator"
+PRIVATE_LABEL = TARGET_LABELS[MINE]
 
 
 class TargetKind(enum.Enum):
@@ -76,7 +77,7 @@ class Targets:
         self,
         lab: RobotService,
         *,
-        lab_label: str = "Lab RV-6S",
+        lab_label: str = TARGET_LABELS[LAB],
         idle_s: float = 1800.0,
         audit: Callable[[str], AuditSink] | None = None,
         clock: Callable[[], float] = time.monotonic,

@@ -13,6 +13,7 @@ from fastapi import APIRouter
 from fastapi.responses import Response
 
 from melfa.protocol.advice import FIX_LABELS
+from melfa.vocab.account import ACCOUNT_WORDS
 from melfa.vocab.activity import ACTIVITY_WORDS, FRAME_WORDS, WHERE_WORDS
 from melfa.vocab.classroom import (
     CLASS_VIEW_WORDS,
@@ -39,6 +40,7 @@ from melfa.vocab.runs import RunOutcome
 from melfa.vocab.signout import SIGN_OUT_WORDS
 from melfa.vocab.slot import SLOT_WORDS
 from melfa.vocab.start import PLACE_WORDS, SERVO_WORDS, START_WORDS
+from melfa.vocab.targets import TARGET_LABELS, TARGET_WORDS
 
 router = APIRouter(include_in_schema=False)
 
@@ -103,6 +105,9 @@ def vocabulary() -> dict[str, Any]:
         "ROLE_WORDS": ROLE_WORDS,
         "FIX_LABELS": {fix.value: label for fix, label in FIX_LABELS.items()},
         "REFUSAL_ASKED": {asked.value: {"after_fix": asked.after_fix} for asked in Asked},
+        "TARGET_LABELS": TARGET_LABELS,
+        "TARGET_WORDS": TARGET_WORDS,
+        "ACCOUNT_WORDS": ACCOUNT_WORDS,
     }
 
 

@@ -7,7 +7,7 @@
 import { api } from "./api.js";
 import { oneRowEach, outcome, said } from "./desk-audit.js";
 import { el, showError } from "./ui.js";
-import { ROBOT_LOG_WORDS as RL } from "/vocab.js";
+import { IDE_WORDS, ROBOT_LOG_WORDS as RL } from "/vocab.js";
 
 export class ActionLog {
   constructor(app) {
@@ -40,7 +40,7 @@ export class ActionLog {
           el("thead", {}, el("tr", {}, ...RL["mine-columns"].split(",").map((c) => el("th", { scope: "col" }, c)))),
           el("tbody", {}, rows)))
         : el("p", { class: "muted" }, RL["mine-empty"]),
-      el("div", { class: "dialog-actions" }, el("button", { type: "button", class: "btn", onclick: () => dialog.close() }, "Close")));
+      el("div", { class: "dialog-actions" }, el("button", { type: "button", class: "btn", onclick: () => dialog.close() }, IDE_WORDS.close)));
     dialog.showModal();
   }
 }

@@ -5,13 +5,14 @@
 
 import { api, setCsrf } from "./api.js";
 import { $, showError } from "./ui.js";
+import { IDE_WORDS } from "/vocab.js"; // generated from melfa.vocab.ide
 
 export async function signedIn(nameId) {
   let session;
   try {
     session = await api("GET", "/api/session");
   } catch (err) {
-    if (err.status !== 401) showError("Could not reach the server", err);
+    if (err.status !== 401) showError(IDE_WORDS["server-unreachable"], err);
     return null;
   }
   setCsrf(session.csrf_token);

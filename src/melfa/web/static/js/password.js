@@ -4,6 +4,7 @@
 
 import { api } from "./api.js";
 import { $, toast } from "./ui.js";
+import { ACCOUNT_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.account
 
 export class PasswordDialog {
   constructor() {
@@ -31,9 +32,9 @@ export class PasswordDialog {
         new: $("password-new").value,
       });
       this.dialog.close();
-      toast("Password changed; your other sessions were signed out");
+      toast(W["password-changed"]);
     } catch (err) {
-      this.error.textContent = err.message || "Could not change the password";
+      this.error.textContent = err.message || W["password-failed"];
       this.error.hidden = false;
     }
   }

@@ -7,8 +7,10 @@
 import { api, setTarget } from "./api.js";
 import { el, showError } from "./ui.js";
 import { robot } from "./stores.js";
+import { fill } from "./activity.js";
+import { TARGET_LABELS, TARGET_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.targets
 
-const LABELS = { lab: "Lab RV-6S", mine: "My simulator" };
+const LABELS = TARGET_LABELS; // the server's names of them too (melfa.vocab.targets)
 
 export class TargetSwitch extends EventTarget {
   constructor(app, root) {
@@ -42,14 +44,14 @@ export class TargetSwitch extends EventTarget {
       return b;
     };
     this.root.replaceChildren(
-      el("span", { class: "target-label", id: "target-label" }, "Driving"),
+      el("span", { class: "target-label", id: "target-label" }, W.driving),
       button("lab"),
       button("mine"),
     );
     document.body.dataset.target = this.id;
     const lease = document.querySelector(".lease");
     if (lease) lease.hidden = this.isPrivate; // a private simulator has no lease
-    document.title = `melfa · ${this.label}`;
+    document.title = fill(W["page-title"], { robot: this.label });
     const view = document.querySelector(".view-head h2");
     if (view) view.textContent = this.label; // the 3D view says whose arm it shows
   }
@@ -71,7 +73,7 @@ export class TargetSwitch extends EventTarget {
   /** The socket's hello names its target: the header follows what the server says. */
   confirm(target) {
     if (target && target.id !== this.id) {
-      showError("The live view shows another robot", new Error(`expected ${this.label}, got ${target.label}`));
+      showError(W["other-robot"], new Error(fill(W["other-robot-detail"], { expected: this.label, got: target.label })));
     }
   }
 

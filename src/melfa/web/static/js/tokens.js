@@ -3,7 +3,9 @@
 // exist and when they were last used, revoke one (its open connections close at once).
 
 import { api } from "./api.js";
+import { fill } from "./activity.js";
 import { $, el, showError, toast } from "./ui.js";
+import { ACCOUNT_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.account
 
 function when(text) {
   return text ? new Date(text).toLocaleString() : "never";
@@ -37,13 +39,13 @@ export class TokensDialog {
           el("td", {}, when(t.created)),
           el("td", {}, when(t.last_used)),
           el("td", {}, el("button", {
-            type: "button", class: "btn btn-sm", "aria-label": `Revoke the token ${t.label}`,
+            type: "button", class: "btn btn-sm", "aria-label": fill(W["revoke-label"], { label: t.label }),
             onclick: () => this.revoke(t),
-          }, "Revoke"))));
+          }, W.revoke))));
       this.list.replaceChildren(
-        ...(rows.length ? rows : [el("tr", {}, el("td", { colspan: "4" }, "No tokens yet."))]));
+        ...(rows.length ? rows : [el("tr", {}, el("td", { colspan: "4" }, W["no-tokens"]))]));
     } catch (err) {
-      showError("Could not list your tokens", err);
+      showError(W["list-failed"], err);
     }
   }
 
@@ -57,17 +59,17 @@ export class TokensDialog {
       $("token-label").value = "";
       await this.refresh();
     } catch (err) {
-      showError("Could not make a token", err);
+      showError(W["make-failed"], err);
     }
   }
 
   async revoke(token) {
     try {
       await api("DELETE", `/api/tokens/${token.id}`);
-      toast(`Token “${token.label}” revoked`);
+      toast(fill(W.revoked, { label: token.label }));
       await this.refresh();
     } catch (err) {
-      showError("Could not revoke the token", err);
+      showError(W["revoke-failed"], err);
     }
   }
 }
