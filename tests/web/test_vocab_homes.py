@@ -19,6 +19,7 @@ import dataclasses
 import json
 import re
 from collections.abc import Iterator
+from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
@@ -354,3 +355,62 @@ def test_every_client_names_the_robots_alike() -> None:
     assert TARGET_LABELS["mine"] == PRIVATE_LABEL
     lab_default = Targets.__init__.__kwdefaults__["lab_label"]
     assert lab_default == TARGET_LABELS["lab"]
+
+
+class _PageText(HTMLParser):
+    """A page's text and the words of its attributes, each with its line; what its script
+    fills (``data-w="key"``) gathered apart."""
+
+    SHOWN_ATTRIBUTES = ("title", "aria-label", "placeholder", "alt")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.text: list[tuple[int, str]] = []
+        self.keys: list[tuple[int, str]] = []
+        self._skip = 0
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        line = self.getpos()[0]
+        if tag in ("script", "style"):
+            self._skip += 1
+        for name, value in attrs:
+            if name in self.SHOWN_ATTRIBUTES and value:
+                self.text.append((line, value))
+            if (name == "data-w" or name.startswith("data-w-")) and value:
+                self.keys.append((line, value))
+
+    def handle_endtag(self, tag: str) -> None:
+        if tag in ("script", "style"):
+            self._skip -= 1
+
+    def handle_data(self, data: str) -> None:
+        if not self._skip and data.strip():
+            self.text.append((self.getpos()[0], data.strip()))
+
+
+def _page(name: str) -> _PageText:
+    parser = _PageText()
+    parser.feed(_code(STATIC / name))
+    return parser
+
+
+def test_the_desk_page_writes_no_word() -> None:
+    """desk.html's every word is `DESK_WORDS`'s, set by desk.js (``data-w``, ``data-w-
+    placeholder`` …): only the brand and signs are written in the page."""
+    own = {"melfa", "◢"}
+    found = [
+        f"web/static/desk.html:{line}: {text!r}"
+        for line, text in _page("desk.html").text
+        if text not in own and re.search(r"[A-Za-z]{2}", text) and not text[0].isdigit()
+    ]
+    assert not found, "words written in the page (put them in DESK_WORDS):\n" + "\n".join(found)
+
+
+def test_every_word_a_page_asks_for_is_served() -> None:
+    """``data-w="find"`` on the desk must be a key of `DESK_WORDS` (else the page shows
+    "undefined")."""
+    desk = vocabulary()["DESK_WORDS"]
+    missing = [
+        f"desk.html:{line}: {key}" for line, key in _page("desk.html").keys if key not in desk
+    ]
+    assert not missing, "asked of DESK_WORDS but not there:\n" + "\n".join(missing)

@@ -80,7 +80,6 @@ const audit = { entries: [], shown: [] };
 export function wireAudit() {
   $("audit-title").textContent = W.audit;
   $("audit-csv").textContent = W["audit-csv"];
-  $("audit-since-label").firstChild.textContent = W["audit-since"] + " ";
   $("audit-columns").replaceChildren(...W["audit-columns"].split(",").map((c) => el("th", { scope: "col" }, c)));
   $("audit-kind").replaceChildren(...Object.keys(KINDS).map((k) => el("option", { value: k }, W[`audit-${k}`])));
   $("audit-kind").addEventListener("change", () => drawAudit());
@@ -120,7 +119,7 @@ const log = { shown: [] };
 export function wireRobotLog(users) {
   $("robots-title").textContent = RL.title;
   $("robots-help").textContent = fill(RL.help, { limit: ROBOT_LIMIT });
-  $("robots-label").firstChild.textContent = RL.robot + " ";
+  $("robots-label-text").textContent = RL.robot;
   $("robots-csv").textContent = RL.csv;
   $("robots-columns").replaceChildren(...RL.columns.split(",").map((c) => el("th", { scope: "col" }, c)));
   $("robots-pick").addEventListener("change", () => loadRobotLog());

@@ -20,6 +20,7 @@ async function main() {
   const session = await signedIn("desk-user");
   if (!session) return;
   state.me = session.user;
+  showWords();
   $("desk-title").textContent = W.title;
   $("acc-title").textContent = W.accounts;
   $("acc-note").textContent = state.me.role === "admin" ? "" : W["only-students"];
@@ -47,6 +48,15 @@ async function main() {
   wireRobotLog(state.users);
   wireTabs();
   document.body.dataset.ready = "true";
+}
+
+/** The page's own words: each element's `data-w` (its text) and `data-w-<attribute>`. */
+function showWords() {
+  document.title = fill(W["page-title"], { title: W.title });
+  for (const node of document.querySelectorAll("[data-w]")) node.textContent = W[node.dataset.w];
+  for (const attribute of ["aria-label", "placeholder"]) {
+    for (const node of document.querySelectorAll(`[data-w-${attribute}]`)) node.setAttribute(attribute, W[node.getAttribute(`data-w-${attribute}`)]);
+  }
 }
 
 async function loadUsers() {
