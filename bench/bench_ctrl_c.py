@@ -7,7 +7,7 @@ IDE in a Chromium tab (its WebSocket and keep-alive connections stay open). Then
 the whole group, as Ctrl-C on a terminal sends it, and measured: the time until the server
 process has exited, and until every process of the group is gone; its exit status (130 is
 the command line's Ctrl-C convention) and whether it said "melfa stopped" without a
-traceback.
+traceback (or "Exception ignored", as Python's exit handler prints one).
 
 Run: ``.venv/bin/python bench/bench_ctrl_c.py [--rounds 3] [--no-browser]``.
 """
@@ -118,6 +118,8 @@ def _round(browser: object | None) -> tuple[float, float, int | None, str]:
         words = "melfa stopped" if "melfa stopped" in said else "no 'melfa stopped'"
         if "Traceback" in said:
             words += ", TRACEBACK"
+        if "Exception ignored" in said:
+            words += ", EXCEPTION IGNORED"
         return server_s, group_s, status, words
     finally:
         if page_context is not None:
