@@ -145,7 +145,8 @@ class BoundedPool:
         the middle of that write and the server's clean stop ended in "Exception ignored
         … OSError: [Errno 9] Bad file descriptor". Waited for here, it is closed first
         (and soon: its workers are gone, so there is nothing left to wait for). Threads
-        are not waited for (the interpreter's exit joins them; they have no such pipe)."""
+        are not waited for (the interpreter's exit joins them; they have no such pipe).
+        Later Pythons give the pipe a lock of its own (CPython gh-125451); 3.11 has not."""
         self.end_workers()
         processes = isinstance(self._executor, concurrent.futures.ProcessPoolExecutor)
         self._executor.shutdown(wait=processes, cancel_futures=True)
