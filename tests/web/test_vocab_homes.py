@@ -41,8 +41,8 @@ STATIC = SRC / "web" / "static"
 
 NOT_YET_IN_VOCAB = frozenset(
     {
-        *("api.js", "activity.js", "celleditor.js", "coedit-view.js", "debugger.js"),
-        *("editor.js", "first.js", "jog.js", "live.js", "melfa-mode.js", "opener.js"),
+        *("api.js", "celleditor.js", "coedit-view.js", "debugger.js", "editor.js"),
+        *("first.js", "jog.js", "melfa-mode.js", "opener.js"),
         *("points.js", "preflight.js", "replay.js", "switcher.js", "ui.js", "view3d.js"),
         *("workspace.js",),
     }

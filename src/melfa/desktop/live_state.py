@@ -35,7 +35,7 @@ from melfa.live.messages import (
 )
 from melfa.protocol.advice import Fix
 from melfa.vocab.commands import Command, command_label
-from melfa.vocab.jog import JogEnd
+from melfa.vocab.jog import JOG_END_UNKNOWN, JogEnd
 from melfa.vocab.link import LinkStatus
 
 
@@ -146,7 +146,7 @@ class LiveState:
             self._on_jog_changed(message)
         elif isinstance(message, JogHeartbeatAck):
             if self.hold.active:
-                self._jog_ended("the server ended it")
+                self._jog_ended(JOG_END_UNKNOWN)
         elif isinstance(message, ErrorMessage):
             self._on_refused(message)
         elif isinstance(message, QueueMessage):

@@ -17,7 +17,7 @@ from melfa.live.messages import QueueOut, StateOut
 from melfa.protocol import JOINT_NAMES, POSE_NAMES
 from melfa.vocab.activity import Activity, jog_detail, said, where
 from melfa.vocab.lease import CONTROL_WORDS, HolderState
-from melfa.vocab.link import LINK_WORDS, LinkStatus
+from melfa.vocab.link import LINK_UNKNOWN, LINK_WORDS, LinkStatus
 from melfa.vocab.queue import QUEUE_WORDS, EntryState
 
 JOG_AXES = {"xyz": POSE_NAMES, "tool": POSE_NAMES, "joint": JOINT_NAMES}
@@ -151,7 +151,7 @@ def link_words(status: LinkStatus | None) -> str:
     >>> link_words(LinkStatus.LOST), link_words(None)
     ('Robot link lost', 'Robot link unknown')
     """
-    return LINK_WORDS[status] if status is not None else "Robot link unknown"
+    return LINK_WORDS[status] if status is not None else LINK_UNKNOWN
 
 
 def count(n: int, what: str) -> str:

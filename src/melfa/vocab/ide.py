@@ -38,6 +38,10 @@ IDE_WORDS: dict[str, str] = {
     "signed-in-as": "Signed in as {user} · {role}",
     "open-workspace-failed": "Could not open your workspace",
     "server-unreachable": "Could not reach the server",
+    "socket-lost": "connection lost",
+    "socket-retargeted": "target changed",
+    "socket-closed": "not connected to the server",
+    "socket-timeout": "no answer from the server",
     "close": "Close",
     # STOP
     "stop-failed": "STOP could not be delivered",

@@ -84,4 +84,8 @@ _WORDS: dict[JogEnd, str] = {
 assert set(_WORDS) == set(JogEnd), "every jog end has its words"
 
 
-__all__ = ["JogEnd"]
+JOG_END_UNKNOWN = "the server ended it"
+"""Why a jog ended when the server gave no reason this client knows."""
+
+
+__all__ = ["JOG_END_UNKNOWN", "JogEnd"]

@@ -29,4 +29,8 @@ LINK_WORDS: dict[LinkStatus, str] = {
 }
 
 
-__all__ = ["LINK_WORDS", "LinkStatus"]
+LINK_UNKNOWN = "Robot link unknown"
+"""Before the server has said how the link is (or a state this client does not know)."""
+
+
+__all__ = ["LINK_UNKNOWN", "LINK_WORDS", "LinkStatus"]

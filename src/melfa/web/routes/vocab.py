@@ -29,9 +29,9 @@ from melfa.vocab.commands import Command
 from melfa.vocab.desk import ACTION_WORDS, DESK_WORDS, VISIT_WORDS
 from melfa.vocab.guide import GUIDE_WORDS
 from melfa.vocab.ide import HEADER_LINK_WORDS, IDE_WORDS
-from melfa.vocab.jog import JogEnd
+from melfa.vocab.jog import JOG_END_UNKNOWN, JogEnd
 from melfa.vocab.lease import CONTROL_WORDS, HolderState, LeaseReason
-from melfa.vocab.link import LINK_WORDS
+from melfa.vocab.link import LINK_UNKNOWN, LINK_WORDS
 from melfa.vocab.queue import QUEUE_WORDS, EntryState, QueueStep
 from melfa.vocab.refusals import Asked
 from melfa.vocab.robot_log import NOTE_WORDS, ROBOT_LOG_WORDS
@@ -61,6 +61,7 @@ def vocabulary() -> dict[str, Any]:
         "FRAME_WORDS": FRAME_WORDS,
         "WHERE_WORDS": WHERE_WORDS,
         "LINK_WORDS": {status.value: words for status, words in LINK_WORDS.items()},
+        "LINK_UNKNOWN": LINK_UNKNOWN,
         "COMMANDS": {
             c.value: {
                 "label": c.label,
@@ -72,6 +73,7 @@ def vocabulary() -> dict[str, Any]:
             for c in Command
         },
         "JOG_ENDS": {e.value: {"words": e.template, "expected": e.expected} for e in JogEnd},
+        "JOG_END_UNKNOWN": JOG_END_UNKNOWN,
         "LEASE_REASONS": {r.value: {"words": r.template} for r in LeaseReason},
         "HOLDER_STATES": {h.value: h.words for h in HolderState},
         "CONTROL_WORDS": dataclasses.asdict(CONTROL_WORDS),

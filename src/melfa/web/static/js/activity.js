@@ -4,7 +4,7 @@
 // client reads the same). The codes the server sends are shown, never English parsed.
 // And the words for a jog direction in each frame: which way the hand really goes.
 
-import { ACTIVITY, COMMANDS, FRAME_WORDS, JOG_ENDS, LINK_WORDS, WHERE_WORDS } from "/vocab.js";
+import { ACTIVITY, COMMANDS, FRAME_WORDS, JOG_END_UNKNOWN, JOG_ENDS, LINK_UNKNOWN, LINK_WORDS, WHERE_WORDS } from "/vocab.js";
 
 /**
  * {text, pill, busy, error, hint} for a state message, in the words of melfa.vocab (the
@@ -53,7 +53,7 @@ export function jogDetail(detail) {
 
 /** Why a jog ended (the `jog` message's `end` code, `by` whom), in the student's words. */
 export function jogEndWords(end, by = null) {
-  const words = JOG_ENDS[end]?.words ?? "the server ended it";
+  const words = JOG_ENDS[end]?.words ?? JOG_END_UNKNOWN;
   if (!words.includes("{by}")) return words;
   return by ? fill(words, { by }) : words.replace(" by {by}", "").replace("{by} ", "someone ");
 }
@@ -70,7 +70,7 @@ export function commandLabel(code) {
 
 /** The link's state ("connected", "lost" …) in the student's words. */
 export function linkWords(status) {
-  return LINK_WORDS[status] ?? "Robot link unknown";
+  return LINK_WORDS[status] ?? LINK_UNKNOWN;
 }
 
 /** A template's `{placeholders}` filled; one not given stays as it is. */

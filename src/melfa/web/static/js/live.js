@@ -1,6 +1,8 @@
 // The one WebSocket of this tab (/api/ws): reconnects with back-off, dispatches messages by
 // type, and offers request/acknowledge for client messages (ids echoed in `ack`/`error`).
 
+import { IDE_WORDS as W } from "/vocab.js"; // generated from melfa.vocab.ide
+
 export class Live extends EventTarget {
   constructor(url) {
     super();
@@ -47,7 +49,7 @@ export class Live extends EventTarget {
       if (this.socket !== socket) return;
       this.connected = false;
       this.socket = null;
-      for (const waiter of this.pending.values()) waiter.reject({ code: "offline", message: "connection lost" });
+      for (const waiter of this.pending.values()) waiter.reject({ code: "offline", message: W["socket-lost"] });
       this.pending.clear();
       this.emit("status", { state: "closed", code: event.code, reason: event.reason });
       if (event.code === 1008) return; // signed out or foreign origin: reconnecting will not help
@@ -62,9 +64,9 @@ export class Live extends EventTarget {
     this.url = url;
     const old = this.socket;
     this.socket = null; // its close event is ignored: this is not a lost connection
-    if (old) old.close(1000, "target changed");
+    if (old) old.close(1000, W["socket-retargeted"]);
     this.connected = false;
-    for (const waiter of this.pending.values()) waiter.reject({ code: "offline", message: "target changed" });
+    for (const waiter of this.pending.values()) waiter.reject({ code: "offline", message: W["socket-retargeted"] });
     this.pending.clear();
     this.retryMs = 500;
     this.connect();
@@ -90,12 +92,12 @@ export class Live extends EventTarget {
     const id = this.nextId++;
     return new Promise((resolve, reject) => {
       if (!this.send({ ...message, id })) {
-        reject({ code: "offline", message: "not connected to the server" });
+        reject({ code: "offline", message: W["socket-closed"] });
         return;
       }
       this.pending.set(id, { resolve, reject });
       setTimeout(() => {
-        if (this.pending.delete(id)) reject({ code: "timeout", message: "no answer from the server" });
+        if (this.pending.delete(id)) reject({ code: "timeout", message: W["socket-timeout"] });
       }, timeoutMs);
     });
   }
