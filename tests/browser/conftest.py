@@ -168,6 +168,9 @@ class Session:
         # The live document is here (co-editing: the editor is read-only until it is).
         page.wait_for_function("() => window.melfa.workspace.live?.synced", timeout=guard)
         page.wait_for_function("() => window.melfa.state?.joints", timeout=guard)
+        # main.js has finished: every panel is in place and an empty workspace has its
+        # welcome project (it came mid-test, after a test had set its own points).
+        page.wait_for_selector("body[data-ready=true]", state="attached", timeout=guard)
 
     def eval(self, script: str, arg: Any = None) -> Any:
         return self.page.evaluate(script, arg)

@@ -163,6 +163,7 @@ async function main() {
     workspace.live?.keepNow(); // edits not yet at the server stay in this browser
     if (app.jog.held) app.jog.stopJog();
   });
+  document.body.dataset.ready = "true"; // every panel in place, the welcome project decided
 }
 
 // ---- live socket ----
