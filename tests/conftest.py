@@ -36,6 +36,16 @@ if "MELFA_PROFILE" not in os.environ:
 # commands it starts inherit as the default.
 signal.signal(signal.SIGINT, signal.default_int_handler)
 
+# roslibpy's rosapi helpers (`get_services`, `get_topics`, …) wait 3 s for an answer: short
+# for a loaded 2-core CI machine (a clean clone under a second suite saw `get_services` time
+# out). A hang guard, set through roslibpy's own setting.
+try:
+    import roslibpy
+except ImportError:  # the ROS 1 tests under Debian's python3 have no roslibpy
+    pass
+else:
+    roslibpy.set_rosapi_timeout(30)
+
 # Shared simulator fixtures: a fresh pty (or TCP port) per test, served by the virtual controller.
 from tests.fixtures_sim import not_strict, sim_pty_path, sim_tcp_url  # noqa: E402, F401
 

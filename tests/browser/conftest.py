@@ -19,6 +19,7 @@ from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Locator, Page, expect, sync_playwright
+from playwright.sync_api import TimeoutError as PlaywrightTimeoutError
 
 from tests.serving import melfa_serve as serving_melfa
 
@@ -64,7 +65,9 @@ class Server:
     passwords: dict[str, str]
 
     def add_user(self, name: str, role: str = "student", group: str | None = None) -> str:
-        """Create an account with the `melfa users add` CLI; returns its password."""
+        """Create an account with the `melfa users add` CLI; returns its password. The
+        server is the whole session's: each test file adds names of its own
+        (`test_users_of_their_own`)."""
         command = [sys.executable, "-m", "melfa", "users", "add", name, "--role", role]
         if group is not None:
             command += ["--group", group]
@@ -192,11 +195,15 @@ class Session:
     def saw_toast(self, pattern: str, timeout: float = 30_000) -> str:
         """The first toast since the page loaded whose text matches the regular expression
         ``pattern``, waiting up to ``timeout`` ms for it (gone again or not)."""
-        found = self.page.wait_for_function(
-            "(p) => window.__toasts.find((t) => new RegExp(p).test(t))",
-            arg=pattern,
-            timeout=timeout,
-        )
+        try:
+            found = self.page.wait_for_function(
+                "(p) => window.__toasts.find((t) => new RegExp(p).test(t))",
+                arg=pattern,
+                timeout=timeout,
+            )
+        except PlaywrightTimeoutError:  # say what the page did show instead
+            shown = self.eval("() => window.__toasts")
+            raise AssertionError(f"no toast {pattern!r} in {timeout} ms; shown: {shown}") from None
         return str(found.json_value())
 
     def joints(self) -> list[float]:

@@ -79,10 +79,10 @@ GEOMETRY = """(long) => {
 def test_a_long_line_of_a_student_s_program_is_read_whole(
     open_session: Any, server: Server
 ) -> None:
-    server.add_user("ines", role="instructor")
+    server.add_user("lina", role="instructor")
     server.add_user("dmitri", group="L2")  # handed to his group only: other tests' students
     # do not see this assignment
-    teacher: Session = open_session("ines")
+    teacher: Session = open_session("lina")
     files = {f.name: f.read_text(encoding="utf-8") for f in sorted(FOLDER.iterdir())}
     made = _post(teacher, "/api/assignments", {"files": files, "variants": False, "group": "L2"})
 
