@@ -14,8 +14,7 @@ import pytest
 from playwright.sync_api import expect
 
 from tests.browser.conftest import Server, Session, free_the_robot
-from tests.browser.test_replay import _runs
-from tests.waiting import wait_until
+from tests.browser.test_replay import recorded_run
 
 pytestmark = pytest.mark.timeout(240)
 
@@ -131,7 +130,8 @@ def test_a_long_line_of_a_student_s_program_is_read_whole(
     assert student.eval("() => window.melfa.editor.session.getUseWrapMode()") is False
 
 
-RUN_PROGRAM = f"SERVO ON\nMOV P1 {COMMENT}\nMVS P2\nEND\n"
+# From P2 to P1: the long line always moves the arm, wherever an earlier test left it.
+RUN_PROGRAM = f"SERVO ON\nMVS P2\nMOV P1 {COMMENT}\nEND\n"
 RUN_POINTS = (
     "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
     "DEF POS P2=(350.00,150.00,300.00,180.00,0.00,180.00)(7,0)\n"
@@ -147,31 +147,21 @@ def test_a_recorded_run_names_its_long_running_line_whole(
     s: Session = open_session("zoe")
     page = s.page
     free_the_robot(page, server)
-    s.set_points(RUN_POINTS)
-    s.set_program(RUN_PROGRAM)
-    page.click("#act-preflight")
-    expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")
-    page.click("#act-load")
-    expect(page.locator(".toast", has_text="Project loaded")).to_be_visible(timeout=30_000)
-    before = len(_runs(s))
-    page.click("#act-run")
-    page.locator(".toast.error").get_by_role("button", name="Turn on and retry").click()
-    wait_until(lambda: len(_runs(s)) > before, what="the run to be recorded")
-    run = _runs(s)[0]
+    run = recorded_run(s, RUN_POINTS, RUN_PROGRAM)
     page.click("#runs-button")
     page.locator(f"#runs-list li[data-run='{run['id']}']").get_by_role(
         "button", name="Replay"
     ).click()
     expect(page.locator("#replay")).to_be_visible()
     frames = s.eval("() => window.melfa.runs.run.frames")
-    index = frames["line"].index(2)  # a frame while MOV P1 ran
+    index = frames["line"].index(3)  # a frame while MOV P1 ran
     s.eval(
         "(i) => { const r = document.getElementById('replay-slider'); r.value = String(i);"
         " r.dispatchEvent(new Event('input')); }",
         index,
     )
     shown = page.locator("#replay-line")
-    expect(shown).to_have_text(f"line 2: MOV P1 {COMMENT}")
+    expect(shown).to_have_text(f"line 3: MOV P1 {COMMENT}")
     box = shown.evaluate("(n) => [n.scrollWidth, n.clientWidth, n.getClientRects().length]")
     assert box[0] <= box[1], box  # nothing cut at its right edge
     s.screenshot("replay-long-line", toasts=False)

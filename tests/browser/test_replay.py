@@ -28,23 +28,30 @@ def _runs(s: Session) -> list[dict[str, Any]]:
     return list(reply.json())
 
 
+def recorded_run(s: Session, points: str, program: str) -> dict[str, Any]:
+    """``program`` passed pre-flight, loaded and run on the lab robot by the page's student
+    (the servo turned on by the run refusal's own fix), as recorded: the newest run."""
+    page = s.page
+    s.set_points(points)
+    s.set_program(program)
+    page.click("#act-preflight")
+    expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")
+    page.click("#act-load")
+    s.saw_toast("Project loaded")  # the page's first load: its toast lasts 4 s
+    before = len(_runs(s))
+    page.click("#act-run")
+    page.locator(".toast.error").get_by_role("button", name="Turn on and retry").click()
+    wait_until(lambda: len(_runs(s)) > before, what="the run to be recorded")
+    return _runs(s)[0]
+
+
 def test_a_recorded_run_replays_with_its_line_and_deviation(
     open_session: Any, server: Server, stop_robot: None
 ) -> None:
     s: Session = open_session("carol")
     page = s.page
     free_the_robot(page, server)
-    s.set_points(POINTS)
-    s.set_program(PROGRAM)
-    page.click("#act-preflight")
-    expect(page.locator("#preflight")).to_have_attribute("data-passed", "true")
-    page.click("#act-load")
-    expect(page.locator(".toast", has_text="Project loaded")).to_be_visible(timeout=30_000)
-    before = len(_runs(s))
-    page.click("#act-run")
-    page.locator(".toast.error").get_by_role("button", name="Turn on and retry").click()
-    wait_until(lambda: len(_runs(s)) > before, what="the run to be recorded")
-    run = _runs(s)[0]
+    run = recorded_run(s, POINTS, PROGRAM)
     assert run["user"] == "carol" and run["outcome"] == "finished"
 
     page.click("#runs-button")
