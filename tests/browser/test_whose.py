@@ -316,3 +316,18 @@ def test_an_open_menu_lies_above_the_toasts(open_session: Any, server: Server) -
     s.page.click("#user-button")
     s.page.click("#logout")
     s.page.wait_for_url(SIGNED_OUT)
+
+
+def test_an_unread_error_outlasts_the_notices(open_session: Any, server: Server) -> None:
+    """Four toasts at most: a fifth takes the place of the oldest notice, not of an error
+    the student has not read yet (errors stay until closed)."""
+    s: Session = open_session("carol")
+    shown = s.eval(
+        """async () => { const { toast } = await import('/static/js/ui.js');
+           document.getElementById('toasts').replaceChildren();
+           toast('The robot refused the run', {kind: 'error'});
+           for (let i = 1; i <= 5; i++) toast(`Saved ${i}`, {kind: 'ok', timeout: 0});
+           const titles = document.querySelectorAll('#toasts .toast strong');
+           return [...titles].map((t) => t.textContent); }"""
+    )
+    assert shown == ["The robot refused the run", "Saved 3", "Saved 4", "Saved 5"], shown

@@ -43,7 +43,11 @@ export function toast(title, { kind = "info", text = "", items = [], timeout, co
   close.addEventListener("click", () => node.remove());
   const box = document.getElementById("toasts");
   box.append(node);
-  while (box.children.length > 4) box.firstElementChild.remove();
+  // Four at most: an unread error outlasts the notices (the oldest notice goes first).
+  while (box.children.length > 4) {
+    const notice = [...box.children].find((t) => t !== node && !t.classList.contains("error"));
+    (notice || box.firstElementChild).remove();
+  }
   // Errors stay until dismissed or acted on; the others fade after a while.
   const ms = timeout ?? (kind === "error" ? 0 : 4000);
   if (ms > 0) setTimeout(() => node.remove(), ms);
