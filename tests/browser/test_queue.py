@@ -220,6 +220,9 @@ def test_a_claim_from_my_simulator_turns_the_ide_to_the_lab_robot_and_stop_reach
 
         amy.page.click("#target-switch [data-target=mine]")
         amy.wait_ready()
+        # The tab says which robot the page drives (the queue's title blink put the lab's
+        # name back on every tick, a page started on the lab robot said "Lab RV-6S" here)
+        expect(amy.page).to_have_title(re.compile("My simulator"))
         amy.page.click("#estop")
         wait_until(lambda: "lab" in stops(lab, "amy"), what="amy's STOP on the lab robot")
     finally:

@@ -51,7 +51,7 @@ export class QueuePanel {
     this.dialog = $("claim-dialog");
     this.declinedKey = `melfa.claim-declined.${app.user}`; // the offer said "Not yet" to
     this.declinedHere = null; // the same, where this browser keeps no storage
-    this.title = document.title;
+    this.blink = ""; // what the tab's title starts with while the arm is offered to you
     this.words();
     $("claim-go").addEventListener("click", () => this.claim());
     $("claim-later").addEventListener("click", () => { this.decline(); this.dialog.close(); });
@@ -249,6 +249,13 @@ export class QueuePanel {
     this.tick();
   }
 
+  /** The tab's title without the offer's blink (the page may have renamed it since:
+   * switching between the lab robot and My simulator does). */
+  untitled() {
+    const t = document.title;
+    return this.blink && t.startsWith(this.blink) ? t.slice(this.blink.length) : t;
+  }
+
   tick() {
     const q = this.queue;
     if (!q) return;
@@ -256,9 +263,12 @@ export class QueuePanel {
     if (mine?.state === "offered") {
       const left = this.left(mine.offer_ends);
       $("claim-countdown").textContent = clock(left);
-      document.title = (Math.floor(Date.now() / 1000) % 2 ? `▶ ${W.tab_turn} ` : "▶ ") + this.title;
-    } else if (document.title !== this.title) {
-      document.title = this.title;
+      const base = this.untitled();
+      this.blink = Math.floor(Date.now() / 1000) % 2 ? `▶ ${W.tab_turn} ` : "▶ ";
+      document.title = this.blink + base;
+    } else if (this.blink) {
+      document.title = this.untitled();
+      this.blink = "";
     }
     for (const node of this.box.querySelectorAll(".queue-left[data-ends]")) {
       if (!node.dataset.held) node.textContent = " · " + timeLeft(this.left(node.dataset.ends));
