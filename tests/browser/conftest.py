@@ -166,7 +166,13 @@ class Session:
 
     def wait_ready(self) -> None:
         page, guard = self.page, OPEN_GUARD_MS
-        page.wait_for_selector("#web-status[data-state=up]", timeout=guard)
+        try:
+            page.wait_for_selector("#web-status[data-state=up]", timeout=guard)
+        except PlaywrightTimeoutError:  # say what the page showed instead
+            shown = self.eval(
+                "() => [document.getElementById('web-status')?.outerHTML, window.__toasts]"
+            )
+            raise AssertionError(f"the live socket not up in {guard} ms: {shown}") from None
         page.wait_for_function("() => window.melfa && window.melfa.workspace?.id", timeout=guard)
         # The live document is here (co-editing: the editor is read-only until it is).
         page.wait_for_function("() => window.melfa.workspace.live?.synced", timeout=guard)

@@ -130,8 +130,10 @@ def test_a_long_line_of_a_student_s_program_is_read_whole(
     assert student.eval("() => window.melfa.editor.session.getUseWrapMode()") is False
 
 
-# From P2 to P1: the long line always moves the arm, wherever an earlier test left it.
-RUN_PROGRAM = f"SERVO ON\nMVS P2\nMOV P1 {COMMENT}\nEND\n"
+# From P2 to P1 at 10 %: the long line always moves the arm, wherever an earlier test left
+# it, for long enough that the recorder samples it under any load (a move of a few tenths of
+# a second fell between two samples in a loaded clean clone).
+RUN_PROGRAM = f"SERVO ON\nMVS P2\nOVRD 10\nMOV P1 {COMMENT}\nEND\n"
 RUN_POINTS = (
     "DEF POS P1=(350.00,0.00,400.00,180.00,0.00,180.00)(7,0)\n"
     "DEF POS P2=(350.00,150.00,300.00,180.00,0.00,180.00)(7,0)\n"
@@ -154,14 +156,14 @@ def test_a_recorded_run_names_its_long_running_line_whole(
     ).click()
     expect(page.locator("#replay")).to_be_visible()
     frames = s.eval("() => window.melfa.runs.run.frames")
-    index = frames["line"].index(3)  # a frame while MOV P1 ran
+    index = frames["line"].index(4)  # a frame while MOV P1 ran
     s.eval(
         "(i) => { const r = document.getElementById('replay-slider'); r.value = String(i);"
         " r.dispatchEvent(new Event('input')); }",
         index,
     )
     shown = page.locator("#replay-line")
-    expect(shown).to_have_text(f"line 3: MOV P1 {COMMENT}")
+    expect(shown).to_have_text(f"line 4: MOV P1 {COMMENT}")
     box = shown.evaluate("(n) => [n.scrollWidth, n.clientWidth, n.getClientRects().length]")
     assert box[0] <= box[1], box  # nothing cut at its right edge
     s.screenshot("replay-long-line", toasts=False)

@@ -58,4 +58,5 @@ def test_a_queued_student_sees_at_once_that_a_cell_edit_cancelled_their_pass(
     finally:
         for s in sessions:
             s.close()
+        lab.stop()  # its server and simulators, not left running for the rest of the suite
         lab.stop()
