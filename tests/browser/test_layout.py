@@ -98,6 +98,8 @@ def test_header_toolbars_and_jog_line_fit_at_1024_1366_1920(
     bob.page.select_option("#goto-point", "JFAR")
     bob.page.click("#goto-move")
     expect(page.locator("#alarm")).to_be_visible(timeout=15_000)
+    said = page.locator("#alarm").inner_text()  # words only: no "null" where no line is
+    assert not re.search(r"\b(null|undefined|NaN)\b", said), said
     page.evaluate("() => document.querySelectorAll('.toast').forEach((t) => t.remove())")
     found += check_every_width(page, "alarm", ("editor", "points", "robot"))
     for width, height in WIDTHS[:2]:

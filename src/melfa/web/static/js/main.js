@@ -301,10 +301,11 @@ function renderAlarm(a, slot) {
   const go = line ? el("button", { type: "button", class: "btn btn-sm", id: "alarm-line",
     onclick: () => { selectTab("editor"); app.editor.editor.gotoLine(line, 0, true); app.editor.editor.focus(); } },
   fill(W["show-line"], { line })) : null;
-  box.replaceChildren(
+  const parts = [
     headline ? el("strong", {}, headline) : el("strong", {}, W.alarm, " ", el("span", { class: "code" }, a.code || String(a.number))),
-    " ", a.message || a.text, " ", go, reset,
-  );
+    " ", a.message || a.text, " ", go, " ", reset,
+  ];
+  box.replaceChildren(...parts.filter((p) => p != null)); // it would write "null" where no line is
 }
 
 function renderReadouts(m) {
